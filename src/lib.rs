@@ -1,4 +1,15 @@
 //! shoal: a data- and script-driven engine for animal and unit behavior.
+//!
+//! The tick pipeline, one folder per stage (see `src/README.md`):
+//! [`index`] → [`perception`] → [`drives`] → [`decision`] → [`steering`] → [`locomotion`] →
+//! [`events`], driven by [`tick`].
 #![warn(missing_docs)]
 
 pub mod diag;
+pub mod drives;
+pub mod frame;
+pub mod index;
+pub mod locomotion;
+pub mod perception;
+pub mod steering;
+pub mod world;

@@ -1,0 +1,176 @@
+//! Stage 3 of the tick: drives. Hunger, libido and fear with the formulas of seed 000 §2, the
+//! internal-state curve `S(t)` and hunger variant of seed 003. Every constant is a field of
+//! [`DriveParams`] with the papers' value as its default.
+
+use serde::{Deserialize, Serialize};
+
+/// Drive constants (defaults from seed 000 §2 and seed 003).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DriveParams {
+    /// Which hunger model to use.
+    pub hunger_model: HungerModel,
+    /// Digestion rate p0 of `r(x) = 1 − p0·x` (per second of simulated time).
+    pub p0: f32,
+    /// Appetite n_a (bigger fish, bigger appetite).
+    pub appetite: f32,
+    /// Weight a_h of the food stimulus S_h.
+    pub a_h: f32,
+    /// Libido growth p1 of `l(x) = p1·x`.
+    pub p1: f32,
+    /// Weight a_l of the mate stimulus S_l.
+    pub a_l: f32,
+    /// Fear distance D0 of `F_i = min(D0/d_i, 1)`.
+    pub d0: f32,
+    /// Seed 003 hunger variant: u.
+    pub u: f32,
+    /// Seed 003 hunger variant: ρ0.
+    pub rho0: f32,
+    /// Seed 003 hunger variant: C.
+    pub c: f32,
+}
+
+impl Default for DriveParams {
+    fn default() -> Self {
+        DriveParams {
+            hunger_model: HungerModel::Digestion,
+            p0: 0.00067,
+            appetite: 1.0,
+            a_h: 0.0,
+            p1: 0.0025,
+            a_l: 0.0,
+            d0: 200.0,
+            u: 1.0,
+            rho0: 0.01,
+            c: 1.0,
+        }
+    }
+}
+
+/// Hunger formula in use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum HungerModel {
+    /// Seed 000: `H = min(1 − n_e·r(Δt_H)/n_a + a_h·S_h, 1)`.
+    #[default]
+    Digestion,
+    /// Seed 003: `H = min(1 − exp(u·(1 − ρ0·Δt_H)/C) + a_h·S_h, 1)`.
+    Exponential,
+}
+
+/// Digestion `r(x) = 1 − p0·x`, never below 0.
+pub fn digestion(x: f32, p0: f32) -> f32 {
+    (1.0 - p0 * x).max(0.0)
+}
+
+/// Hunger of seed 000: `H(t) = min(1 − n_e·r(Δt_H)/n_a + a_h·S_h, 1)`, clamped to [0, 1].
+pub fn hunger(eaten: f32, since_meal: f32, stimulus: f32, p: &DriveParams) -> f32 {
+    let h = match p.hunger_model {
+        HungerModel::Digestion => {
+            1.0 - eaten * digestion(since_meal, p.p0) / p.appetite.max(1e-6) + p.a_h * stimulus
+        }
+        HungerModel::Exponential => hunger_exponential(since_meal, stimulus, p),
+    };
+    clamp01(h)
+}
+
+/// Hunger variant of seed 003: `H(t) = min(1 − exp(u·(1 − ρ0·Δt_H)/C) + a_h·S_h(t), 1)`.
+pub fn hunger_exponential(since_meal: f32, stimulus: f32, p: &DriveParams) -> f32 {
+    clamp01(1.0 - (p.u * (1.0 - p.rho0 * since_meal) / p.c.max(1e-6)).exp() + p.a_h * stimulus)
+}
+
+/// Libido of seed 000: `L(t) = min(l(Δt_L)·(1 − H(t)) + a_l·S_l, 1)` with `l(x) = p1·x`.
+pub fn libido(since_mating: f32, hunger: f32, stimulus: f32, p: &DriveParams) -> f32 {
+    clamp01(p.p1 * since_mating * (1.0 - hunger) + p.a_l * stimulus)
+}
+
+/// Fear term of one predator: `F_i = min(D0/d_i, 1)` (1 when d_i is 0).
+pub fn fear_term(dist: f32, d0: f32) -> f32 {
+    if dist <= 0.0 {
+        1.0
+    } else {
+        (d0 / dist).min(1.0)
+    }
+}
+
+/// Fear of seed 000: `F(t) = min(Σ_i F_i, 1)` over perceived predators.
+pub fn fear(distances: impl IntoIterator<Item = f32>, d0: f32) -> f32 {
+    clamp01(distances.into_iter().map(|d| fear_term(d, d0)).sum())
+}
+
+/// Internal-state curve of seed 003: `S(t) = S_max·exp(−t²/δ²)`.
+pub fn internal_state(t: f32, s_max: f32, delta: f32) -> f32 {
+    if delta == 0.0 {
+        return if t == 0.0 { s_max } else { 0.0 };
+    }
+    s_max * (-(t * t) / (delta * delta)).exp()
+}
+
+fn clamp01(x: f32) -> f32 {
+    if x.is_nan() {
+        0.0
+    } else {
+        x.clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn hunger_after_a_meal_rises_with_digestion() {
+        let p = DriveParams::default();
+        // n_e = 1, n_a = 1, just eaten: H = 1 − 1·1/1 = 0.
+        assert_eq!(hunger(1.0, 0.0, 0.0, &p), 0.0);
+        // After 1000 s: r = 1 − 0.00067·1000 = 0.33 → H = 0.67.
+        assert!((hunger(1.0, 1000.0, 0.0, &p) - 0.67).abs() < 1e-5);
+        // Appetite 2 halves the effect of a meal: H = 1 − 1·1/2 = 0.5.
+        let big = DriveParams { appetite: 2.0, ..p };
+        assert!((hunger(1.0, 0.0, 0.0, &big) - 0.5).abs() < 1e-6);
+        // Stimulus a_h·S_h = 0.5·0.4 = 0.2 on top of 0.67, clamped to 1 at most.
+        let stim = DriveParams { a_h: 0.5, ..p };
+        assert!((hunger(1.0, 1000.0, 0.4, &stim) - 0.87).abs() < 1e-5);
+        assert_eq!(hunger(0.0, 0.0, 10.0, &stim), 1.0);
+    }
+
+    #[test]
+    fn libido_grows_with_time_and_falls_with_hunger() {
+        let p = DriveParams::default();
+        // l(200) = 0.0025·200 = 0.5; (1 − H) with H = 0.2 → 0.4.
+        assert!((libido(200.0, 0.2, 0.0, &p) - 0.4).abs() < 1e-6);
+        assert_eq!(libido(200.0, 1.0, 0.0, &p), 0.0);
+        assert_eq!(libido(1e6, 0.0, 0.0, &p), 1.0);
+    }
+
+    #[test]
+    fn fear_sums_clamped_terms() {
+        // D0 = 200: predators at 400 and 800 → 0.5 + 0.25 = 0.75.
+        assert!((fear([400.0, 800.0], 200.0) - 0.75).abs() < 1e-6);
+        // A predator nearer than D0 saturates.
+        assert_eq!(fear([100.0], 200.0), 1.0);
+        assert_eq!(fear([], 200.0), 0.0);
+        assert_eq!(fear([0.0], 200.0), 1.0);
+    }
+
+    #[test]
+    fn seed_003_curves() {
+        // S(t) = 1·exp(−4/4) at t = 2, δ = 2.
+        assert!((internal_state(2.0, 1.0, 2.0) - (-1.0f32).exp()).abs() < 1e-6);
+        // H = 1 − exp(1·(1 − 0.01·100)/1) = 1 − exp(0) = 0.
+        let p = DriveParams::default();
+        assert!(hunger_exponential(100.0, 0.0, &p).abs() < 1e-6);
+        // Δt = 200: 1 − exp(−1) = 0.63212.
+        assert!((hunger_exponential(200.0, 0.0, &p) - 0.632_120_6).abs() < 1e-5);
+    }
+
+    proptest! {
+        #[test]
+        fn drives_stay_in_unit_interval(a in -1e6f32..1e6, b in -1e6f32..1e6, c in -1e6f32..1e6) {
+            let p = DriveParams::default();
+            for v in [hunger(a, b, c, &p), hunger_exponential(b, c, &p), libido(a, b, c, &p), fear([a.abs(), b.abs()], 200.0)] {
+                prop_assert!((0.0..=1.0).contains(&v), "{v}");
+            }
+        }
+    }
+}

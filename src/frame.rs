@@ -1,0 +1,121 @@
+//! Body frames and angle conventions shared by every stage (seed 002 §"Body frame").
+//!
+//! World up is +Y. A body frame has z forward, y dorsal (up) and x to the left. Headings are kept
+//! as `(yaw, pitch)`: yaw about the world up axis, pitch about the body's lateral axis. A turn to the
+//! right is a positive yaw, a turn up a positive pitch. There is never any roll, so the frame is a
+//! pure function of `(yaw, pitch)` and `|pitch| < 90°` keeps the body upright ("self-balancing").
+
+use glam::Vec3;
+use std::f32::consts::{FRAC_PI_2, PI, TAU};
+
+/// World up axis.
+pub const UP: Vec3 = Vec3::Y;
+
+/// Largest pitch magnitude a body may take, just inside 90°.
+pub const PITCH_LIMIT: f32 = FRAC_PI_2 - 1e-3;
+
+/// Forward unit vector for a heading. Yaw 0 faces +Z; positive yaw turns toward −X (the right).
+#[inline]
+pub fn forward(yaw: f32, pitch: f32) -> Vec3 {
+    let (sy, cy) = yaw.sin_cos();
+    let (sp, cp) = pitch.sin_cos();
+    Vec3::new(-sy * cp, sp, cy * cp)
+}
+
+/// Left unit vector of a body with this yaw (horizontal: no roll).
+#[inline]
+pub fn left(yaw: f32) -> Vec3 {
+    let (sy, cy) = yaw.sin_cos();
+    Vec3::new(cy, 0.0, sy)
+}
+
+/// Dorsal (up) unit vector of a body with this heading; always within 90° of world up.
+#[inline]
+pub fn dorsal(yaw: f32, pitch: f32) -> Vec3 {
+    forward(yaw, pitch).cross(left(yaw))
+}
+
+/// Wraps an angle into (−π, π].
+#[inline]
+pub fn wrap(a: f32) -> f32 {
+    if !a.is_finite() {
+        return 0.0;
+    }
+    let mut a = a % TAU;
+    if a <= -PI {
+        a += TAU;
+    } else if a > PI {
+        a -= TAU;
+    }
+    a
+}
+
+/// `(yaw, pitch)` of a direction; a zero or non-finite direction gives `None`.
+#[inline]
+pub fn heading_of(dir: Vec3) -> Option<(f32, f32)> {
+    let len = dir.length();
+    if !(len > 1e-12) || !len.is_finite() {
+        return None;
+    }
+    let d = dir / len;
+    let yaw = (-d.x).atan2(d.z);
+    let pitch = d.y.clamp(-1.0, 1.0).asin().clamp(-PITCH_LIMIT, PITCH_LIMIT);
+    Some((yaw, pitch))
+}
+
+/// Horizontal bearing θ and elevation ω of `offset` (target − self) seen from a body with heading
+/// `(yaw, pitch)` (seed 002 "direction adjustment"): θ is the signed angle between the forward and
+/// target projections on the ground plane (right positive), ω the difference of elevations (up
+/// positive). A zero offset has bearing and elevation 0.
+#[inline]
+pub fn bearing_elevation(yaw: f32, pitch: f32, offset: Vec3) -> (f32, f32) {
+    match heading_of(offset) {
+        Some((ty, tp)) => {
+            let horizontal = offset.x * offset.x + offset.z * offset.z;
+            let theta = if horizontal > 1e-12 {
+                wrap(ty - yaw)
+            } else {
+                0.0
+            };
+            (theta, tp - pitch)
+        }
+        None => (0.0, 0.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::FRAC_PI_4;
+
+    #[test]
+    fn frame_is_orthonormal_and_right_handed() {
+        let (y, p) = (0.7, -0.4);
+        let (f, l, u) = (forward(y, p), left(y), dorsal(y, p));
+        assert!((f.length() - 1.0).abs() < 1e-6);
+        assert!(f.dot(l).abs() < 1e-6 && f.dot(u).abs() < 1e-6 && l.dot(u).abs() < 1e-6);
+        // x = left, y = up, z = forward: left × up = forward.
+        assert!((l.cross(u) - f).length() < 1e-5);
+        assert!(u.dot(UP) > 0.0, "never upside down");
+        assert_eq!(l.y, 0.0, "no roll");
+    }
+
+    #[test]
+    fn right_is_positive_bearing() {
+        // Facing +Z, the right is −X.
+        let (theta, omega) = bearing_elevation(0.0, 0.0, Vec3::new(-1.0, 0.0, 1.0));
+        assert!((theta - FRAC_PI_4).abs() < 1e-6);
+        assert!(omega.abs() < 1e-6);
+        let (theta, _) = bearing_elevation(0.0, 0.0, Vec3::new(1.0, 0.0, 1.0));
+        assert!((theta + FRAC_PI_4).abs() < 1e-6);
+        let (_, omega) = bearing_elevation(0.0, 0.0, Vec3::new(0.0, 1.0, 1.0));
+        assert!((omega - FRAC_PI_4).abs() < 1e-6);
+    }
+
+    #[test]
+    fn wrap_stays_in_range() {
+        assert!((wrap(3.0 * PI) - PI).abs() < 1e-5);
+        assert!((wrap(-3.5 * PI) - 0.5 * PI).abs() < 1e-5);
+        assert_eq!(wrap(f32::NAN), 0.0);
+    }
+}

@@ -1,0 +1,190 @@
+//! Stage 1 of the tick: the spatial index, rebuilt from scratch every tick.
+//!
+//! A uniform grid over the world bounds, filled by a counting sort so that the entries of one
+//! cell are contiguous and in ascending index order. Neighbor queries visit only the cells that
+//! overlap the query sphere, so perception costs O(N·k), not O(N²). Entries carry a copy of the
+//! position so that a query walks memory linearly.
+
+use crate::world::Aabb;
+use glam::{IVec3, Vec3};
+
+/// A uniform grid of point entries (agents or food).
+#[derive(Debug, Clone, Default)]
+pub struct Grid {
+    origin: Vec3,
+    inv_cell: f32,
+    cell: f32,
+    dims: IVec3,
+    /// `starts[c]..starts[c+1]` are the entries of cell `c`.
+    starts: Vec<u32>,
+    /// Entry indices sorted by cell, ascending within a cell.
+    entries: Vec<u32>,
+    /// Positions of `entries`, in the same order.
+    positions: Vec<Vec3>,
+    /// Scratch: cell of each input point.
+    cell_of: Vec<u32>,
+    /// Scratch: input positions in input order.
+    scratch: Vec<Vec3>,
+    /// Scratch: fill cursor per cell.
+    cursor: Vec<u32>,
+}
+
+/// Most cells along one axis; larger worlds get bigger cells.
+const MAX_DIM: i32 = 256;
+
+impl Grid {
+    /// An empty grid.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Cell size in use.
+    pub fn cell_size(&self) -> f32 {
+        self.cell
+    }
+
+    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points.
+    /// Reuses its buffers: no allocation once warmed up.
+    pub fn rebuild(
+        &mut self,
+        bounds: Aabb,
+        cell: f32,
+        points: impl ExactSizeIterator<Item = Vec3>,
+    ) {
+        let size = bounds.size().max(Vec3::splat(1e-3));
+        let mut cell = if cell.is_finite() && cell > 1e-3 {
+            cell
+        } else {
+            1.0
+        };
+        let max_extent = size.max_element();
+        if max_extent / cell > MAX_DIM as f32 {
+            cell = max_extent / MAX_DIM as f32;
+        }
+        self.cell = cell;
+        self.inv_cell = 1.0 / cell;
+        self.origin = bounds.min;
+        self.dims = ((size * self.inv_cell).ceil().as_ivec3()).max(IVec3::ONE);
+        let ncells = (self.dims.x * self.dims.y * self.dims.z) as usize;
+        self.starts.clear();
+        self.starts.resize(ncells + 1, 0);
+        self.cell_of.clear();
+        self.scratch.clear();
+        for p in points {
+            let c = self.cell_index(self.cell_coord(p));
+            self.cell_of.push(c as u32);
+            self.starts[c + 1] += 1;
+            self.scratch.push(p);
+        }
+        for c in 0..ncells {
+            self.starts[c + 1] += self.starts[c];
+        }
+        // Stable placement: entries of a cell stay in ascending index order.
+        let n = self.scratch.len();
+        self.cursor.clear();
+        self.cursor.extend_from_slice(&self.starts);
+        self.entries.clear();
+        self.entries.resize(n, 0);
+        self.positions.clear();
+        self.positions.resize(n, Vec3::ZERO);
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            let slot = self.cursor[c as usize] as usize;
+            self.cursor[c as usize] += 1;
+            self.entries[slot] = i as u32;
+            self.positions[slot] = self.scratch[i];
+        }
+    }
+
+    #[inline]
+    fn cell_coord(&self, p: Vec3) -> IVec3 {
+        let q = (p - self.origin) * self.inv_cell;
+        let q = if q.is_finite() { q } else { Vec3::ZERO };
+        q.floor()
+            .as_ivec3()
+            .clamp(IVec3::ZERO, self.dims - IVec3::ONE)
+    }
+
+    #[inline]
+    fn cell_index(&self, c: IVec3) -> usize {
+        ((c.z * self.dims.y + c.y) * self.dims.x + c.x) as usize
+    }
+
+    /// Calls `visit(index, position)` for every entry within `radius` of `center`, in a fixed
+    /// order (cells by z, y, x; indices ascending within a cell).
+    #[inline]
+    pub fn for_each_within(
+        &self,
+        center: Vec3,
+        radius: f32,
+        mut visit: impl FnMut(u32, Vec3, f32),
+    ) {
+        if self.entries.is_empty() || !(radius >= 0.0) {
+            return;
+        }
+        let r2 = radius * radius;
+        let lo = self.cell_coord(center - Vec3::splat(radius));
+        let hi = self.cell_coord(center + Vec3::splat(radius));
+        for z in lo.z..=hi.z {
+            for y in lo.y..=hi.y {
+                let row = self.cell_index(IVec3::new(lo.x, y, z));
+                let row_end = self.cell_index(IVec3::new(hi.x, y, z));
+                // Cells lo.x..=hi.x of one row are adjacent, so their entries are contiguous.
+                let (s, e) = (self.starts[row] as usize, self.starts[row_end + 1] as usize);
+                for k in s..e {
+                    let p = self.positions[k];
+                    let d2 = (p - center).length_squared();
+                    if d2 <= r2 {
+                        visit(self.entries[k], p, d2);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::Rng;
+
+    #[test]
+    fn finds_exactly_the_points_a_brute_force_finds() {
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::splat(100.0));
+        let mut rng = Rng::new(1, 0);
+        let pts: Vec<Vec3> = (0..2000)
+            .map(|_| {
+                Vec3::new(
+                    rng.range(0.0, 100.0),
+                    rng.range(0.0, 100.0),
+                    rng.range(0.0, 100.0),
+                )
+            })
+            .collect();
+        let mut g = Grid::new();
+        g.rebuild(bounds, 7.0, pts.iter().copied());
+        for q in 0..50 {
+            let c = pts[q * 7];
+            let mut found = Vec::new();
+            g.for_each_within(c, 9.0, |i, _, _| found.push(i));
+            found.sort();
+            let brute: Vec<u32> = (0..pts.len() as u32)
+                .filter(|&i| (pts[i as usize] - c).length() <= 9.0)
+                .collect();
+            assert_eq!(found, brute);
+        }
+    }
+
+    #[test]
+    fn points_outside_bounds_are_clamped_into_edge_cells() {
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::splat(10.0));
+        let mut g = Grid::new();
+        g.rebuild(
+            bounds,
+            2.0,
+            [Vec3::splat(-5.0), Vec3::splat(50.0)].into_iter(),
+        );
+        let mut n = 0;
+        g.for_each_within(Vec3::splat(-5.0), 0.5, |_, _, _| n += 1);
+        assert_eq!(n, 1);
+    }
+}

@@ -1,0 +1,121 @@
+//! Animation channel (seed 001 "tail animation by tweening"): five key tail poses L, ML, M, MR, R,
+//! `pose = A·(1−t) + B·t` between neighboring poses with an eased `t`. The tail beats through the
+//! poses at a rate that grows with speed and acceleration; a turn bends it to the turn's side
+//! (left turn: L/ML/M, right turn: R/MR/M) by an amount taken from the turn angle.
+
+use crate::world::Anim;
+use serde::{Deserialize, Serialize};
+use std::f32::consts::{FRAC_PI_4, TAU};
+
+/// Animation constants.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AnimParams {
+    /// Bend of the extreme poses L and R (rad).
+    pub max_bend: f32,
+    /// Tail beats per second at rest (idle fanning).
+    pub idle_rate: f32,
+    /// Extra beats per body length travelled.
+    pub beats_per_length: f32,
+    /// Extra beats per second per unit of acceleration (the tail beats while accelerating).
+    pub accel_rate: f32,
+}
+
+impl Default for AnimParams {
+    fn default() -> Self {
+        AnimParams {
+            max_bend: 0.5,
+            idle_rate: 0.3,
+            beats_per_length: 0.8,
+            accel_rate: 0.5,
+        }
+    }
+}
+
+/// The five key poses as bends, left negative: L, ML, M, MR, R.
+pub fn key_poses(max_bend: f32) -> [f32; 5] {
+    [-max_bend, -max_bend / 2.0, 0.0, max_bend / 2.0, max_bend]
+}
+
+/// Eased tween parameter: `tan(t·π/4)` maps [0,1] onto [0,1], slow at the start and fast at the
+/// end (the paper's `tan(t)` easing, normalized).
+pub fn ease(t: f32) -> f32 {
+    (t.clamp(0.0, 1.0) * FRAC_PI_4).tan()
+}
+
+/// Bend at position `s` ∈ [−1, 1] along the pose sequence L(−1) … M(0) … R(+1), tweened
+/// between the two neighboring key poses.
+pub fn tween(s: f32, max_bend: f32) -> f32 {
+    let poses = key_poses(max_bend);
+    let x = (s.clamp(-1.0, 1.0) + 1.0) * 2.0; // 0..4
+    let i = (x.floor() as usize).min(3);
+    let t = ease(x - i as f32);
+    poses[i] * (1.0 - t) + poses[i + 1] * t
+}
+
+/// Advances the channel by one step: `speed` over a body of `length`, `accel` the speed change
+/// per second, `dyaw` the turn applied this step (right positive) against `max_turn`.
+pub fn advance(
+    anim: &mut Anim,
+    p: &AnimParams,
+    speed: f32,
+    length: f32,
+    accel: f32,
+    dyaw: f32,
+    max_turn: f32,
+    dt: f32,
+) {
+    let rate = p.idle_rate
+        + p.beats_per_length * speed.max(0.0) / length.max(1e-3)
+        + p.accel_rate * accel.max(0.0);
+    let phase = anim.phase + rate * dt;
+    anim.phase = if phase.is_finite() {
+        phase.rem_euclid(1.0)
+    } else {
+        0.0
+    };
+    let swing = tween((anim.phase * TAU).sin(), p.max_bend);
+    let turn = if max_turn > 0.0 {
+        (dyaw / max_turn).clamp(-1.0, 1.0)
+    } else {
+        0.0
+    };
+    // A turn holds the tail on its side: left turns tween M→ML→L, right turns M→MR→R.
+    let turn_pose = tween(turn, p.max_bend);
+    let bend = swing * (1.0 - turn.abs()) + turn_pose * turn.abs();
+    anim.bend = if bend.is_finite() { bend } else { 0.0 };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tween_hits_key_poses_and_eases_between() {
+        let b = 0.4;
+        assert!((tween(-1.0, b) + 0.4).abs() < 1e-6);
+        assert!((tween(-0.5, b) + 0.2).abs() < 1e-6);
+        assert!(tween(0.0, b).abs() < 1e-6);
+        assert!((tween(1.0, b) - 0.4).abs() < 1e-6);
+        // Halfway from M (0) to MR (0.2): t = tan(π/8) = 0.41421 → 0.082843.
+        assert!((tween(0.25, b) - 0.2 * (std::f32::consts::PI / 8.0).tan()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_full_left_turn_bends_to_l() {
+        let mut a = Anim::default();
+        let p = AnimParams::default();
+        advance(&mut a, &p, 1.0, 1.0, 0.0, -FRAC_PI_4, FRAC_PI_4, 0.1);
+        assert!((a.bend + p.max_bend).abs() < 1e-6);
+        assert!(a.phase > 0.0 && a.phase < 1.0);
+    }
+
+    #[test]
+    fn faster_bodies_beat_faster() {
+        let p = AnimParams::default();
+        let (mut slow, mut fast) = (Anim::default(), Anim::default());
+        advance(&mut slow, &p, 0.5, 1.0, 0.0, 0.0, 1.0, 0.1);
+        advance(&mut fast, &p, 2.0, 1.0, 0.0, 0.0, 1.0, 0.1);
+        assert!(fast.phase > slow.phase);
+    }
+}

@@ -1,0 +1,280 @@
+//! Stage 6 of the tick: locomotion. Turns a steering command into motion under the body's
+//! limits, self-balancing as in seed 002 (yaw about world up, pitch about the body's lateral axis,
+//! |pitch| < 90°, never any roll), either kinematically or with seed 001's rigid-body forces, and
+//! advances the animation channel ([`anim`]).
+
+pub mod anim;
+mod rigid;
+
+pub use rigid::RigidParams;
+
+use crate::frame;
+use crate::steering::{Kin, Steer};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use std::f32::consts::FRAC_PI_4;
+
+/// How a species moves.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum Mode {
+    /// Heading and speed follow the command directly, within the turn and speed limits.
+    #[default]
+    Kinematic,
+    /// Seed 001: tail thrust, port/starboard and up/down thrusts, fluid drag.
+    RigidBody(RigidParams),
+}
+
+/// Body limits (seed 002: 45° maximum turn per step by default).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Limits {
+    /// Largest speed V_max.
+    pub max_speed: f32,
+    /// Smallest speed V_min (0 lets it stop).
+    pub min_speed: f32,
+    /// Largest yaw or pitch change per step (rad).
+    pub max_turn: f32,
+    /// Largest pitch magnitude (rad), capped just inside 90°.
+    pub max_pitch: f32,
+    /// Largest change of speed per second.
+    pub max_accel: f32,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_speed: 2.0,
+            min_speed: 0.0,
+            max_turn: FRAC_PI_4,
+            max_pitch: 80f32.to_radians(),
+            max_accel: 4.0,
+        }
+    }
+}
+
+impl Limits {
+    /// Pitch limit actually applied.
+    pub fn pitch_limit(&self) -> f32 {
+        self.max_pitch.abs().min(frame::PITCH_LIMIT)
+    }
+}
+
+/// The moving part of a body, updated by [`step`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Motion {
+    /// Position.
+    pub pos: Vec3,
+    /// Yaw.
+    pub yaw: f32,
+    /// Pitch.
+    pub pitch: f32,
+    /// Speed.
+    pub speed: f32,
+    /// Yaw rate (rigid-body mode).
+    pub yaw_rate: f32,
+    /// Pitch rate (rigid-body mode).
+    pub pitch_rate: f32,
+}
+
+/// What a step did, for the animation channel.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepInfo {
+    /// Yaw change applied this step.
+    pub dyaw: f32,
+    /// Speed change this step.
+    pub dspeed: f32,
+}
+
+/// Advances `m` by one step of `dt` under `cmd`, with the world `current` added to the motion.
+/// Non-finite commands are treated as "keep heading and speed".
+pub fn step(
+    m: &mut Motion,
+    cmd: Steer,
+    limits: &Limits,
+    mode: &Mode,
+    current: Vec3,
+    dt: f32,
+) -> StepInfo {
+    let kin = Kin {
+        pos: m.pos,
+        yaw: m.yaw,
+        pitch: m.pitch,
+        speed: m.speed,
+    };
+    let (mut dyaw, mut dpitch, mut target) = if cmd.is_finite() {
+        cmd.as_turn(&kin)
+    } else {
+        (0.0, 0.0, m.speed)
+    };
+    if !(dyaw.is_finite() && dpitch.is_finite() && target.is_finite()) {
+        (dyaw, dpitch, target) = (0.0, 0.0, m.speed);
+    }
+    let turn = limits.max_turn.abs();
+    let vmax = limits.max_speed.max(0.0);
+    let vmin = limits.min_speed.clamp(0.0, vmax);
+    let target = target.clamp(vmin, vmax);
+    let before = m.speed;
+    match mode {
+        Mode::Kinematic => {
+            m.yaw = frame::wrap(m.yaw + dyaw.clamp(-turn, turn));
+            m.pitch += dpitch.clamp(-turn, turn);
+            let dv = (target - m.speed).clamp(-limits.max_accel * dt, limits.max_accel * dt);
+            m.speed += dv;
+            m.yaw_rate = 0.0;
+            m.pitch_rate = 0.0;
+        }
+        Mode::RigidBody(p) => rigid::step(m, p, dyaw, dpitch, target, turn, dt),
+    }
+    let plim = limits.pitch_limit();
+    m.pitch = m.pitch.clamp(-plim, plim);
+    m.speed = m.speed.clamp(vmin, vmax);
+    if !m.speed.is_finite() {
+        m.speed = 0.0;
+    }
+    let applied = frame::wrap(m.yaw - kin.yaw);
+    let v = frame::forward(m.yaw, m.pitch) * m.speed
+        + if current.is_finite() {
+            current
+        } else {
+            Vec3::ZERO
+        };
+    m.pos += v * dt;
+    StepInfo {
+        dyaw: applied,
+        dspeed: m.speed - before,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn turn_is_clamped_to_45_degrees_per_step() {
+        let mut m = Motion {
+            speed: 1.0,
+            ..Default::default()
+        };
+        let l = Limits::default();
+        step(
+            &mut m,
+            Steer::Turn {
+                yaw: 2.0,
+                pitch: -2.0,
+                speed: 1.0,
+            },
+            &l,
+            &Mode::Kinematic,
+            Vec3::ZERO,
+            0.1,
+        );
+        assert!((m.yaw - FRAC_PI_4).abs() < 1e-6);
+        assert!((m.pitch + FRAC_PI_4).abs() < 1e-6);
+        // Moved 0.1 along the new forward.
+        assert!((m.pos - frame::forward(m.yaw, m.pitch) * 0.1).length() < 1e-6);
+    }
+
+    #[test]
+    fn speed_follows_target_within_acceleration() {
+        let mut m = Motion::default();
+        let l = Limits::default(); // 4 units/s², V_max 2
+        step(
+            &mut m,
+            Steer::Turn {
+                yaw: 0.0,
+                pitch: 0.0,
+                speed: 10.0,
+            },
+            &l,
+            &Mode::Kinematic,
+            Vec3::ZERO,
+            0.1,
+        );
+        assert!((m.speed - 0.4).abs() < 1e-6);
+        for _ in 0..20 {
+            step(
+                &mut m,
+                Steer::Turn {
+                    yaw: 0.0,
+                    pitch: 0.0,
+                    speed: 10.0,
+                },
+                &l,
+                &Mode::Kinematic,
+                Vec3::ZERO,
+                0.1,
+            );
+        }
+        assert_eq!(m.speed, 2.0);
+    }
+
+    #[test]
+    fn current_drifts_the_body() {
+        let mut m = Motion::default();
+        step(
+            &mut m,
+            Steer::None,
+            &Limits::default(),
+            &Mode::Kinematic,
+            Vec3::new(1.0, 0.0, 0.0),
+            0.5,
+        );
+        assert_eq!(m.pos, Vec3::new(0.5, 0.0, 0.0));
+    }
+
+    fn finite() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            -1e6f32..1e6,
+            Just(0.0f32),
+            Just(f32::MAX),
+            Just(f32::MIN),
+            Just(1e-30f32)
+        ]
+    }
+
+    fn any_cmd() -> impl Strategy<Value = Steer> {
+        prop_oneof![
+            Just(Steer::None),
+            (finite(), finite(), finite()).prop_map(|(yaw, pitch, speed)| Steer::Turn {
+                yaw,
+                pitch,
+                speed
+            }),
+            (finite(), finite(), finite())
+                .prop_map(|(x, y, z)| Steer::Velocity(Vec3::new(x, y, z))),
+            Just(Steer::Velocity(Vec3::ZERO)),
+            Just(Steer::Velocity(Vec3::Y)),
+            Just(Steer::Turn {
+                yaw: f32::NAN,
+                pitch: 0.0,
+                speed: 1.0
+            }),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn balance_and_limits_hold_for_any_command(
+            cmds in proptest::collection::vec(any_cmd(), 1..40),
+            rigid in any::<bool>(),
+            yaw0 in -3.0f32..3.0, pitch0 in -1.5f32..1.5, speed0 in 0.0f32..2.0,
+        ) {
+            let l = Limits::default();
+            let mode = if rigid { Mode::RigidBody(RigidParams::default()) } else { Mode::Kinematic };
+            let mut m = Motion { yaw: yaw0, pitch: pitch0.clamp(-l.pitch_limit(), l.pitch_limit()), speed: speed0, ..Default::default() };
+            for c in cmds {
+                let before = m;
+                let info = step(&mut m, c, &l, &mode, Vec3::ZERO, 0.05);
+                prop_assert!(m.pos.is_finite() && m.yaw.is_finite() && m.pitch.is_finite() && m.speed.is_finite());
+                prop_assert!(m.pitch.abs() < std::f32::consts::FRAC_PI_2, "pitch {}", m.pitch);
+                prop_assert!(m.speed >= 0.0 && m.speed <= l.max_speed);
+                prop_assert!(info.dyaw.abs() <= l.max_turn + 1e-5, "turn {}", info.dyaw);
+                prop_assert!((m.pitch - before.pitch).abs() <= l.max_turn + 1e-5);
+                // No roll: the body's left axis stays horizontal and its up stays above the horizon.
+                prop_assert_eq!(frame::left(m.yaw).y, 0.0);
+                prop_assert!(frame::dorsal(m.yaw, m.pitch).y > 0.0);
+            }
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! Group motion: separation (inverse distance) and alignment (difference from the neighbors' mean
+//! velocity) of seed 001, cohesion, seed 003's R–A zones and Vicsek alignment.
+//!
+//! The functions take the neighbors as plain slices and return forces or desired velocities; the
+//! recipe layer turns forces into [`Steer::Velocity`]`(v + F)`.
+
+use super::Steer;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// A neighbor as the group rules see it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Neighbor {
+    /// Neighbor position minus own position.
+    pub offset: Vec3,
+    /// Distance |offset|.
+    pub dist: f32,
+    /// Neighbor velocity.
+    pub velocity: Vec3,
+}
+
+/// Separation of seed 001: each neighbor pushes with `m1·k·(length·factor)/|d|` directly away
+/// from it. Coincident neighbors (d = 0) are skipped: they have no direction.
+pub fn separation(neighbors: &[Neighbor], m1: f32, k: f32, length: f32, factor: f32) -> Vec3 {
+    let mut f = Vec3::ZERO;
+    for n in neighbors {
+        if n.dist > 1e-6 {
+            f -= n.offset / n.dist * (m1 * k * length * factor / n.dist);
+        }
+    }
+    f
+}
+
+/// Alignment of seed 001: `m1·k·(v_avg − v)`, proportional to the difference from the
+/// neighbors' mean velocity. Zero without neighbors.
+pub fn alignment(neighbors: &[Neighbor], own_velocity: Vec3, m1: f32, k: f32) -> Vec3 {
+    if neighbors.is_empty() {
+        return Vec3::ZERO;
+    }
+    let avg = neighbors.iter().map(|n| n.velocity).sum::<Vec3>() / neighbors.len() as f32;
+    m1 * k * (avg - own_velocity)
+}
+
+/// Cohesion: `k·(centroid − position)`, toward the neighbors' mean position.
+pub fn cohesion(neighbors: &[Neighbor], k: f32) -> Vec3 {
+    if neighbors.is_empty() {
+        return Vec3::ZERO;
+    }
+    k * neighbors.iter().map(|n| n.offset).sum::<Vec3>() / neighbors.len() as f32
+}
+
+/// Radii of seed 003's zones, `r_r < r_m < r_a`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Zones {
+    /// Repulsion radius r_r.
+    pub repulsion: f32,
+    /// Velocity-matching radius r_m.
+    pub matching: f32,
+    /// Attraction radius r_a.
+    pub attraction: f32,
+}
+
+impl Default for Zones {
+    fn default() -> Self {
+        Zones {
+            repulsion: 1.0,
+            matching: 4.0,
+            attraction: 10.0,
+        }
+    }
+}
+
+/// R–A zones (seed 003): neighbors closer than `r_r` repel; between `r_r` and `r_m` the agent
+/// matches their heading; between `r_m` and `r_a` it is attracted. Repulsion takes precedence:
+/// while any neighbor is inside `r_r` only repulsion acts. Returns a desired velocity of `speed`
+/// along the resulting direction, or [`Steer::None`] when no neighbor is in any zone.
+pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
+    let mut repel = Vec3::ZERO;
+    let mut n_repel = 0;
+    let mut matching = Vec3::ZERO;
+    let mut attract = Vec3::ZERO;
+    let mut n_other = 0;
+    for n in neighbors {
+        if n.dist > zones.attraction {
+            continue;
+        }
+        if n.dist < zones.repulsion {
+            n_repel += 1;
+            if n.dist > 1e-6 {
+                repel -= n.offset / n.dist;
+            }
+        } else if n.dist < zones.matching {
+            n_other += 1;
+            matching += n.velocity.normalize_or_zero();
+        } else {
+            n_other += 1;
+            attract += n.offset / n.dist;
+        }
+    }
+    let dir = if n_repel > 0 {
+        repel
+    } else if n_other > 0 {
+        matching + attract
+    } else {
+        return Steer::None;
+    };
+    match dir.try_normalize() {
+        Some(d) => Steer::Velocity(d * speed),
+        None => Steer::None,
+    }
+}
+
+/// Vicsek alignment (seed 003): the new heading is the average of the own and the neighbors'
+/// headings (neighbors within `r_n`, headings from the previous step, so the update is
+/// synchronous), plus uniform angular noise `noise·(u − 0.5)` on yaw and pitch; fixed `speed`.
+/// `u` are two uniform numbers in [0, 1).
+pub fn vicsek(
+    own_forward: Vec3,
+    neighbors: &[Neighbor],
+    radius: f32,
+    speed: f32,
+    noise: f32,
+    u: (f32, f32),
+) -> Steer {
+    let mut sum = own_forward.normalize_or_zero();
+    for n in neighbors.iter().filter(|n| n.dist <= radius) {
+        sum += n.velocity.normalize_or_zero();
+    }
+    let dir = sum.try_normalize().unwrap_or(own_forward);
+    let Some((yaw, pitch)) = crate::frame::heading_of(dir) else {
+        return Steer::None;
+    };
+    let yaw = yaw + noise * (u.0 - 0.5);
+    let pitch =
+        (pitch + noise * (u.1 - 0.5)).clamp(-crate::frame::PITCH_LIMIT, crate::frame::PITCH_LIMIT);
+    Steer::Velocity(crate::frame::forward(yaw, pitch) * speed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nb(offset: Vec3, velocity: Vec3) -> Neighbor {
+        Neighbor {
+            offset,
+            dist: offset.length(),
+            velocity,
+        }
+    }
+
+    #[test]
+    fn separation_is_inverse_distance() {
+        // m1=2, k=0.5, length=1, factor=3 → magnitude 3/|d|: neighbor at +X 2 away → (−1.5,0,0).
+        let f = separation(
+            &[nb(Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO)],
+            2.0,
+            0.5,
+            1.0,
+            3.0,
+        );
+        assert!((f - Vec3::new(-1.5, 0.0, 0.0)).length() < 1e-6);
+        // Halving the distance doubles the push.
+        let g = separation(
+            &[nb(Vec3::new(1.0, 0.0, 0.0), Vec3::ZERO)],
+            2.0,
+            0.5,
+            1.0,
+            3.0,
+        );
+        assert!((g.length() - 2.0 * f.length()).abs() < 1e-6);
+        // Coincident neighbors give no NaN.
+        assert_eq!(
+            separation(&[nb(Vec3::ZERO, Vec3::ZERO)], 1.0, 1.0, 1.0, 1.0),
+            Vec3::ZERO
+        );
+    }
+
+    #[test]
+    fn alignment_is_difference_from_mean_velocity() {
+        let n = [
+            nb(Vec3::X, Vec3::new(2.0, 0.0, 0.0)),
+            nb(Vec3::Z, Vec3::new(0.0, 0.0, 2.0)),
+        ];
+        // mean (1,0,1); own (0,0,1) → m1·k·(1,0,0) with m1=1, k=0.5.
+        let f = alignment(&n, Vec3::Z, 1.0, 0.5);
+        assert!((f - Vec3::new(0.5, 0.0, 0.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn cohesion_points_to_centroid() {
+        let n = [
+            nb(Vec3::new(2.0, 0.0, 0.0), Vec3::ZERO),
+            nb(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO),
+        ];
+        assert_eq!(cohesion(&n, 1.0), Vec3::new(1.0, 0.0, 2.0));
+    }
+
+    #[test]
+    fn zones_repulsion_takes_precedence() {
+        let z = Zones {
+            repulsion: 1.0,
+            matching: 3.0,
+            attraction: 6.0,
+        };
+        // One neighbor inside r_r at +X, one far away at −X: pure repulsion → −X.
+        let n = [
+            nb(Vec3::new(0.5, 0.0, 0.0), Vec3::Z),
+            nb(Vec3::new(-5.0, 0.0, 0.0), Vec3::Z),
+        ];
+        assert_eq!(
+            ra_zones(&n, &z, 2.0),
+            Steer::Velocity(Vec3::new(-2.0, 0.0, 0.0))
+        );
+        // Matching zone neighbor heading +Z and attraction zone neighbor at +X:
+        // direction normalize((0,0,1) + (1,0,0)).
+        let n = [
+            nb(Vec3::new(0.0, 2.0, 0.0), Vec3::Z),
+            nb(Vec3::new(5.0, 0.0, 0.0), Vec3::ZERO),
+        ];
+        let Steer::Velocity(v) = ra_zones(&n, &z, 1.0) else {
+            panic!()
+        };
+        assert!((v - Vec3::new(1.0, 0.0, 1.0).normalize()).length() < 1e-6);
+        // Nobody within r_a.
+        assert_eq!(
+            ra_zones(&[nb(Vec3::new(9.0, 0.0, 0.0), Vec3::Z)], &z, 1.0),
+            Steer::None
+        );
+    }
+
+    #[test]
+    fn vicsek_averages_headings() {
+        // Own +Z, one neighbor heading +X within r_n, one heading −Z outside: mean of +Z and +X.
+        let n = [
+            nb(Vec3::new(1.0, 0.0, 0.0), Vec3::X * 3.0),
+            nb(Vec3::new(9.0, 0.0, 0.0), -Vec3::Z),
+        ];
+        let Steer::Velocity(v) = vicsek(Vec3::Z, &n, 2.0, 1.5, 0.0, (0.5, 0.5)) else {
+            panic!()
+        };
+        assert!(
+            (v - Vec3::new(1.0, 0.0, 1.0).normalize() * 1.5).length() < 1e-5,
+            "{v}"
+        );
+    }
+}

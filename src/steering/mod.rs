@@ -1,0 +1,268 @@
+//! Stage 5 of the tick: steering. Small pure functions that turn percepts into a [`Steer`]
+//! command, and the two ways to combine them (strict priority and weighted blending).
+//!
+//! One file per family of primitives, each citing its source:
+//! - [`avoid`]: avoid static / dynamic obstacle by pressures (seed 000 §4.1, §4.2), collision
+//!   prediction by the path test and boundary containment (seed 001);
+//! - [`goal`]: move to goal in smell and vision mode (seed 000 §4.3, seed 003 foraging), seek,
+//!   flee, arrive, pursuit with linear or intercept prediction (seed 002);
+//! - [`escape`]: escape in smell and vision mode and its completion test (seed 000 §4.4), escape
+//!   by seeking the mirrored point (seed 002);
+//! - [`group`]: separation, alignment, cohesion (seed 001), R–A zones and Vicsek alignment
+//!   (seed 003);
+//! - [`wander`]: random yaw/pitch increments inside the balance limits (seed 002).
+
+pub mod avoid;
+pub mod escape;
+pub mod goal;
+pub mod group;
+pub mod wander;
+
+use crate::frame;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// The kinematic state a primitive steers from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kin {
+    /// Position.
+    pub pos: Vec3,
+    /// Yaw (rad, right positive).
+    pub yaw: f32,
+    /// Pitch (rad, up positive).
+    pub pitch: f32,
+    /// Current speed Vc.
+    pub speed: f32,
+}
+
+impl Kin {
+    /// Forward unit vector.
+    #[inline]
+    pub fn forward(&self) -> Vec3 {
+        frame::forward(self.yaw, self.pitch)
+    }
+    /// Velocity.
+    #[inline]
+    pub fn velocity(&self) -> Vec3 {
+        self.forward() * self.speed
+    }
+}
+
+/// A steering command.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum Steer {
+    /// Nothing to do: in a priority list the next entry is tried.
+    #[default]
+    None,
+    /// Turn by `yaw` and `pitch` (rad, relative to the current heading; right and up positive)
+    /// and aim for `speed`.
+    Turn {
+        /// Relative yaw.
+        yaw: f32,
+        /// Relative pitch.
+        pitch: f32,
+        /// Target speed.
+        speed: f32,
+    },
+    /// Aim for this world-space velocity.
+    Velocity(Vec3),
+}
+
+impl Steer {
+    /// No command.
+    pub const NONE: Steer = Steer::None;
+
+    /// Keep heading and speed.
+    pub fn keep(kin: &Kin) -> Steer {
+        Steer::Turn {
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: kin.speed,
+        }
+    }
+
+    /// Whether this is [`Steer::None`].
+    pub fn is_none(&self) -> bool {
+        matches!(self, Steer::None)
+    }
+
+    /// Whether every component is finite.
+    pub fn is_finite(&self) -> bool {
+        match *self {
+            Steer::None => true,
+            Steer::Turn { yaw, pitch, speed } => {
+                yaw.is_finite() && pitch.is_finite() && speed.is_finite()
+            }
+            Steer::Velocity(v) => v.is_finite(),
+        }
+    }
+
+    /// The desired world velocity this command stands for, from `kin`.
+    pub fn desired_velocity(&self, kin: &Kin) -> Vec3 {
+        match *self {
+            Steer::None => kin.velocity(),
+            Steer::Turn { yaw, pitch, speed } => {
+                let p = (kin.pitch + pitch).clamp(-frame::PITCH_LIMIT, frame::PITCH_LIMIT);
+                frame::forward(kin.yaw + yaw, p) * speed
+            }
+            Steer::Velocity(v) => v,
+        }
+    }
+
+    /// The same command as relative turn angles and a target speed (unclamped: locomotion
+    /// applies the limits). A zero desired velocity keeps the heading and stops.
+    pub fn as_turn(&self, kin: &Kin) -> (f32, f32, f32) {
+        match *self {
+            Steer::None => (0.0, 0.0, kin.speed),
+            Steer::Turn { yaw, pitch, speed } => (yaw, pitch, speed),
+            Steer::Velocity(v) => match frame::heading_of(v) {
+                Some((y, p)) => {
+                    let horizontal = v.x * v.x + v.z * v.z > 1e-12;
+                    let dyaw = if horizontal {
+                        frame::wrap(y - kin.yaw)
+                    } else {
+                        0.0
+                    };
+                    (dyaw, p - kin.pitch, v.length())
+                }
+                None => (0.0, 0.0, 0.0),
+            },
+        }
+    }
+}
+
+/// Strict priority: the first command that is not [`Steer::None`] wins.
+pub fn first_of(cmds: impl IntoIterator<Item = Steer>) -> Steer {
+    cmds.into_iter()
+        .find(|c| !c.is_none())
+        .unwrap_or(Steer::None)
+}
+
+/// Weighted blending (seed 003's weighted constraints): each command is turned into a steering
+/// vector `desired − current`, the vectors are summed with their weights and added to the current
+/// velocity. Commands that are [`Steer::None`] or have a zero weight do not count; with none left
+/// the result is [`Steer::None`]. A single command with weight 1 gives back its own velocity.
+pub fn blend(kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
+    let current = kin.velocity();
+    let mut sum = Vec3::ZERO;
+    let mut any = false;
+    for (w, c) in cmds {
+        if c.is_none() || w == 0.0 || !w.is_finite() {
+            continue;
+        }
+        any = true;
+        sum += w * (c.desired_velocity(kin) - current);
+    }
+    if any {
+        Steer::Velocity(current + sum)
+    } else {
+        Steer::None
+    }
+}
+
+/// Seek: full speed toward `target`.
+pub fn seek(kin: &Kin, target: Vec3, max_speed: f32) -> Steer {
+    match (target - kin.pos).try_normalize() {
+        Some(d) => Steer::Velocity(d * max_speed),
+        None => Steer::None,
+    }
+}
+
+/// Flee: full speed away from `threat`.
+pub fn flee(kin: &Kin, threat: Vec3, max_speed: f32) -> Steer {
+    match (kin.pos - threat).try_normalize() {
+        Some(d) => Steer::Velocity(d * max_speed),
+        None => Steer::Turn {
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: max_speed,
+        },
+    }
+}
+
+/// Arrive: seek that slows down linearly inside `slow_radius` and stops on the target.
+pub fn arrive(kin: &Kin, target: Vec3, max_speed: f32, slow_radius: f32) -> Steer {
+    let off = target - kin.pos;
+    let d = off.length();
+    if d < 1e-6 {
+        return Steer::Velocity(Vec3::ZERO);
+    }
+    let speed = if slow_radius > 0.0 && d < slow_radius {
+        max_speed * d / slow_radius
+    } else {
+        max_speed
+    };
+    Steer::Velocity(off / d * speed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kin() -> Kin {
+        Kin {
+            pos: Vec3::ZERO,
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: 1.0,
+        }
+    }
+
+    #[test]
+    fn blend_of_one_command_with_weight_one_is_that_command() {
+        let k = kin();
+        let v = Vec3::new(1.0, 0.0, 2.0);
+        assert_eq!(blend(&k, [(1.0, Steer::Velocity(v))]), Steer::Velocity(v));
+    }
+
+    #[test]
+    fn blend_sums_steering_vectors() {
+        let k = kin(); // velocity (0,0,1)
+        let a = Steer::Velocity(Vec3::new(1.0, 0.0, 1.0)); // steering (1,0,0)
+        let b = Steer::Velocity(Vec3::new(0.0, 1.0, 1.0)); // steering (0,1,0)
+        assert_eq!(
+            blend(&k, [(2.0, a), (0.5, b), (3.0, Steer::None)]),
+            Steer::Velocity(Vec3::new(2.0, 0.5, 1.0))
+        );
+        assert_eq!(blend(&k, [(0.0, a)]), Steer::None);
+    }
+
+    #[test]
+    fn priority_takes_the_first_non_empty() {
+        let t = Steer::Turn {
+            yaw: 0.1,
+            pitch: 0.0,
+            speed: 1.0,
+        };
+        assert_eq!(first_of([Steer::None, t, Steer::Velocity(Vec3::X)]), t);
+        assert_eq!(first_of([Steer::None]), Steer::None);
+    }
+
+    #[test]
+    fn velocity_to_turn_round_trip() {
+        let k = Kin {
+            pos: Vec3::ZERO,
+            yaw: 0.3,
+            pitch: 0.1,
+            speed: 2.0,
+        };
+        let t = Steer::Turn {
+            yaw: 0.4,
+            pitch: -0.2,
+            speed: 3.0,
+        };
+        let v = Steer::Velocity(t.desired_velocity(&k));
+        let (y, p, s) = v.as_turn(&k);
+        assert!((y - 0.4).abs() < 1e-5 && (p + 0.2).abs() < 1e-5 && (s - 3.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn arrive_slows_inside_radius() {
+        let k = kin();
+        let Steer::Velocity(v) = arrive(&k, Vec3::new(0.0, 0.0, 5.0), 4.0, 10.0) else {
+            panic!()
+        };
+        assert!((v.length() - 2.0).abs() < 1e-6);
+        assert_eq!(seek(&k, k.pos, 1.0), Steer::None);
+    }
+}

@@ -1,0 +1,205 @@
+//! One agent's state: kinematics, drives, attributes, decision state and animation channel.
+
+use super::Rng;
+use crate::frame;
+use crate::steering::Steer;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// Stable agent id: never reused within a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct AgentId(pub u32);
+
+/// Index of a species in the loaded species set.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct SpeciesId(pub u16);
+
+/// Sex attribute (seed 003 fish model).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Sex {
+    /// Female.
+    #[default]
+    Female,
+    /// Male.
+    Male,
+}
+
+/// Attributes of seed 003's fish model ⟨sex, age, mass, type⟩.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Attributes {
+    /// Sex.
+    pub sex: Sex,
+    /// Age (s or any unit the species uses).
+    pub age: f32,
+    /// Mass.
+    pub mass: f32,
+    /// Free type tag (school membership in seed 003).
+    pub kind: u16,
+}
+
+impl Default for Attributes {
+    fn default() -> Self {
+        Attributes {
+            sex: Sex::Female,
+            age: 1.0,
+            mass: 1.0,
+            kind: 0,
+        }
+    }
+}
+
+/// Drive values and their histories (seed 000 §2, seed 003).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct Drives {
+    /// Hunger H(t) ∈ [0, 1].
+    pub hunger: f32,
+    /// Libido L(t) ∈ [0, 1].
+    pub libido: f32,
+    /// Fear F(t) ∈ [0, 1].
+    pub fear: f32,
+    /// Fatigue ∈ [0, 1] (seed 003 internal state; scripts may drive it).
+    pub fatigue: f32,
+    /// Time since the last meal Δt_H (s).
+    pub since_meal: f32,
+    /// Time since the last mating Δt_L (s).
+    pub since_mating: f32,
+    /// Food eaten in the last meal, n_e.
+    pub eaten: f32,
+}
+
+/// Capacity of the behavior stack; deeper interrupts drop the oldest entry.
+pub const STACK_CAPACITY: usize = 8;
+
+/// Decision state: the current behavior, the behavior stack and anti-dithering timers
+/// (seed 000 §3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Mind {
+    /// Index of the current behavior in the species' behavior list.
+    pub current: u16,
+    /// Interrupted behaviors, bottom first.
+    pub stack: [u16; STACK_CAPACITY],
+    /// Number of entries used in `stack`.
+    pub depth: u8,
+    /// Tick the current behavior started (or resumed).
+    pub entered_tick: u64,
+    /// Hysteresis latches: bit i set while hysteresis condition i is latched on.
+    pub latches: u64,
+    /// Per behavior: the tick before which it may not start again (cooldown).
+    pub cooldown_until: Vec<u64>,
+    /// Cached results of script conditions and weights, refreshed at the decision rate.
+    pub script_values: Vec<f32>,
+    /// Last valid steering, kept when a script fails.
+    pub last_steer: Steer,
+    /// Whether this agent already reported a script error (reported once).
+    pub script_error_reported: bool,
+}
+
+impl Mind {
+    /// A mind starting in behavior `initial`.
+    pub fn new(initial: u16, behaviors: usize, script_values: usize) -> Self {
+        Mind {
+            current: initial,
+            stack: [0; STACK_CAPACITY],
+            depth: 0,
+            entered_tick: 0,
+            latches: 0,
+            cooldown_until: vec![0; behaviors],
+            script_values: vec![0.0; script_values],
+            last_steer: Steer::NONE,
+            script_error_reported: false,
+        }
+    }
+    /// The stack, bottom first.
+    pub fn stack(&self) -> &[u16] {
+        &self.stack[..self.depth as usize]
+    }
+    /// Top of the stack.
+    pub fn top(&self) -> Option<u16> {
+        self.stack().last().copied()
+    }
+    /// Pushes an interrupted behavior; when full, the oldest entry is dropped.
+    pub fn push(&mut self, b: u16) {
+        if self.depth as usize == STACK_CAPACITY {
+            self.stack.copy_within(1.., 0);
+            self.depth -= 1;
+        }
+        self.stack[self.depth as usize] = b;
+        self.depth += 1;
+    }
+    /// Pops the top of the stack.
+    pub fn pop(&mut self) -> Option<u16> {
+        if self.depth == 0 {
+            None
+        } else {
+            self.depth -= 1;
+            Some(self.stack[self.depth as usize])
+        }
+    }
+}
+
+/// Animation channel for a renderer (seed 001 tail tween).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct Anim {
+    /// Swim-cycle phase in [0, 1).
+    pub phase: f32,
+    /// Tail bend (rad), negative = bent to the left.
+    pub bend: f32,
+}
+
+/// One agent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Agent {
+    /// Stable id.
+    pub id: AgentId,
+    /// Species.
+    pub species: SpeciesId,
+    /// Position.
+    pub pos: Vec3,
+    /// Position one tick ago (for linear prediction, seed 002).
+    pub prev_pos: Vec3,
+    /// Heading yaw about world up (rad, right positive).
+    pub yaw: f32,
+    /// Heading pitch (rad, up positive), |pitch| < 90°.
+    pub pitch: f32,
+    /// Speed along the forward axis.
+    pub speed: f32,
+    /// Yaw rate (rad/s), used by the rigid-body mode.
+    pub yaw_rate: f32,
+    /// Pitch rate (rad/s), used by the rigid-body mode.
+    pub pitch_rate: f32,
+    /// Bounding box size (width, height, length).
+    pub size: Vec3,
+    /// Drives.
+    pub drives: Drives,
+    /// Attributes.
+    pub attrs: Attributes,
+    /// Decision state.
+    pub mind: Mind,
+    /// Animation channel.
+    pub anim: Anim,
+    /// The agent's own random stream.
+    pub rng: Rng,
+}
+
+impl Agent {
+    /// Forward unit vector.
+    #[inline]
+    pub fn forward(&self) -> Vec3 {
+        frame::forward(self.yaw, self.pitch)
+    }
+    /// Velocity (forward × speed, without the world current).
+    #[inline]
+    pub fn velocity(&self) -> Vec3 {
+        self.forward() * self.speed
+    }
+    /// Size `S_f` of seed 000: the bounding box diagonal.
+    #[inline]
+    pub fn diagonal(&self) -> f32 {
+        self.size.length()
+    }
+    /// Radius of the bounding sphere.
+    #[inline]
+    pub fn radius(&self) -> f32 {
+        self.size.length() * 0.5
+    }
+}

@@ -1,0 +1,202 @@
+//! The world state: agents, static obstacles, food, bounds and the clock.
+//!
+//! Not a stage itself: every stage of the tick (see [`crate::tick`]) reads the world as it was at
+//! the start of the tick and the pipeline applies the results in agent order at the end.
+
+mod agent;
+mod rng;
+
+pub use agent::{Agent, AgentId, Anim, Attributes, Drives, Mind, Sex, SpeciesId, STACK_CAPACITY};
+pub use rng::Rng;
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// An axis-aligned box: world bounds, obstacle boxes, spawn regions.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Aabb {
+    /// Smallest corner.
+    pub min: Vec3,
+    /// Largest corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// A box from two corners in any order.
+    pub fn new(a: Vec3, b: Vec3) -> Self {
+        Aabb {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+    /// Centre point.
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+    /// Full size along each axis.
+    pub fn size(&self) -> Vec3 {
+        self.max - self.min
+    }
+    /// Whether `p` lies inside or on the box.
+    pub fn contains(&self, p: Vec3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+    /// Whether `other` lies entirely inside this box.
+    pub fn contains_box(&self, other: &Aabb) -> bool {
+        self.contains(other.min) && self.contains(other.max)
+    }
+    /// The point of the box nearest to `p`.
+    pub fn closest_point(&self, p: Vec3) -> Vec3 {
+        p.clamp(self.min, self.max)
+    }
+}
+
+/// The shape of a static obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Shape {
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// An axis-aligned box.
+    Box(Aabb),
+}
+
+impl Shape {
+    /// Centre of the shape.
+    pub fn center(&self) -> Vec3 {
+        match self {
+            Shape::Sphere { center, .. } => *center,
+            Shape::Box(b) => b.center(),
+        }
+    }
+    /// Radius of the bounding sphere (used for occlusion and the path test, seed 001).
+    pub fn bounding_radius(&self) -> f32 {
+        match self {
+            Shape::Sphere { radius, .. } => *radius,
+            Shape::Box(b) => b.size().length() * 0.5,
+        }
+    }
+    /// Size `S` of seed 000 §4.1: the bounding box diagonal.
+    pub fn diagonal(&self) -> f32 {
+        match self {
+            Shape::Sphere { radius, .. } => 2.0 * radius * 3f32.sqrt(),
+            Shape::Box(b) => b.size().length(),
+        }
+    }
+    /// The surface point nearest to `p` (for a point inside, `p` itself).
+    pub fn closest_point(&self, p: Vec3) -> Vec3 {
+        match self {
+            Shape::Sphere { center, radius } => {
+                let d = p - *center;
+                let len = d.length();
+                if len <= *radius {
+                    p
+                } else {
+                    *center + d * (*radius / len)
+                }
+            }
+            Shape::Box(b) => b.closest_point(p),
+        }
+    }
+}
+
+/// A static obstacle with a stable id.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Obstacle {
+    /// Stable id (its index in the scenario).
+    pub id: u32,
+    /// Geometry.
+    pub shape: Shape,
+    /// False once removed by a timed event; removed obstacles are neither seen nor avoided.
+    pub active: bool,
+}
+
+/// A food item.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Food {
+    /// Stable id.
+    pub id: u32,
+    /// Position.
+    pub pos: Vec3,
+}
+
+/// The whole simulated state.
+#[derive(Debug, Clone)]
+pub struct World {
+    /// Agents in ascending id order; dead agents are removed at the end of the tick they die in.
+    pub agents: Vec<Agent>,
+    /// Static obstacles.
+    pub obstacles: Vec<Obstacle>,
+    /// Food items in ascending id order.
+    pub food: Vec<Food>,
+    /// World bounds; agents are kept inside.
+    pub bounds: Aabb,
+    /// A uniform current (world units / s) added to every agent's motion.
+    pub current: Vec3,
+    /// Fixed time step (s).
+    pub dt: f32,
+    /// Ticks done.
+    pub tick: u64,
+    /// The run's seed.
+    pub seed: u64,
+    /// Next agent id to hand out.
+    pub next_agent_id: u32,
+    /// Next food id to hand out.
+    pub next_food_id: u32,
+}
+
+impl World {
+    /// An empty world.
+    pub fn new(bounds: Aabb, dt: f32, seed: u64) -> Self {
+        World {
+            agents: Vec::new(),
+            obstacles: Vec::new(),
+            food: Vec::new(),
+            bounds,
+            current: Vec3::ZERO,
+            dt,
+            tick: 0,
+            seed,
+            next_agent_id: 0,
+            next_food_id: 0,
+        }
+    }
+
+    /// Simulated time (s).
+    pub fn time(&self) -> f64 {
+        self.tick as f64 * self.dt as f64
+    }
+
+    /// Adds food at `pos` and returns its id.
+    pub fn add_food(&mut self, pos: Vec3) -> u32 {
+        let id = self.next_food_id;
+        self.next_food_id += 1;
+        self.food.push(Food { id, pos });
+        id
+    }
+
+    /// Adds an obstacle and returns its id.
+    pub fn add_obstacle(&mut self, shape: Shape) -> u32 {
+        let id = self.obstacles.len() as u32;
+        self.obstacles.push(Obstacle {
+            id,
+            shape,
+            active: true,
+        });
+        id
+    }
+
+    /// Index of the agent with this id (agents are sorted by id).
+    pub fn agent_index(&self, id: AgentId) -> Option<usize> {
+        self.agents.binary_search_by_key(&id, |a| a.id).ok()
+    }
+
+    /// The agent with this id.
+    pub fn agent(&self, id: AgentId) -> Option<&Agent> {
+        self.agent_index(id).map(|i| &self.agents[i])
+    }
+}
