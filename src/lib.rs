@@ -5,11 +5,16 @@
 //! [`events`], driven by [`tick`].
 #![warn(missing_docs)]
 
+pub mod decision;
 pub mod diag;
 pub mod drives;
+pub mod events;
 pub mod frame;
 pub mod index;
 pub mod locomotion;
 pub mod perception;
+pub mod script;
+pub mod species;
 pub mod steering;
+pub mod tick;
 pub mod world;

@@ -174,3 +174,50 @@ mod tests {
         }
     }
 }
+
+/// What drives read from perception this tick.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Stimuli {
+    /// Food stimulus S_h ∈ [0, 1] (nearness of the nearest food).
+    pub food: f32,
+    /// Mate stimulus S_l ∈ [0, 1].
+    pub mate: f32,
+}
+
+/// Stage 3 for one agent: advances the clocks by `dt` and recomputes hunger, libido and fear from
+/// the formulas (seed 000 §2). `predators` are the distances to perceived predators.
+pub fn update(
+    d: &mut crate::world::Drives,
+    p: &DriveParams,
+    stimuli: Stimuli,
+    predators: impl IntoIterator<Item = f32>,
+    dt: f32,
+) {
+    d.since_meal += dt;
+    d.since_mating += dt;
+    d.hunger = hunger(d.eaten, d.since_meal, stimuli.food, p);
+    d.libido = libido(d.since_mating, d.hunger, stimuli.mate, p);
+    d.fear = fear(predators, p.d0);
+}
+
+#[cfg(test)]
+mod update_tests {
+    use super::*;
+
+    #[test]
+    fn update_advances_clocks_and_applies_formulas() {
+        let p = DriveParams::default();
+        let mut d = crate::world::Drives {
+            eaten: 1.0,
+            since_meal: 999.0,
+            since_mating: 199.0,
+            ..Default::default()
+        };
+        update(&mut d, &p, Stimuli::default(), [400.0], 1.0);
+        assert_eq!(d.since_meal, 1000.0);
+        assert!((d.hunger - 0.67).abs() < 1e-5);
+        // l(200)·(1 − 0.67) = 0.5·0.33.
+        assert!((d.libido - 0.165).abs() < 1e-5);
+        assert!((d.fear - 0.5).abs() < 1e-6);
+    }
+}

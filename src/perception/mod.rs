@@ -480,6 +480,8 @@ mod tests {
             mind: Mind::new(0, 1, 0),
             anim: Anim::default(),
             rng: Rng::new(0, id as u64),
+            memory: Vec::new(),
+            inbox: None,
         }
     }
 

@@ -16,6 +16,7 @@ pub mod avoid;
 pub mod escape;
 pub mod goal;
 pub mod group;
+pub mod recipe;
 pub mod wander;
 
 use crate::frame;
@@ -129,6 +130,18 @@ impl Steer {
             },
         }
     }
+}
+
+/// One term of a script-built steering value: evaluated natively every tick until the script
+/// runs again.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Term {
+    /// One of the species' named recipes, by index.
+    Recipe(u16),
+    /// A fixed desired velocity.
+    Velocity(Vec3),
+    /// A relative turn and a target speed.
+    Turn(f32, f32, f32),
 }
 
 /// Strict priority: the first command that is not [`Steer::None`] wins.

@@ -1,8 +1,9 @@
 //! One agent's state: kinematics, drives, attributes, decision state and animation channel.
 
 use super::Rng;
+use crate::events::MessageKind;
 use crate::frame;
-use crate::steering::Steer;
+use crate::steering::{Steer, Term};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -90,6 +91,8 @@ pub struct Mind {
     pub script_values: Vec<f32>,
     /// Last valid steering, kept when a script fails.
     pub last_steer: Steer,
+    /// Script-built steering per script recipe slot, refreshed at the decision rate.
+    pub script_steer: Vec<Vec<(f32, Term)>>,
     /// Whether this agent already reported a script error (reported once).
     pub script_error_reported: bool,
 }
@@ -106,6 +109,7 @@ impl Mind {
             cooldown_until: vec![0; behaviors],
             script_values: vec![0.0; script_values],
             last_steer: Steer::NONE,
+            script_steer: Vec::new(),
             script_error_reported: false,
         }
     }
@@ -179,7 +183,29 @@ pub struct Agent {
     pub anim: Anim,
     /// The agent's own random stream.
     pub rng: Rng,
+    /// Per-agent memory (a small blackboard that persists across ticks), in key order.
+    pub memory: Vec<(String, MemValue)>,
+    /// Highest-priority message received last tick.
+    pub inbox: Option<MessageKind>,
 }
+
+/// A value on an agent's blackboard.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum MemValue {
+    /// A flag.
+    Bool(bool),
+    /// An integer.
+    Int(i64),
+    /// A number.
+    Float(f32),
+    /// A vector.
+    Vec3(Vec3),
+    /// A short string.
+    Str(String),
+}
+
+/// Most keys on one blackboard.
+pub const MEMORY_CAPACITY: usize = 32;
 
 impl Agent {
     /// Forward unit vector.

@@ -6,7 +6,10 @@
 mod agent;
 mod rng;
 
-pub use agent::{Agent, AgentId, Anim, Attributes, Drives, Mind, Sex, SpeciesId, STACK_CAPACITY};
+pub use agent::{
+    Agent, AgentId, Anim, Attributes, Drives, MemValue, Mind, Sex, SpeciesId, MEMORY_CAPACITY,
+    STACK_CAPACITY,
+};
 pub use rng::Rng;
 
 use glam::Vec3;

@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 /// SplitMix64: tiny, fast, and good enough for steering noise and spawn placement.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub struct Rng(pub u64);
 
 impl Rng {

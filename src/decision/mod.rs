@@ -1,0 +1,328 @@
+//! Stage 4 of the tick: decision. The prioritized FSM with a behavior stack of seed 000 §3:
+//! a higher level interrupts a lower one, a lower one never interrupts a higher one, equal levels
+//! may interrupt each other; an interrupted behavior goes on the stack, and whenever a new
+//! behavior would start, the top of the stack is compared with it first and resumed if it
+//! outranks it. Designers add anti-dithering (minimum time, cooldown, latched conditions).
+//!
+//! Conditions are native evaluators resolved at load time ([`crate::species::CondNode`]); script
+//! conditions read values cached at the species' decision rate ([`scripts`]). Every transition
+//! records its cause and the text of the condition that fired.
+
+pub mod scripts;
+
+use crate::events::{Cause, MessageKind};
+use crate::perception::{Category, Percept, Sense, Source, Summary};
+use crate::species::{AttrKind, CondNode, DriveKind, Species, ValueNode};
+use crate::steering::avoid::{self, PressureSource};
+use crate::steering::escape;
+use crate::steering::Kin;
+use crate::world::{Agent, Mind, Rng, World};
+use std::sync::Arc;
+
+/// What a condition or value may read about one agent this tick.
+pub struct Ctx<'a> {
+    /// The world at the start of the tick.
+    pub world: &'a World,
+    /// The agent's species.
+    pub species: &'a Species,
+    /// The agent (state at the start of the tick; drives already updated).
+    pub agent: &'a Agent,
+    /// Its percepts.
+    pub percepts: &'a [Percept],
+    /// Its summaries.
+    pub summaries: &'a [Summary; Category::COUNT],
+    /// Current tick.
+    pub tick: u64,
+    /// Time step.
+    pub dt: f32,
+}
+
+impl Ctx<'_> {
+    /// Kinematic state.
+    pub fn kin(&self) -> Kin {
+        Kin {
+            pos: self.agent.pos,
+            yaw: self.agent.yaw,
+            pitch: self.agent.pitch,
+            speed: self.agent.speed,
+        }
+    }
+    /// Nearest percept of a category.
+    pub fn nearest(&self, c: Category) -> Option<&Percept> {
+        self.summaries[c as usize]
+            .nearest
+            .map(|i| &self.percepts[i as usize])
+    }
+    /// Seconds the agent has been in its current behavior.
+    pub fn time_in_behavior(&self, mind: &Mind) -> f32 {
+        self.tick.saturating_sub(mind.entered_tick) as f32 * self.dt
+    }
+    /// Seen static obstacles as pressure sources.
+    pub fn static_sources(&self) -> impl Iterator<Item = PressureSource> + '_ {
+        self.percepts
+            .iter()
+            .filter(|p| p.category == Category::Obstacle && p.sense == Sense::Vision)
+            .map(|p| PressureSource {
+                dist: p.dist,
+                bearing: p.bearing,
+                elevation: p.elevation,
+                size: p.size,
+                weight: 1.0,
+            })
+    }
+    /// Seen agents as moving obstacles (seed 000 §4.2: the whole ±150° field counts).
+    pub fn moving_obstacles(&self, out: &mut Vec<avoid::MovingObstacle>) {
+        out.clear();
+        for p in self.percepts {
+            if let (Source::Agent(j), Sense::Vision) = (p.source, p.sense) {
+                let o = &self.world.agents[j as usize];
+                out.push(avoid::MovingObstacle {
+                    source: PressureSource {
+                        dist: (p.dist - o.radius() - self.agent.radius()).max(0.0),
+                        bearing: p.bearing,
+                        elevation: p.elevation,
+                        size: p.size,
+                        weight: 1.0,
+                    },
+                    velocity: o.velocity(),
+                });
+            }
+        }
+    }
+}
+
+/// Evaluates a value.
+pub fn value(v: &ValueNode, ctx: &Ctx, mind: &Mind) -> f32 {
+    match v {
+        ValueNode::Const(x) => *x,
+        ValueNode::Drive(d) => {
+            let dr = &ctx.agent.drives;
+            match d {
+                DriveKind::Hunger => dr.hunger,
+                DriveKind::Libido => dr.libido,
+                DriveKind::Fear => dr.fear,
+                DriveKind::Fatigue => dr.fatigue,
+            }
+        }
+        ValueNode::Distance(c) => ctx.summaries[*c as usize].nearest_dist,
+        ValueNode::Count(c) => ctx.summaries[*c as usize].count as f32,
+        ValueNode::Speed => ctx.agent.speed,
+        ValueNode::TimeInBehavior => ctx.time_in_behavior(mind),
+        ValueNode::Attribute(a) => match a {
+            AttrKind::Age => ctx.agent.attrs.age,
+            AttrKind::Mass => ctx.agent.attrs.mass,
+        },
+        ValueNode::KinSpeed => ctx.summaries[Category::Kin as usize].mean_velocity.length(),
+        ValueNode::OneMinus(x) => 1.0 - value(x, ctx, mind),
+        ValueNode::Mul(a, b) => value(a, ctx, mind) * value(b, ctx, mind),
+        ValueNode::Add(a, b) => value(a, ctx, mind) + value(b, ctx, mind),
+        ValueNode::Script(slot) => mind
+            .script_values
+            .get(*slot as usize)
+            .copied()
+            .unwrap_or(0.0),
+    }
+}
+
+/// Evaluates a condition. Latches and chance draws update `mind` and `rng`.
+pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
+    match c {
+        CondNode::Always => true,
+        CondNode::Never => false,
+        CondNode::All(v) => v.iter().all(|c| cond(c, ctx, mind, rng)),
+        CondNode::Any(v) => v.iter().any(|c| cond(c, ctx, mind, rng)),
+        CondNode::Not(c) => !cond(c, ctx, mind, rng),
+        CondNode::Above(v, x) => value(v, ctx, mind) > *x,
+        CondNode::Below(v, x) => value(v, ctx, mind) < *x,
+        CondNode::Latch { bit, on, off } => {
+            let mask = 1u64 << bit;
+            let latched = mind.latches & mask != 0;
+            let now = if latched {
+                !cond(off, ctx, mind, rng)
+            } else {
+                cond(on, ctx, mind, rng)
+            };
+            if now {
+                mind.latches |= mask;
+            } else {
+                mind.latches &= !mask;
+            }
+            now
+        }
+        CondNode::Sees(k) => ctx.summaries[*k as usize].seen > 0,
+        CondNode::Smells(k) => {
+            let s = &ctx.summaries[*k as usize];
+            s.count > s.seen
+        }
+        CondNode::Perceives(k) => ctx.summaries[*k as usize].count > 0,
+        CondNode::Within(k, d) => ctx.summaries[*k as usize].nearest_dist <= *d,
+        CondNode::EscapeDone => match ctx.nearest(Category::Predator) {
+            None => true,
+            Some(p) => escape::escape_done(
+                &ctx.kin(),
+                p.bearing,
+                p.offset,
+                p.dist,
+                ctx.species.senses.vision_radius,
+            ),
+        },
+        CondNode::ObstacleNear => {
+            let p = avoid::pressures(ctx.static_sources(), avoid::AvoidParams::default().m0);
+            p.max()
+                > avoid::static_m_min(
+                    ctx.species.senses.vision_radius,
+                    avoid::AvoidParams::default().m0,
+                )
+        }
+        CondNode::TrafficNear => {
+            let mut v = Vec::new();
+            ctx.moving_obstacles(&mut v);
+            let s = avoid::avoid_dynamic(
+                &ctx.kin(),
+                &v,
+                ctx.species.senses.vision_radius,
+                ctx.agent.diagonal(),
+                ctx.dt,
+                &avoid::AvoidParams::default(),
+            );
+            !s.is_none()
+        }
+        CondNode::Heard(m) => ctx.agent.inbox.is_some_and(|k: MessageKind| k == *m),
+        CondNode::TimeIn(t) => ctx.time_in_behavior(mind) >= *t,
+        CondNode::Chance(p) => rng.next_f32() < p * ctx.dt,
+        CondNode::NearBounds(m) => {
+            let b = &ctx.world.bounds;
+            let q = ctx.agent.pos;
+            (q - b.min).min_element() < *m || (b.max - q).min_element() < *m
+        }
+        CondNode::Script(slot) => {
+            mind.script_values
+                .get(*slot as usize)
+                .copied()
+                .unwrap_or(0.0)
+                != 0.0
+        }
+    }
+}
+
+/// One behavior change.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Transition {
+    /// Behavior before.
+    pub from: u16,
+    /// Behavior after.
+    pub to: u16,
+    /// Why.
+    pub cause: Cause,
+    /// Text of the condition that fired.
+    pub condition: Option<Arc<str>>,
+}
+
+/// Up to two transitions per tick (a completion followed by a resume or start is one).
+pub type Transitions = [Option<Transition>; 2];
+
+fn can_start(i: usize, mind: &Mind, tick: u64) -> bool {
+    mind.cooldown_until.get(i).is_none_or(|&t| tick >= t) && !mind.stack().contains(&(i as u16))
+}
+
+/// The highest-priority behavior (earliest declared among equals) other than the current one
+/// whose activation condition holds, considering only levels up to `max_level`.
+fn best_triggered(
+    ctx: &Ctx,
+    mind: &mut Mind,
+    rng: &mut Rng,
+    max_level: u8,
+    exclude: u16,
+) -> Option<u16> {
+    let bs = &ctx.species.behaviors;
+    let mut best: Option<(u8, u16)> = None;
+    for (i, b) in bs.iter().enumerate() {
+        if i as u16 == exclude
+            || b.priority > max_level
+            || best.is_some_and(|(p, _)| b.priority >= p)
+        {
+            continue;
+        }
+        if can_start(i, mind, ctx.tick) && cond(&b.when, ctx, mind, rng) {
+            best = Some((b.priority, i as u16));
+        }
+    }
+    best.map(|(_, i)| i)
+}
+
+fn enter(mind: &mut Mind, to: u16, tick: u64) {
+    mind.current = to;
+    mind.entered_tick = tick;
+}
+
+/// One step of arbitration for one agent. Returns the transitions it made.
+pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
+    let bs = &ctx.species.behaviors;
+    let tick = ctx.tick;
+    let cur = mind.current.min(bs.len().saturating_sub(1) as u16);
+    mind.current = cur;
+    let b = &bs[cur as usize];
+    let t_in = ctx.time_in_behavior(mind);
+    let mut out: Transitions = [None, None];
+
+    // 1. Completion of the current behavior.
+    if t_in >= b.min_time && cond(&b.done, ctx, mind, rng) {
+        if b.cooldown > 0.0 {
+            if let Some(c) = mind.cooldown_until.get_mut(cur as usize) {
+                *c = tick + (b.cooldown / ctx.dt).ceil() as u64;
+            }
+        }
+        // Stacked behaviors whose own completion already holds are dropped.
+        while let Some(top) = mind.top() {
+            let tb = &bs[top as usize];
+            if cond(&tb.done, ctx, mind, rng) {
+                mind.pop();
+            } else {
+                break;
+            }
+        }
+        let new = best_triggered(ctx, mind, rng, u8::MAX, cur);
+        let top = mind.top();
+        let (to, cause) = match (top, new) {
+            (Some(t), Some(n)) if bs[t as usize].priority < bs[n as usize].priority => {
+                mind.pop();
+                (t, Cause::Resumed)
+            }
+            (_, Some(n)) => (n, Cause::Completed),
+            (Some(t), None) => {
+                mind.pop();
+                (t, Cause::Resumed)
+            }
+            (None, None) => (ctx.species.initial, Cause::Completed),
+        };
+        enter(mind, to, tick);
+        out[0] = Some(Transition {
+            from: cur,
+            to,
+            cause,
+            condition: Some(b.done_text.clone()),
+        });
+        return out;
+    }
+
+    // 2. Interrupts: strictly higher levels always; equal levels when allowed and past min_time.
+    let max_level = if b.equal_may_interrupt && t_in >= b.min_time {
+        b.priority
+    } else {
+        b.priority.saturating_sub(1)
+    };
+    if max_level == 0 {
+        return out;
+    }
+    if let Some(n) = best_triggered(ctx, mind, rng, max_level, cur) {
+        mind.push(cur);
+        enter(mind, n, tick);
+        out[0] = Some(Transition {
+            from: cur,
+            to: n,
+            cause: Cause::Interrupted,
+            condition: Some(bs[n as usize].when_text.clone()),
+        });
+    }
+    out
+}

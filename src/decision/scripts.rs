@@ -1,0 +1,187 @@
+//! Script calls of the decision stage: at the species' decision rate (staggered by agent id),
+//! each script function the species uses is called with the agent's [`AgentView`] bound as
+//! `this`, and its result cached in the agent's [`Mind`] for the native evaluators. A failing call
+//! leaves the last valid values in place.
+
+use super::Ctx;
+use crate::diag::Diagnostic;
+use crate::frame;
+use crate::perception::Category;
+use crate::script::{AgentView, CategoryView, Script, ScriptSteer};
+use crate::species::{SlotKind, Species};
+use crate::world::{Agent, Mind, Sex};
+use rhai::{Dynamic, ImmutableString, Scope};
+
+/// Whether agent `id` runs its scripts on `tick` (staggered: one agent in `interval` per tick).
+#[inline]
+pub fn due(tick: u64, id: u32, interval: u32) -> bool {
+    interval <= 1 || (tick + id as u64) % interval as u64 == 0
+}
+
+/// Builds the script view of an agent.
+pub fn view_of(
+    ctx: &Ctx,
+    mind: &Mind,
+    species_name: &ImmutableString,
+    behavior: &ImmutableString,
+) -> AgentView {
+    let a: &Agent = ctx.agent;
+    let mut cats: [CategoryView; Category::COUNT] = Default::default();
+    for (i, s) in ctx.summaries.iter().enumerate() {
+        let near = s.nearest.map(|k| &ctx.percepts[k as usize]);
+        cats[i] = CategoryView {
+            count: s.count as i64,
+            seen: s.seen as i64,
+            nearest_dist: if s.nearest_dist.is_finite() {
+                s.nearest_dist
+            } else {
+                1e30
+            },
+            nearest_pos: near.map_or(a.pos, |p| a.pos + p.offset),
+            nearest_bearing: near.map_or(0.0, |p| p.bearing),
+            nearest_elevation: near.map_or(0.0, |p| p.elevation),
+            centroid: s.centroid,
+            mean_heading: s.mean_heading,
+            mean_velocity: s.mean_velocity,
+        };
+    }
+    AgentView {
+        id: a.id.0 as i64,
+        species: species_name.clone(),
+        tick: ctx.tick as i64,
+        time: ctx.tick as f32 * ctx.dt,
+        dt: ctx.dt,
+        pos: a.pos,
+        vel: a.velocity(),
+        fwd: frame::forward(a.yaw, a.pitch),
+        speed: a.speed,
+        max_speed: ctx.species.def.body.limits.max_speed,
+        hunger: a.drives.hunger,
+        libido: a.drives.libido,
+        fear: a.drives.fear,
+        fatigue: a.drives.fatigue,
+        behavior: behavior.clone(),
+        time_in_behavior: ctx.time_in_behavior(mind),
+        stack_depth: mind.depth as i64,
+        sex: if a.attrs.sex == Sex::Male {
+            "male".into()
+        } else {
+            "female".into()
+        },
+        age: a.attrs.age,
+        mass: a.attrs.mass,
+        kind: a.attrs.kind as i64,
+        cats,
+        heard: a
+            .inbox
+            .map_or_else(ImmutableString::new, |k| k.name().into()),
+        memory: a.memory.clone(),
+        rng: a.rng,
+        outbox: Vec::new(),
+        recipes: ctx.species.recipe_names.clone(),
+        drives_written: false,
+    }
+}
+
+/// Converts a script's return value into a number for a slot.
+fn as_number(d: &Dynamic, kind: SlotKind) -> Option<f32> {
+    match kind {
+        SlotKind::Bool => d.as_bool().ok().map(|b| if b { 1.0 } else { 0.0 }),
+        SlotKind::Number => d
+            .as_float()
+            .ok()
+            .or_else(|| d.as_int().ok().map(|i| i as f32)),
+        SlotKind::Steer => None,
+    }
+}
+
+/// Runs every script slot of the species for one agent, updating `mind` and the bound view.
+/// Returns the first error, located in the script.
+pub fn run_slots(
+    species: &Species,
+    script: &Script,
+    mind: &mut Mind,
+    this: &mut Dynamic,
+    scope: &mut Scope,
+) -> Result<(), Diagnostic> {
+    if mind.script_values.len() < species.slots.len() {
+        mind.script_values.resize(species.slots.len(), 0.0);
+    }
+    if mind.script_steer.len() < species.steer_slots {
+        mind.script_steer.resize(species.steer_slots, Vec::new());
+    }
+    for (i, slot) in species.slots.iter().enumerate() {
+        let r: Dynamic = script
+            .call(scope, this, &slot.name)
+            .map_err(|e| e.diagnostic)?;
+        let (line, col) = script.fn_position(&slot.name);
+        let bad = |what: String| Diagnostic::new(&script.file, line, col, what, Some(&script.text));
+        match slot.kind {
+            SlotKind::Steer => {
+                let Some(s) = r.clone().try_cast::<ScriptSteer>() else {
+                    return Err(bad(format!(
+                        "`{}()` must return a steering value (e.g. `this.seek(p)`, `this.recipe(\"name\")`), not {}",
+                        slot.name,
+                        r.type_name()
+                    )));
+                };
+                let finite = s.terms.iter().all(|(w, t)| {
+                    w.is_finite()
+                        && match t {
+                            crate::steering::Term::Recipe(_) => true,
+                            crate::steering::Term::Velocity(v) => v.is_finite(),
+                            crate::steering::Term::Turn(a, b, c) => {
+                                a.is_finite() && b.is_finite() && c.is_finite()
+                            }
+                        }
+                });
+                if !finite {
+                    return Err(bad(format!(
+                        "`{}()` returned a steering value that is not finite (NaN or infinity)",
+                        slot.name
+                    )));
+                }
+                mind.script_steer[slot.index as usize] = s.terms;
+            }
+            kind => match as_number(&r, kind) {
+                Some(v) if v.is_finite() => mind.script_values[i] = v,
+                Some(_) => {
+                    return Err(bad(format!(
+                        "`{}()` returned a number that is not finite (NaN or infinity)",
+                        slot.name
+                    )))
+                }
+                None => {
+                    return Err(bad(format!(
+                        "`{}()` must return {}, not {}",
+                        slot.name,
+                        if kind == SlotKind::Bool {
+                            "a bool"
+                        } else {
+                            "a number"
+                        },
+                        r.type_name()
+                    )))
+                }
+            },
+        }
+    }
+    if species.has_on_tick {
+        let _: Dynamic = script
+            .call(scope, this, "on_tick")
+            .map_err(|e| e.diagnostic)?;
+    }
+    Ok(())
+}
+
+/// Copies what a script may change from the view back to the agent.
+pub fn write_back(view: &AgentView, agent: &mut Agent) {
+    if view.drives_written {
+        agent.drives.hunger = view.hunger;
+        agent.drives.libido = view.libido;
+        agent.drives.fear = view.fear;
+        agent.drives.fatigue = view.fatigue;
+    }
+    agent.memory.clone_from(&view.memory);
+    agent.rng = view.rng;
+}

@@ -1,0 +1,356 @@
+//! The script API: the typed [`AgentView`] bound as `this`, glam vectors with operators, the
+//! blackboard, deterministic random numbers, messages and steering values.
+
+use crate::events::MessageKind;
+use crate::perception::Category;
+use crate::world::{MemValue, Rng, MEMORY_CAPACITY};
+use glam::Vec3;
+use rhai::{Dynamic, Engine, EvalAltResult, ImmutableString, Position, FLOAT, INT};
+use std::sync::Arc;
+
+/// What a script sees of one category of percepts.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CategoryView {
+    /// Number perceived.
+    pub count: INT,
+    /// Number seen (vision).
+    pub seen: INT,
+    /// Distance to the nearest (a large number when none).
+    pub nearest_dist: FLOAT,
+    /// Position of the nearest (own position when none).
+    pub nearest_pos: Vec3,
+    /// Bearing of the nearest (rad, right positive).
+    pub nearest_bearing: FLOAT,
+    /// Elevation of the nearest (rad, up positive).
+    pub nearest_elevation: FLOAT,
+    /// Mean position.
+    pub centroid: Vec3,
+    /// Mean heading.
+    pub mean_heading: Vec3,
+    /// Mean velocity.
+    pub mean_velocity: Vec3,
+}
+
+/// A steering value built by a script: a weighted sum of terms, evaluated natively every tick
+/// until the script runs again (so a script composes native primitives without running per tick).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ScriptSteer {
+    /// Weighted terms.
+    pub terms: Vec<(f32, SteerTerm)>,
+}
+
+pub use crate::steering::Term as SteerTerm;
+
+/// The agent as a script sees it, bound as `this`. Fields are filled from the agent before a
+/// call and the writable ones (drives, memory, outbox, random stream) copied back after.
+#[derive(Debug, Clone, Default)]
+pub struct AgentView {
+    /// Stable id.
+    pub id: INT,
+    /// Species name.
+    pub species: ImmutableString,
+    /// Current tick.
+    pub tick: INT,
+    /// Simulated time (s).
+    pub time: FLOAT,
+    /// Time step (s).
+    pub dt: FLOAT,
+    /// Position.
+    pub pos: Vec3,
+    /// Velocity.
+    pub vel: Vec3,
+    /// Forward unit vector.
+    pub fwd: Vec3,
+    /// Speed.
+    pub speed: FLOAT,
+    /// Maximum speed.
+    pub max_speed: FLOAT,
+    /// Hunger.
+    pub hunger: FLOAT,
+    /// Libido.
+    pub libido: FLOAT,
+    /// Fear.
+    pub fear: FLOAT,
+    /// Fatigue.
+    pub fatigue: FLOAT,
+    /// Current behavior name.
+    pub behavior: ImmutableString,
+    /// Seconds in the current behavior.
+    pub time_in_behavior: FLOAT,
+    /// Depth of the behavior stack.
+    pub stack_depth: INT,
+    /// "female" or "male".
+    pub sex: ImmutableString,
+    /// Age.
+    pub age: FLOAT,
+    /// Mass.
+    pub mass: FLOAT,
+    /// Type tag.
+    pub kind: INT,
+    /// Percept summaries by [`Category`] index.
+    pub cats: [CategoryView; Category::COUNT],
+    /// Highest-priority message heard last tick ("" when none).
+    pub heard: ImmutableString,
+    /// The blackboard.
+    pub memory: Vec<(String, MemValue)>,
+    /// The agent's random stream.
+    pub rng: Rng,
+    /// Messages to broadcast: (kind, radius).
+    pub outbox: Vec<(MessageKind, f32)>,
+    /// Names of the species' named recipes.
+    pub recipes: Arc<[String]>,
+    /// Whether a script wrote a drive.
+    pub drives_written: bool,
+}
+
+fn err(msg: impl Into<String>) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(
+        Dynamic::from(msg.into()),
+        Position::NONE,
+    ))
+}
+
+fn to_mem(v: Dynamic) -> Result<MemValue, Box<EvalAltResult>> {
+    if let Some(b) = v.clone().try_cast::<bool>() {
+        Ok(MemValue::Bool(b))
+    } else if let Some(i) = v.clone().try_cast::<INT>() {
+        Ok(MemValue::Int(i))
+    } else if let Some(f) = v.clone().try_cast::<FLOAT>() {
+        Ok(MemValue::Float(f))
+    } else if let Some(x) = v.clone().try_cast::<Vec3>() {
+        Ok(MemValue::Vec3(x))
+    } else if let Some(s) = v.clone().try_cast::<ImmutableString>() {
+        if s.len() > 256 {
+            return Err(err("memory strings are limited to 256 bytes"));
+        }
+        Ok(MemValue::Str(s.to_string()))
+    } else {
+        Err(err(format!(
+            "memory holds bools, ints, floats, Vec3 and strings, not {}",
+            v.type_name()
+        )))
+    }
+}
+
+fn from_mem(v: &MemValue) -> Dynamic {
+    match v {
+        MemValue::Bool(b) => Dynamic::from(*b),
+        MemValue::Int(i) => Dynamic::from(*i),
+        MemValue::Float(f) => Dynamic::from(*f),
+        MemValue::Vec3(x) => Dynamic::from(*x),
+        MemValue::Str(s) => Dynamic::from(ImmutableString::from(s.as_str())),
+    }
+}
+
+fn single(term: SteerTerm) -> ScriptSteer {
+    ScriptSteer {
+        terms: vec![(1.0, term)],
+    }
+}
+
+/// Registers the whole API on an engine.
+pub fn register_api(e: &mut Engine) {
+    register_vec3(e);
+    register_category(e);
+    register_steer(e);
+    register_agent(e);
+}
+
+fn register_vec3(e: &mut Engine) {
+    e.register_type_with_name::<Vec3>("Vec3")
+        .register_fn("vec3", |x: FLOAT, y: FLOAT, z: FLOAT| Vec3::new(x, y, z))
+        .register_fn("+", |a: Vec3, b: Vec3| a + b)
+        .register_fn("-", |a: Vec3, b: Vec3| a - b)
+        .register_fn("-", |a: Vec3| -a)
+        .register_fn("*", |a: Vec3, k: FLOAT| a * k)
+        .register_fn("*", |k: FLOAT, a: Vec3| a * k)
+        .register_fn("/", |a: Vec3, k: FLOAT| a / k)
+        .register_fn("==", |a: Vec3, b: Vec3| a == b)
+        .register_get_set("x", |v: &mut Vec3| v.x, |v: &mut Vec3, x: FLOAT| v.x = x)
+        .register_get_set("y", |v: &mut Vec3| v.y, |v: &mut Vec3, x: FLOAT| v.y = x)
+        .register_get_set("z", |v: &mut Vec3| v.z, |v: &mut Vec3, x: FLOAT| v.z = x)
+        .register_fn("length", |v: &mut Vec3| v.length())
+        .register_fn("normalize", |v: &mut Vec3| v.normalize_or_zero())
+        .register_fn("dot", |a: &mut Vec3, b: Vec3| a.dot(b))
+        .register_fn("cross", |a: &mut Vec3, b: Vec3| a.cross(b))
+        .register_fn("distance", |a: &mut Vec3, b: Vec3| a.distance(b))
+        .register_fn("to_string", |v: &mut Vec3| {
+            format!("({}, {}, {})", v.x, v.y, v.z)
+        })
+        .register_fn("to_debug", |v: &mut Vec3| {
+            format!("vec3({}, {}, {})", v.x, v.y, v.z)
+        });
+}
+
+fn register_category(e: &mut Engine) {
+    e.register_type_with_name::<CategoryView>("Percepts")
+        .register_get("count", |c: &mut CategoryView| c.count)
+        .register_get("seen", |c: &mut CategoryView| c.seen)
+        .register_get("exists", |c: &mut CategoryView| c.count > 0)
+        .register_get("nearest_dist", |c: &mut CategoryView| c.nearest_dist)
+        .register_get("nearest_pos", |c: &mut CategoryView| c.nearest_pos)
+        .register_get("nearest_bearing", |c: &mut CategoryView| c.nearest_bearing)
+        .register_get("nearest_elevation", |c: &mut CategoryView| {
+            c.nearest_elevation
+        })
+        .register_get("centroid", |c: &mut CategoryView| c.centroid)
+        .register_get("mean_heading", |c: &mut CategoryView| c.mean_heading)
+        .register_get("mean_velocity", |c: &mut CategoryView| c.mean_velocity);
+}
+
+fn register_steer(e: &mut Engine) {
+    e.register_type_with_name::<ScriptSteer>("Steer")
+        .register_fn("+", |a: ScriptSteer, b: ScriptSteer| {
+            let mut t = a.terms;
+            t.extend(b.terms);
+            ScriptSteer { terms: t }
+        })
+        .register_fn("*", |a: ScriptSteer, k: FLOAT| ScriptSteer {
+            terms: a.terms.into_iter().map(|(w, t)| (w * k, t)).collect(),
+        })
+        .register_fn("*", |k: FLOAT, a: ScriptSteer| ScriptSteer {
+            terms: a.terms.into_iter().map(|(w, t)| (w * k, t)).collect(),
+        })
+        .register_fn("to_string", |s: &mut ScriptSteer| format!("{:?}", s.terms));
+}
+
+fn register_agent(e: &mut Engine) {
+    e.register_type_with_name::<AgentView>("Agent");
+    e.register_get("id", |v: &mut AgentView| v.id)
+        .register_get("species", |v: &mut AgentView| v.species.clone())
+        .register_get("tick", |v: &mut AgentView| v.tick)
+        .register_get("time", |v: &mut AgentView| v.time)
+        .register_get("dt", |v: &mut AgentView| v.dt)
+        .register_get("pos", |v: &mut AgentView| v.pos)
+        .register_get("vel", |v: &mut AgentView| v.vel)
+        .register_get("fwd", |v: &mut AgentView| v.fwd)
+        .register_get("speed", |v: &mut AgentView| v.speed)
+        .register_get("max_speed", |v: &mut AgentView| v.max_speed)
+        .register_get("behavior", |v: &mut AgentView| v.behavior.clone())
+        .register_get("time_in_behavior", |v: &mut AgentView| v.time_in_behavior)
+        .register_get("stack_depth", |v: &mut AgentView| v.stack_depth)
+        .register_get("sex", |v: &mut AgentView| v.sex.clone())
+        .register_get("age", |v: &mut AgentView| v.age)
+        .register_get("mass", |v: &mut AgentView| v.mass)
+        .register_get("kind", |v: &mut AgentView| v.kind)
+        .register_get("heard", |v: &mut AgentView| v.heard.clone());
+    macro_rules! drive {
+        ($name:literal, $field:ident) => {
+            e.register_get_set(
+                $name,
+                |v: &mut AgentView| v.$field,
+                |v: &mut AgentView, x: FLOAT| {
+                    v.$field = if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) };
+                    v.drives_written = true;
+                },
+            );
+        };
+    }
+    drive!("hunger", hunger);
+    drive!("libido", libido);
+    drive!("fear", fear);
+    drive!("fatigue", fatigue);
+    for c in Category::ALL {
+        let i = c as usize;
+        e.register_get(c.name(), move |v: &mut AgentView| v.cats[i].clone());
+    }
+    // Blackboard: this["key"], this["key"] = value, this.has("key"), this.forget("key").
+    e.register_indexer_get(|v: &mut AgentView, key: &str| -> Dynamic {
+        v.memory
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, m)| from_mem(m))
+            .unwrap_or(Dynamic::UNIT)
+    });
+    e.register_indexer_set(
+        |v: &mut AgentView, key: &str, value: Dynamic| -> Result<(), Box<EvalAltResult>> {
+            let m = to_mem(value)?;
+            match v.memory.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
+                Ok(i) => v.memory[i].1 = m,
+                Err(i) => {
+                    if v.memory.len() >= MEMORY_CAPACITY {
+                        return Err(err(format!("memory is full ({MEMORY_CAPACITY} keys)")));
+                    }
+                    v.memory.insert(i, (key.to_string(), m));
+                }
+            }
+            Ok(())
+        },
+    );
+    e.register_fn("has", |v: &mut AgentView, key: &str| {
+        v.memory.iter().any(|(k, _)| k == key)
+    });
+    e.register_fn("forget", |v: &mut AgentView, key: &str| {
+        v.memory.retain(|(k, _)| k != key)
+    });
+    e.register_fn("random", |v: &mut AgentView| v.rng.next_f32());
+    e.register_fn("random_range", |v: &mut AgentView, lo: FLOAT, hi: FLOAT| {
+        v.rng.range(lo, hi)
+    });
+    e.register_fn(
+        "send",
+        |v: &mut AgentView, kind: &str, radius: FLOAT| -> Result<(), Box<EvalAltResult>> {
+            let k = MessageKind::parse(kind).ok_or_else(|| {
+                err(format!(
+                    "unknown message kind \"{kind}\": expected danger, obstacle or mate"
+                ))
+            })?;
+            if v.outbox.len() < 8 {
+                v.outbox.push((k, radius));
+            }
+            Ok(())
+        },
+    );
+    // Steering values.
+    e.register_fn(
+        "recipe",
+        |v: &mut AgentView, name: &str| -> Result<ScriptSteer, Box<EvalAltResult>> {
+            match v.recipes.iter().position(|r| r == name) {
+                Some(i) => Ok(single(SteerTerm::Recipe(i as u16))),
+                None => Err(err(format!(
+                    "unknown recipe \"{name}\": the species defines {}",
+                    if v.recipes.is_empty() {
+                        "no named recipes".to_string()
+                    } else {
+                        v.recipes.join(", ")
+                    }
+                ))),
+            }
+        },
+    );
+    e.register_fn("seek", |v: &mut AgentView, p: Vec3| {
+        single(SteerTerm::Velocity(
+            (p - v.pos).normalize_or_zero() * v.max_speed,
+        ))
+    });
+    e.register_fn("flee", |v: &mut AgentView, p: Vec3| {
+        single(SteerTerm::Velocity(
+            (v.pos - p).normalize_or_zero() * v.max_speed,
+        ))
+    });
+    e.register_fn("arrive", |v: &mut AgentView, p: Vec3, slow: FLOAT| {
+        let off = p - v.pos;
+        let d = off.length();
+        let s = if slow > 0.0 && d < slow {
+            v.max_speed * d / slow
+        } else {
+            v.max_speed
+        };
+        single(SteerTerm::Velocity(off.normalize_or_zero() * s))
+    });
+    e.register_fn("velocity", |_: &mut AgentView, vel: Vec3| {
+        single(SteerTerm::Velocity(vel))
+    });
+    e.register_fn(
+        "turn",
+        |_: &mut AgentView, yaw: FLOAT, pitch: FLOAT, speed: FLOAT| {
+            single(SteerTerm::Turn(yaw, pitch, speed))
+        },
+    );
+    e.register_fn("keep", |v: &mut AgentView| {
+        single(SteerTerm::Turn(0.0, 0.0, v.speed))
+    });
+    e.register_fn("stop", |_: &mut AgentView| {
+        single(SteerTerm::Turn(0.0, 0.0, 0.0))
+    });
+}

@@ -1,0 +1,619 @@
+//! The species file format: plain `*Def` types deserialized from RON (`behaviors/<name>.ron`).
+//! [`super::validate`] turns them into the runtime [`super::Species`].
+//!
+//! Every constant has the papers' value as its default, so a species file only says what differs.
+
+use crate::drives::DriveParams;
+pub use crate::events::MessageKind;
+use crate::locomotion::anim::AnimParams;
+use crate::locomotion::{Limits, Mode};
+use crate::perception::{Category, SenseParams};
+use crate::steering::avoid::AvoidParams;
+use crate::steering::goal::Prediction;
+use crate::steering::group::Zones;
+use crate::steering::wander::WanderParams;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// A species file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeciesDef {
+    /// Unique name; agents and relations refer to it.
+    pub name: String,
+    /// Display color (`#rrggbb`) for viewers.
+    #[serde(default = "default_color")]
+    pub color: String,
+    /// Body: size, limits, locomotion mode, animation.
+    #[serde(default)]
+    pub body: BodyDef,
+    /// Senses.
+    #[serde(default)]
+    pub senses: SenseParams,
+    /// Attribute distributions for spawned agents.
+    #[serde(default)]
+    pub attributes: AttributesDef,
+    /// Drive constants and initial values.
+    #[serde(default)]
+    pub drives: DrivesDef,
+    /// What other species are to this one.
+    #[serde(default)]
+    pub relations: RelationsDef,
+    /// The Rhai script of this species, relative to the species file.
+    #[serde(default)]
+    pub script: Option<String>,
+    /// Script conditions and weights are re-evaluated every this many ticks (staggered over
+    /// agents); native conditions run every tick.
+    #[serde(default = "default_interval")]
+    pub decision_interval: u32,
+    /// Name of the behavior agents start in and fall back to.
+    pub initial: String,
+    /// The behaviors, in declaration order (ties of priority go to the earlier one).
+    pub behaviors: Vec<BehaviorDef>,
+    /// Named recipes that scripts can compose (`this.recipe("school")`).
+    #[serde(default)]
+    pub recipes: std::collections::BTreeMap<String, Recipe>,
+}
+
+fn default_color() -> String {
+    "#4090e0".into()
+}
+fn default_interval() -> u32 {
+    4
+}
+
+/// Body of a species.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BodyDef {
+    /// Bounding box (width, height, length).
+    pub size: Vec3,
+    /// Speed and turn limits.
+    pub limits: Limits,
+    /// Kinematic or rigid-body locomotion.
+    pub locomotion: Mode,
+    /// Animation channel constants.
+    pub anim: AnimParams,
+    /// Whether the body walks on the terrain surface (2.5D) instead of swimming in 3D.
+    pub on_ground: bool,
+}
+
+impl Default for BodyDef {
+    fn default() -> Self {
+        BodyDef {
+            size: Vec3::new(0.2, 0.3, 1.0),
+            limits: Limits::default(),
+            locomotion: Mode::Kinematic,
+            anim: AnimParams::default(),
+            on_ground: false,
+        }
+    }
+}
+
+/// A value drawn per agent at spawn: a constant or a uniform range.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Draw {
+    /// Always this value.
+    Fixed(f32),
+    /// Uniform in [lo, hi).
+    Uniform(f32, f32),
+}
+
+/// Sex of spawned agents.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum SexDef {
+    /// Half and half, drawn per agent.
+    #[default]
+    Random,
+    /// All female.
+    Female,
+    /// All male.
+    Male,
+}
+
+/// Attribute distributions (seed 003's ⟨sex, age, mass, type⟩).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AttributesDef {
+    /// Sex.
+    pub sex: SexDef,
+    /// Age.
+    pub age: Draw,
+    /// Mass.
+    pub mass: Draw,
+    /// Type tag.
+    pub kind: u16,
+}
+
+impl Default for AttributesDef {
+    fn default() -> Self {
+        AttributesDef {
+            sex: SexDef::Random,
+            age: Draw::Fixed(1.0),
+            mass: Draw::Fixed(1.0),
+            kind: 0,
+        }
+    }
+}
+
+/// Drives of a species.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DrivesDef {
+    /// Constants of the drive formulas.
+    pub params: DriveParams,
+    /// Initial hunger.
+    pub hunger: Draw,
+    /// Initial libido.
+    pub libido: Draw,
+    /// Initial time since the last meal (s): sets where digestion starts.
+    pub since_meal: Draw,
+    /// Food units one meal adds to n_e.
+    pub meal_size: f32,
+    /// Whether drives follow the formulas each tick (off: only scripts change them).
+    pub native: bool,
+}
+
+impl Default for DrivesDef {
+    fn default() -> Self {
+        DrivesDef {
+            params: DriveParams::default(),
+            hunger: Draw::Fixed(0.5),
+            libido: Draw::Fixed(0.0),
+            since_meal: Draw::Fixed(0.0),
+            meal_size: 1.0,
+            native: true,
+        }
+    }
+}
+
+/// Relations to other species (seed 000's food, predator, kin, mate).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RelationsDef {
+    /// Species this one eats.
+    pub prey: Vec<String>,
+    /// Whether it eats food items.
+    pub eats_items: bool,
+    /// Species that eat this one.
+    pub predators: Vec<String>,
+    /// Species it schools with (its own species is always kin).
+    pub kin: Vec<String>,
+    /// Whether kin of the other sex count as mates.
+    pub mates: bool,
+    /// Whether other species not named count as "other" (dynamic obstacles) or are ignored.
+    pub see_others: bool,
+}
+
+impl Default for RelationsDef {
+    fn default() -> Self {
+        RelationsDef {
+            prey: Vec::new(),
+            eats_items: false,
+            predators: Vec::new(),
+            kin: Vec::new(),
+            mates: false,
+            see_others: true,
+        }
+    }
+}
+
+/// One behavior of the prioritized FSM (seed 000 §3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BehaviorDef {
+    /// Unique name within the species.
+    pub name: String,
+    /// Priority level: 1 is the highest. Higher levels interrupt lower ones.
+    pub priority: u8,
+    /// Activation condition.
+    #[serde(default = "never")]
+    pub when: Cond,
+    /// Completion condition.
+    #[serde(default = "never")]
+    pub done: Cond,
+    /// Steering recipe.
+    pub steer: Recipe,
+    /// Whether a behavior of the same level may interrupt this one.
+    #[serde(default = "yes")]
+    pub equal_may_interrupt: bool,
+    /// Minimum time (s) in this behavior before it completes or an equal or lower level
+    /// interrupts it (anti-dithering). Higher levels always interrupt.
+    #[serde(default)]
+    pub min_time: f32,
+    /// Time (s) after it completes before it may start again.
+    #[serde(default)]
+    pub cooldown: f32,
+    /// What happens on contact with the target while in this behavior.
+    #[serde(default)]
+    pub contact: Option<Contact>,
+    /// Actions when the behavior starts or resumes.
+    #[serde(default)]
+    pub on_enter: Vec<Action>,
+}
+
+fn never() -> Cond {
+    Cond::Never
+}
+fn yes() -> bool {
+    true
+}
+
+/// What contact with the nearest target does (seed 000: eat and mate end in contact).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Contact {
+    /// Eat the nearest food (item or prey agent) within `reach`.
+    Eat {
+        /// Contact distance d0.
+        reach: f32,
+    },
+    /// Mate with the nearest mate within `reach`.
+    Mate {
+        /// Contact distance.
+        reach: f32,
+    },
+}
+
+/// An action on entering a behavior.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Action {
+    /// Broadcast a message to agents of the same species within `radius`.
+    Send(MessageKind, f32),
+    /// Call a script function (with the agent as `this`).
+    Call(String),
+}
+
+/// A drive.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum DriveKind {
+    /// Hunger.
+    Hunger,
+    /// Libido.
+    Libido,
+    /// Fear.
+    Fear,
+    /// Fatigue.
+    Fatigue,
+}
+
+/// An attribute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AttrKind {
+    /// Age.
+    Age,
+    /// Mass.
+    Mass,
+}
+
+/// A number read from the agent's state, for conditions and blend weights.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Value {
+    /// A constant.
+    Const(f32),
+    /// A drive.
+    Drive(DriveKind),
+    /// Distance to the nearest percept of a category (∞ when none).
+    Distance(Category),
+    /// Number of percepts of a category.
+    Count(Category),
+    /// Own speed.
+    Speed,
+    /// Seconds in the current behavior.
+    TimeInBehavior,
+    /// An attribute.
+    Attribute(AttrKind),
+    /// Mean speed of the school around (kin mean velocity length).
+    KinSpeed,
+    /// `1 − value`.
+    OneMinus(Box<Value>),
+    /// Product of two values.
+    Mul(Box<Value>, Box<Value>),
+    /// Sum of two values.
+    Add(Box<Value>, Box<Value>),
+    /// A Rhai function returning a number (evaluated at the decision rate).
+    Script(String),
+}
+
+/// A condition: typed data, resolved at load time into a native evaluator.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Cond {
+    /// Always true.
+    Always,
+    /// Never true.
+    Never,
+    /// All of them.
+    All(Vec<Cond>),
+    /// Any of them.
+    Any(Vec<Cond>),
+    /// The opposite.
+    Not(Box<Cond>),
+    /// `value > threshold`.
+    Above(Value, f32),
+    /// `value < threshold`.
+    Below(Value, f32),
+    /// Latched: turns true when `on` holds and stays true until `off` holds (hysteresis).
+    Latch {
+        /// Turn-on condition.
+        on: Box<Cond>,
+        /// Turn-off condition.
+        off: Box<Cond>,
+    },
+    /// Something of this category is seen (vision).
+    Sees(Category),
+    /// Something of this category is smelt only.
+    Smells(Category),
+    /// Something of this category is perceived by any sense.
+    Perceives(Category),
+    /// The nearest of this category is within `d` (e.g. the catch distance d0).
+    Within(Category, f32),
+    /// Seed 000 §4.4's escape completion test on the nearest predator (or none perceived).
+    EscapeDone,
+    /// Static obstacle pressure above M_min (seed 000 §4.1): an obstacle must be avoided.
+    ObstacleNear,
+    /// Dynamic obstacle pressure above M_min (seed 000 §4.2).
+    TrafficNear,
+    /// A message of this kind arrived last tick.
+    Heard(MessageKind),
+    /// Seconds in the current behavior at least this.
+    TimeIn(f32),
+    /// True with this probability per second (drawn from the agent's own stream).
+    Chance(f32),
+    /// Outside the world bounds shrunk by this margin.
+    NearBounds(f32),
+    /// A Rhai function returning a bool (evaluated at the decision rate).
+    Script(String),
+}
+
+/// What to steer toward or away from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Target {
+    /// The nearest percept of this category.
+    Nearest(Category),
+    /// The centroid of this category.
+    Centroid(Category),
+    /// A fixed point.
+    Point(Vec3),
+    /// The centre of the world bounds.
+    Home,
+}
+
+/// Parameters of move-to-goal (seed 000 §4.3).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ChaseDef {
+    /// Category to move to.
+    pub target: Category,
+    /// Catch distance d0.
+    pub d0: f32,
+    /// Largest turn per step in vision mode (π/4).
+    pub max_turn: f32,
+}
+
+impl Default for ChaseDef {
+    fn default() -> Self {
+        ChaseDef {
+            target: Category::Food,
+            d0: 0.5,
+            max_turn: std::f32::consts::FRAC_PI_4,
+        }
+    }
+}
+
+/// Parameters of escape (seed 000 §4.4, seed 002).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct EscapeDef {
+    /// Category to escape from.
+    pub from: Category,
+}
+
+impl Default for EscapeDef {
+    fn default() -> Self {
+        EscapeDef {
+            from: Category::Predator,
+        }
+    }
+}
+
+/// Parameters of pursuit (seed 002).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PursueDef {
+    /// Category to pursue.
+    pub target: Category,
+    /// Prediction method.
+    pub prediction: Prediction,
+}
+
+impl Default for PursueDef {
+    fn default() -> Self {
+        PursueDef {
+            target: Category::Food,
+            prediction: Prediction::Linear,
+        }
+    }
+}
+
+/// Parameters of seek / flee / arrive.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SeekDef {
+    /// Where.
+    pub target: Target,
+    /// Slow-down radius (arrive only).
+    pub slow_radius: f32,
+    /// Fraction of the maximum speed.
+    pub speed: f32,
+}
+
+impl Default for SeekDef {
+    fn default() -> Self {
+        SeekDef {
+            target: Target::Home,
+            slow_radius: 2.0,
+            speed: 1.0,
+        }
+    }
+}
+
+/// Parameters of separation / alignment / cohesion (seed 001).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GroupDef {
+    /// Gain k.
+    pub k: f32,
+    /// Separation length factor.
+    pub factor: f32,
+    /// Only neighbors closer than this count.
+    pub radius: f32,
+}
+
+impl Default for GroupDef {
+    fn default() -> Self {
+        GroupDef {
+            k: 1.0,
+            factor: 1.0,
+            radius: f32::INFINITY,
+        }
+    }
+}
+
+/// Parameters of Vicsek alignment (seed 003).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct VicsekDef {
+    /// Neighborhood radius r_n.
+    pub radius: f32,
+    /// Angular noise η (rad).
+    pub noise: f32,
+    /// Fixed speed as a fraction of the maximum.
+    pub speed: f32,
+}
+
+impl Default for VicsekDef {
+    fn default() -> Self {
+        VicsekDef {
+            radius: 5.0,
+            noise: 0.0,
+            speed: 0.7,
+        }
+    }
+}
+
+/// Parameters of collision prediction and containment (seed 001).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LookAheadDef {
+    /// Seconds looked ahead.
+    pub horizon: f32,
+    /// Margin kept from the bounds (containment only).
+    pub margin: f32,
+}
+
+impl Default for LookAheadDef {
+    fn default() -> Self {
+        LookAheadDef {
+            horizon: 1.5,
+            margin: 2.0,
+        }
+    }
+}
+
+/// Parameters of cruising / stopping.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CruiseDef {
+    /// Fraction of the maximum speed.
+    pub speed: f32,
+}
+
+impl Default for CruiseDef {
+    fn default() -> Self {
+        CruiseDef { speed: 0.5 }
+    }
+}
+
+/// Parameters of group escape by density (seed 003).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DisperseDef {
+    /// Speed threshold v_d under which the agent re-draws its speed.
+    pub below: f32,
+}
+
+impl Default for DisperseDef {
+    fn default() -> Self {
+        DisperseDef { below: 0.3 }
+    }
+}
+
+/// A weighted entry of a blend.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Weighted {
+    /// Constant weight.
+    #[serde(default = "one")]
+    pub w: f32,
+    /// Optional state-dependent factor (seed 003's weights adjusted from the internal state).
+    #[serde(default)]
+    pub by: Option<Value>,
+    /// The recipe weighted.
+    pub steer: Recipe,
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+/// A steering recipe: one primitive, a priority list or a weighted blend.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Recipe {
+    /// First entry that has something to do wins.
+    Priority(Vec<Recipe>),
+    /// Weighted blend.
+    Blend(Vec<Weighted>),
+    /// A Rhai function returning a steering command (at the decision rate).
+    Script(String),
+    /// Avoid static obstacles (seed 000 §4.1).
+    AvoidStatic(AvoidParams),
+    /// Avoid dynamic obstacles (seed 000 §4.2).
+    AvoidDynamic(AvoidParams),
+    /// Collision prediction by the path test (seed 001).
+    PredictCollision(LookAheadDef),
+    /// Keep inside the world bounds (seed 001).
+    Contain(LookAheadDef),
+    /// Move to goal, smell and vision modes (seed 000 §4.3, seed 003).
+    Chase(ChaseDef),
+    /// Escape, smell and vision modes (seed 000 §4.4).
+    Escape(EscapeDef),
+    /// Escape by seeking the mirrored point (seed 002).
+    EscapeMirror(EscapeDef),
+    /// Pursuit with prediction (seed 002).
+    Pursue(PursueDef),
+    /// Seek a target.
+    Seek(SeekDef),
+    /// Flee a target.
+    Flee(SeekDef),
+    /// Arrive at a target.
+    Arrive(SeekDef),
+    /// Separation (seed 001).
+    Separation(GroupDef),
+    /// Alignment (seed 001).
+    Alignment(GroupDef),
+    /// Cohesion.
+    Cohesion(GroupDef),
+    /// R–A zones (seed 003).
+    Zones(Zones),
+    /// Vicsek alignment (seed 003).
+    Vicsek(VicsekDef),
+    /// Group escape by density (seed 003): below the speed threshold, re-draw the speed.
+    Disperse(DisperseDef),
+    /// Wander (seed 002).
+    Wander(WanderParams),
+    /// Keep heading at a cruise speed.
+    Cruise(CruiseDef),
+    /// Stop.
+    Stop,
+    /// Follow the agent's planned path (leader) or keep its formation slot (member).
+    FollowPlan(CruiseDef),
+}

@@ -1,0 +1,222 @@
+//! Species as data: RON species files and their Rhai scripts, loaded and validated once per
+//! (re)load into the runtime [`Species`] the decision stage runs. Nothing in the tick parses or
+//! looks up by string what is resolved here.
+
+pub mod def;
+mod validate;
+
+pub use def::*;
+pub use validate::{load_species, load_species_str, SpeciesSet};
+
+use crate::perception::{Category, SenseParams};
+use crate::script::Script;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A number read from the agent's state, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ValueNode {
+    /// A constant.
+    Const(f32),
+    /// A drive.
+    Drive(DriveKind),
+    /// Distance to the nearest of a category.
+    Distance(Category),
+    /// Count of a category.
+    Count(Category),
+    /// Own speed.
+    Speed,
+    /// Seconds in the current behavior.
+    TimeInBehavior,
+    /// An attribute.
+    Attribute(AttrKind),
+    /// Mean kin speed.
+    KinSpeed,
+    /// `1 − v`.
+    OneMinus(Box<ValueNode>),
+    /// Product.
+    Mul(Box<ValueNode>, Box<ValueNode>),
+    /// Sum.
+    Add(Box<ValueNode>, Box<ValueNode>),
+    /// Cached script value slot.
+    Script(u16),
+}
+
+/// A condition, resolved into a native evaluator.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CondNode {
+    /// True.
+    Always,
+    /// False.
+    Never,
+    /// All.
+    All(Vec<CondNode>),
+    /// Any.
+    Any(Vec<CondNode>),
+    /// Not.
+    Not(Box<CondNode>),
+    /// `v > x`.
+    Above(ValueNode, f32),
+    /// `v < x`.
+    Below(ValueNode, f32),
+    /// Hysteresis latch number `bit`.
+    Latch {
+        /// Latch bit.
+        bit: u8,
+        /// On.
+        on: Box<CondNode>,
+        /// Off.
+        off: Box<CondNode>,
+    },
+    /// Seen.
+    Sees(Category),
+    /// Smelt only.
+    Smells(Category),
+    /// Perceived.
+    Perceives(Category),
+    /// Nearest within distance.
+    Within(Category, f32),
+    /// Escape completion test.
+    EscapeDone,
+    /// Static obstacle pressure above M_min.
+    ObstacleNear,
+    /// Dynamic obstacle pressure above M_min.
+    TrafficNear,
+    /// Heard a message.
+    Heard(MessageKind),
+    /// Time in behavior at least (s).
+    TimeIn(f32),
+    /// Chance per second.
+    Chance(f32),
+    /// Near the bounds.
+    NearBounds(f32),
+    /// Cached script condition slot.
+    Script(u16),
+}
+
+/// A steering recipe, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RecipeNode {
+    /// First non-empty wins.
+    Priority(Vec<RecipeNode>),
+    /// Weighted blend: (constant weight, optional factor, recipe).
+    Blend(Vec<(f32, Option<ValueNode>, RecipeNode)>),
+    /// Script-built steering, slot index.
+    Script(u16),
+    /// A native primitive (a leaf of [`Recipe`]).
+    Leaf(Recipe),
+}
+
+/// A resolved on-enter action.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ActionNode {
+    /// Broadcast a message.
+    Send(MessageKind, f32),
+    /// Call a script function.
+    Call(String),
+}
+
+/// One behavior, resolved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Behavior {
+    /// Name.
+    pub name: Arc<str>,
+    /// Priority level (1 highest).
+    pub priority: u8,
+    /// Activation condition.
+    pub when: CondNode,
+    /// Completion condition.
+    pub done: CondNode,
+    /// Text of the activation condition (for transition causes).
+    pub when_text: Arc<str>,
+    /// Text of the completion condition.
+    pub done_text: Arc<str>,
+    /// Steering.
+    pub steer: RecipeNode,
+    /// Whether equal levels may interrupt it.
+    pub equal_may_interrupt: bool,
+    /// Minimum time (s).
+    pub min_time: f32,
+    /// Cooldown (s).
+    pub cooldown: f32,
+    /// Contact action.
+    pub contact: Option<Contact>,
+    /// On-enter actions.
+    pub on_enter: Vec<ActionNode>,
+}
+
+/// What a script slot returns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlotKind {
+    /// A condition (bool).
+    Bool,
+    /// A number.
+    Number,
+    /// A steering value.
+    Steer,
+}
+
+/// A script function the species uses, evaluated at the decision rate.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScriptSlot {
+    /// Function name.
+    pub name: String,
+    /// What it returns.
+    pub kind: SlotKind,
+    /// Index among slots of its kind (`Steer` slots index `Mind::script_steer`).
+    pub index: u16,
+}
+
+/// A validated species, ready to run.
+#[derive(Debug, Clone)]
+pub struct Species {
+    /// Name.
+    pub name: String,
+    /// The species file.
+    pub file: PathBuf,
+    /// The definition as read.
+    pub def: SpeciesDef,
+    /// Senses.
+    pub senses: SenseParams,
+    /// Behaviors.
+    pub behaviors: Vec<Behavior>,
+    /// Index of the initial behavior.
+    pub initial: u16,
+    /// Named recipes (for scripts).
+    pub recipes: Vec<RecipeNode>,
+    /// Their names.
+    pub recipe_names: Arc<[String]>,
+    /// The compiled script.
+    pub script: Option<Arc<Script>>,
+    /// Script functions used, in slot order.
+    pub slots: Vec<ScriptSlot>,
+    /// Number of `Steer` slots.
+    pub steer_slots: usize,
+    /// Whether the script defines `on_tick()`.
+    pub has_on_tick: bool,
+    /// Whether the script defines `on_event(kind)`.
+    pub has_on_event: bool,
+}
+
+impl Species {
+    /// Index of the behavior named `name`.
+    pub fn behavior_index(&self, name: &str) -> Option<u16> {
+        self.behaviors
+            .iter()
+            .position(|b| &*b.name == name)
+            .map(|i| i as u16)
+    }
+    /// Name of behavior `i` ("?" when out of range).
+    pub fn behavior_name(&self, i: u16) -> &str {
+        self.behaviors.get(i as usize).map_or("?", |b| &b.name)
+    }
+    /// Every file this species was built from: the species file, its script and its imports.
+    pub fn files(&self) -> Vec<PathBuf> {
+        let mut v = vec![self.file.clone()];
+        if let Some(s) = &self.script {
+            v.push(s.file.clone());
+            v.extend(s.imports.iter().cloned());
+        }
+        v
+    }
+}

@@ -1,0 +1,682 @@
+//! Loading and validation: RON parse → [`SpeciesDef`] → semantic checks → runtime [`Species`].
+//! Every problem is a [`Diagnostic`] naming the file, line and column and what was expected.
+
+use super::*;
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::perception::Relations;
+use crate::script::{Limits, Script};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// RON options used for every file the engine reads: newtype variants may be written with their
+/// fields directly (`AvoidStatic(m0: 2.0)` or `AvoidStatic()`).
+pub fn ron_options() -> ron::Options {
+    ron::Options::default()
+        .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
+}
+
+/// Turns a RON error into a located diagnostic.
+pub fn ron_diag(file: &Path, text: &str, e: &ron::error::SpannedError) -> Diagnostic {
+    let msg = match &e.code {
+        ron::Error::NoSuchEnumVariant {
+            expected,
+            found,
+            outer,
+        } => {
+            let what = outer.as_deref().unwrap_or("value");
+            format!(
+                "unknown {what} `{found}`: expected one of {}",
+                expected
+                    .iter()
+                    .map(|x| format!("`{x}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
+        ron::Error::NoSuchStructField {
+            expected,
+            found,
+            outer,
+        } => {
+            let what = outer.as_deref().unwrap_or("struct");
+            format!(
+                "unknown field `{found}` in {what}: expected one of {}",
+                expected
+                    .iter()
+                    .map(|x| format!("`{x}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
+        other => other.to_string(),
+    };
+    Diagnostic::new(file, e.span.start.line, e.span.start.col, msg, Some(text))
+}
+
+/// Line and column (1-based) of the first occurrence of `needle` at or after byte `from`.
+pub fn locate(text: &str, needle: &str, from: usize) -> Option<(usize, usize, usize)> {
+    let at = text.get(from..)?.find(needle)? + from;
+    let line = text[..at].matches('\n').count() + 1;
+    let col = at - text[..at].rfind('\n').map_or(0, |i| i + 1) + 1;
+    Some((line, col, at))
+}
+
+/// Reads and validates one species file (script included). Relations are checked by
+/// [`SpeciesSet::new`], which sees every species of the world.
+pub fn load_species(file: &Path, root: &Path, limits: &Limits) -> Result<Species, Diagnostics> {
+    let text = std::fs::read_to_string(file)
+        .map_err(|e| Diagnostic::file(file, format!("cannot read species file: {e}")))?;
+    load_species_str(file, &text, root, limits)
+}
+
+/// Validates species `text` (named `file`); its script path is relative to the file's folder.
+pub fn load_species_str(
+    file: &Path,
+    text: &str,
+    root: &Path,
+    limits: &Limits,
+) -> Result<Species, Diagnostics> {
+    let def: SpeciesDef = ron_options()
+        .from_str(text)
+        .map_err(|e| Diagnostics::from(ron_diag(file, text, &e)))?;
+    let script = match &def.script {
+        Some(rel) => {
+            let path = file.parent().unwrap_or(Path::new(".")).join(rel);
+            if !path.is_file() {
+                let (l, c, _) = locate(text, &format!("\"{rel}\""), 0).unwrap_or((0, 0, 0));
+                return Err(Diagnostic::new(
+                    file,
+                    l,
+                    c,
+                    format!("script file \"{}\" not found", path.display()),
+                    Some(text),
+                )
+                .into());
+            }
+            Some(Arc::new(Script::load(&path, root, limits)?))
+        }
+        None => None,
+    };
+    Builder {
+        file,
+        text,
+        script: script.as_deref(),
+        slots: Vec::new(),
+        latches: 0,
+        diags: Vec::new(),
+        def: &def,
+        cursor: 0,
+    }
+    .build(&def, script.clone())
+}
+
+struct Builder<'a> {
+    file: &'a Path,
+    text: &'a str,
+    script: Option<&'a Script>,
+    slots: Vec<ScriptSlot>,
+    latches: u8,
+    diags: Vec<Diagnostic>,
+    def: &'a SpeciesDef,
+    /// Byte offset of the behavior being resolved, so located errors point into it.
+    cursor: usize,
+}
+
+impl Builder<'_> {
+    fn error_at(&mut self, needle: &str, msg: String) {
+        let (l, c, _) = locate(self.text, needle, self.cursor)
+            .or_else(|| locate(self.text, needle, 0))
+            .unwrap_or((0, 0, 0));
+        self.diags
+            .push(Diagnostic::new(self.file, l, c, msg, Some(self.text)));
+    }
+
+    fn slot(&mut self, name: &str, kind: SlotKind) -> u16 {
+        if let Some(s) = self.slots.iter().find(|s| s.name == name && s.kind == kind) {
+            return if kind == SlotKind::Steer {
+                s.index
+            } else {
+                self.slots.iter().position(|x| x == s).unwrap() as u16
+            };
+        }
+        match self.script {
+            None => self.error_at(
+                &format!("\"{name}\""),
+                format!("`{name}` names a script function, but the species has no `script`"),
+            ),
+            Some(s) if !s.has_fn(name, 0) => {
+                let known: Vec<&str> = s
+                    .functions
+                    .iter()
+                    .filter(|f| f.1 == 0)
+                    .map(|f| f.0.as_str())
+                    .collect();
+                self.error_at(
+                    &format!("\"{name}\""),
+                    format!(
+                        "script function `{name}()` is not defined in {} (functions without parameters: {})",
+                        s.file.display(),
+                        if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                    ),
+                )
+            }
+            _ => {}
+        }
+        let index = self
+            .slots
+            .iter()
+            .filter(|s| s.kind == SlotKind::Steer)
+            .count() as u16;
+        self.slots.push(ScriptSlot {
+            name: name.to_string(),
+            kind,
+            index,
+        });
+        if kind == SlotKind::Steer {
+            index
+        } else {
+            (self.slots.len() - 1) as u16
+        }
+    }
+
+    fn check_category(&mut self, c: Category, what: &str) {
+        let r = &self.def.relations;
+        let ok = match c {
+            Category::Food => r.eats_items || !r.prey.is_empty(),
+            Category::Predator => !r.predators.is_empty(),
+            Category::Mate => r.mates,
+            Category::Kin | Category::Obstacle | Category::Other => true,
+        };
+        if !ok {
+            let need = match c {
+                Category::Food => "`relations: (eats_items: true)` or a `prey` list",
+                Category::Predator => "a `predators` list in `relations`",
+                _ => "`relations: (mates: true)`",
+            };
+            self.error_at(
+                &format!("{c:?}"),
+                format!(
+                    "{what} refers to `{c:?}`, but the species has no such relation: add {need}"
+                ),
+            );
+        }
+    }
+
+    fn value(&mut self, v: &Value) -> ValueNode {
+        match v {
+            Value::Const(x) => ValueNode::Const(*x),
+            Value::Drive(d) => ValueNode::Drive(*d),
+            Value::Distance(c) => {
+                self.check_category(*c, "`Distance`");
+                ValueNode::Distance(*c)
+            }
+            Value::Count(c) => {
+                self.check_category(*c, "`Count`");
+                ValueNode::Count(*c)
+            }
+            Value::Speed => ValueNode::Speed,
+            Value::TimeInBehavior => ValueNode::TimeInBehavior,
+            Value::Attribute(a) => ValueNode::Attribute(*a),
+            Value::KinSpeed => ValueNode::KinSpeed,
+            Value::OneMinus(x) => ValueNode::OneMinus(Box::new(self.value(x))),
+            Value::Mul(a, b) => ValueNode::Mul(Box::new(self.value(a)), Box::new(self.value(b))),
+            Value::Add(a, b) => ValueNode::Add(Box::new(self.value(a)), Box::new(self.value(b))),
+            Value::Script(name) => ValueNode::Script(self.slot(name, SlotKind::Number)),
+        }
+    }
+
+    fn cond(&mut self, c: &Cond) -> CondNode {
+        match c {
+            Cond::Always => CondNode::Always,
+            Cond::Never => CondNode::Never,
+            Cond::All(v) => CondNode::All(v.iter().map(|c| self.cond(c)).collect()),
+            Cond::Any(v) => CondNode::Any(v.iter().map(|c| self.cond(c)).collect()),
+            Cond::Not(c) => CondNode::Not(Box::new(self.cond(c))),
+            Cond::Above(v, x) => CondNode::Above(self.value(v), *x),
+            Cond::Below(v, x) => CondNode::Below(self.value(v), *x),
+            Cond::Latch { on, off } => {
+                let bit = self.latches;
+                if bit >= 64 {
+                    self.error_at(
+                        "Latch",
+                        "more than 64 `Latch` conditions in one species".into(),
+                    );
+                }
+                self.latches = self.latches.saturating_add(1);
+                CondNode::Latch {
+                    bit: bit.min(63),
+                    on: Box::new(self.cond(on)),
+                    off: Box::new(self.cond(off)),
+                }
+            }
+            Cond::Sees(k) => {
+                self.check_category(*k, "`Sees`");
+                CondNode::Sees(*k)
+            }
+            Cond::Smells(k) => {
+                self.check_category(*k, "`Smells`");
+                CondNode::Smells(*k)
+            }
+            Cond::Perceives(k) => {
+                self.check_category(*k, "`Perceives`");
+                CondNode::Perceives(*k)
+            }
+            Cond::Within(k, d) => {
+                self.check_category(*k, "`Within`");
+                CondNode::Within(*k, *d)
+            }
+            Cond::EscapeDone => CondNode::EscapeDone,
+            Cond::ObstacleNear => CondNode::ObstacleNear,
+            Cond::TrafficNear => CondNode::TrafficNear,
+            Cond::Heard(m) => CondNode::Heard(*m),
+            Cond::TimeIn(t) => CondNode::TimeIn(*t),
+            Cond::Chance(p) => CondNode::Chance(*p),
+            Cond::NearBounds(m) => CondNode::NearBounds(*m),
+            Cond::Script(name) => CondNode::Script(self.slot(name, SlotKind::Bool)),
+        }
+    }
+
+    fn recipe(&mut self, r: &Recipe) -> RecipeNode {
+        match r {
+            Recipe::Priority(v) => {
+                if v.is_empty() {
+                    self.error_at("Priority", "`Priority` needs at least one entry".into());
+                }
+                RecipeNode::Priority(v.iter().map(|r| self.recipe(r)).collect())
+            }
+            Recipe::Blend(v) => {
+                if v.is_empty() {
+                    self.error_at("Blend", "`Blend` needs at least one entry".into());
+                }
+                RecipeNode::Blend(
+                    v.iter()
+                        .map(|w| {
+                            (
+                                w.w,
+                                w.by.as_ref().map(|b| self.value(b)),
+                                self.recipe(&w.steer),
+                            )
+                        })
+                        .collect(),
+                )
+            }
+            Recipe::Script(name) => RecipeNode::Script(self.slot(name, SlotKind::Steer)),
+            leaf => {
+                match leaf {
+                    Recipe::Chase(c) => self.check_category(c.target, "`Chase`"),
+                    Recipe::Escape(e) | Recipe::EscapeMirror(e) => {
+                        self.check_category(e.from, "`Escape`")
+                    }
+                    Recipe::Pursue(p) => self.check_category(p.target, "`Pursue`"),
+                    Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => {
+                        if let Target::Nearest(c) | Target::Centroid(c) = s.target {
+                            self.check_category(c, "the target")
+                        }
+                    }
+                    _ => {}
+                }
+                RecipeNode::Leaf(leaf.clone())
+            }
+        }
+    }
+
+    fn build(
+        mut self,
+        def: &SpeciesDef,
+        script: Option<Arc<Script>>,
+    ) -> Result<Species, Diagnostics> {
+        if def.behaviors.is_empty() {
+            self.error_at("behaviors", "a species needs at least one behavior".into());
+        }
+        if def.behaviors.len() > 64 {
+            self.error_at(
+                "behaviors",
+                "a species may have at most 64 behaviors".into(),
+            );
+        }
+        let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
+        let mut behaviors = Vec::new();
+        for (i, b) in def.behaviors.iter().enumerate() {
+            let needle = format!("\"{}\"", b.name);
+            self.cursor = locate(self.text, &needle, 0).map_or(0, |x| x.2);
+            if let Some(j) = seen.insert(&b.name, i) {
+                let from = locate(self.text, &needle, 0).map_or(0, |x| x.2 + 1);
+                self.cursor = from;
+                self.error_at(
+                    &needle,
+                    format!(
+                        "behavior \"{}\" is defined twice (first as behavior {})",
+                        b.name,
+                        j + 1
+                    ),
+                );
+            }
+            if b.priority == 0 {
+                self.error_at(
+                    "priority",
+                    format!(
+                        "behavior \"{}\": priority levels start at 1 (the highest)",
+                        b.name
+                    ),
+                );
+            }
+            if b.when == Cond::Never && b.name != def.initial {
+                self.error_at(
+                    &needle,
+                    format!(
+                        "behavior \"{}\" is unreachable: it has no `when` condition and is not the initial behavior",
+                        b.name
+                    ),
+                );
+            }
+            if b.min_time < 0.0
+                || b.cooldown < 0.0
+                || !b.min_time.is_finite()
+                || !b.cooldown.is_finite()
+            {
+                self.error_at(
+                    "min_time",
+                    format!(
+                        "behavior \"{}\": `min_time` and `cooldown` must be ≥ 0",
+                        b.name
+                    ),
+                );
+            }
+            match b.contact {
+                Some(Contact::Eat { .. }) => self.check_category(Category::Food, "`contact: Eat`"),
+                Some(Contact::Mate { .. }) => {
+                    self.check_category(Category::Mate, "`contact: Mate`")
+                }
+                None => {}
+            }
+            let when = self.cond(&b.when);
+            let done = self.cond(&b.done);
+            let steer = self.recipe(&b.steer);
+            let on_enter = b
+                .on_enter
+                .iter()
+                .map(|a| match a {
+                    Action::Send(k, r) => ActionNode::Send(*k, *r),
+                    Action::Call(f) => {
+                        match self.script {
+                            Some(s) if s.has_fn(f, 0) => {}
+                            _ => self.error_at(
+                                &format!("\"{f}\""),
+                                format!("`Call(\"{f}\")`: no script function `{f}()`"),
+                            ),
+                        }
+                        ActionNode::Call(f.clone())
+                    }
+                })
+                .collect();
+            behaviors.push(Behavior {
+                name: b.name.as_str().into(),
+                priority: b.priority,
+                when_text: describe(&b.when).into(),
+                done_text: describe(&b.done).into(),
+                when,
+                done,
+                steer,
+                equal_may_interrupt: b.equal_may_interrupt,
+                min_time: b.min_time,
+                cooldown: b.cooldown,
+                contact: b.contact,
+                on_enter,
+            });
+        }
+        // Two behaviors of one level with the same trigger can never be told apart.
+        for i in 0..def.behaviors.len() {
+            for j in i + 1..def.behaviors.len() {
+                let (a, b) = (&def.behaviors[i], &def.behaviors[j]);
+                if a.priority == b.priority && a.when == b.when && a.when != Cond::Never {
+                    self.cursor =
+                        locate(self.text, &format!("\"{}\"", b.name), 0).map_or(0, |x| x.2);
+                    self.error_at(
+                        &format!("\"{}\"", b.name),
+                        format!(
+                            "priority conflict: \"{}\" and \"{}\" have the same level {} and the same `when`, so \"{}\" could never start",
+                            a.name, b.name, a.priority, b.name
+                        ),
+                    );
+                }
+            }
+        }
+        self.cursor = 0;
+        let initial = match def.behaviors.iter().position(|b| b.name == def.initial) {
+            Some(i) => i as u16,
+            None => {
+                let names: Vec<&str> = def.behaviors.iter().map(|b| b.name.as_str()).collect();
+                self.error_at(
+                    "initial",
+                    format!(
+                        "undefined behavior \"{}\": expected one of {}",
+                        def.initial,
+                        names.join(", ")
+                    ),
+                );
+                0
+            }
+        };
+        let mut recipes = Vec::new();
+        let mut recipe_names = Vec::new();
+        for (name, r) in &def.recipes {
+            self.cursor = locate(self.text, &format!("\"{name}\""), 0).map_or(0, |x| x.2);
+            recipes.push(self.recipe(r));
+            recipe_names.push(name.clone());
+        }
+        if def.decision_interval == 0 {
+            self.error_at(
+                "decision_interval",
+                "`decision_interval` must be at least 1 tick".into(),
+            );
+        }
+        if !self.diags.is_empty() {
+            return Err(Diagnostics(self.diags));
+        }
+        let steer_slots = self
+            .slots
+            .iter()
+            .filter(|s| s.kind == SlotKind::Steer)
+            .count();
+        let (has_on_tick, has_on_event) = match &script {
+            Some(s) => (s.has_fn("on_tick", 0), s.has_fn("on_event", 1)),
+            None => (false, false),
+        };
+        Ok(Species {
+            name: def.name.clone(),
+            file: self.file.to_path_buf(),
+            def: def.clone(),
+            senses: def.senses,
+            behaviors,
+            initial,
+            recipes,
+            recipe_names: recipe_names.into(),
+            script,
+            slots: self.slots,
+            steer_slots,
+            has_on_tick,
+            has_on_event,
+        })
+    }
+}
+
+/// Human-readable text of a condition, e.g. `hunger > 0.6 and sees food`.
+pub fn describe(c: &Cond) -> String {
+    let mut s = String::new();
+    describe_into(c, &mut s);
+    s
+}
+
+fn value_text(v: &Value) -> String {
+    match v {
+        Value::Const(x) => format!("{x}"),
+        Value::Drive(d) => format!("{d:?}").to_lowercase(),
+        Value::Distance(c) => format!("distance to {}", c.name()),
+        Value::Count(c) => format!("number of {}", c.name()),
+        Value::Speed => "speed".into(),
+        Value::TimeInBehavior => "time in behavior".into(),
+        Value::Attribute(a) => format!("{a:?}").to_lowercase(),
+        Value::KinSpeed => "school speed".into(),
+        Value::OneMinus(x) => format!("1 - {}", value_text(x)),
+        Value::Mul(a, b) => format!("{} * {}", value_text(a), value_text(b)),
+        Value::Add(a, b) => format!("({} + {})", value_text(a), value_text(b)),
+        Value::Script(n) => format!("{n}()"),
+    }
+}
+
+fn describe_into(c: &Cond, s: &mut String) {
+    let join = |v: &Vec<Cond>, sep: &str, s: &mut String| {
+        for (i, c) in v.iter().enumerate() {
+            if i > 0 {
+                s.push_str(sep);
+            }
+            let nested = matches!(c, Cond::All(_) | Cond::Any(_));
+            if nested {
+                s.push('(');
+            }
+            describe_into(c, s);
+            if nested {
+                s.push(')');
+            }
+        }
+    };
+    match c {
+        Cond::Always => s.push_str("always"),
+        Cond::Never => s.push_str("never"),
+        Cond::All(v) => join(v, " and ", s),
+        Cond::Any(v) => join(v, " or ", s),
+        Cond::Not(c) => {
+            s.push_str("not (");
+            describe_into(c, s);
+            s.push(')');
+        }
+        Cond::Above(v, x) => {
+            let _ = write!(s, "{} > {x}", value_text(v));
+        }
+        Cond::Below(v, x) => {
+            let _ = write!(s, "{} < {x}", value_text(v));
+        }
+        Cond::Latch { on, off } => {
+            s.push_str("latched on (");
+            describe_into(on, s);
+            s.push_str(") until (");
+            describe_into(off, s);
+            s.push(')');
+        }
+        Cond::Sees(k) => {
+            let _ = write!(s, "sees {}", k.name());
+        }
+        Cond::Smells(k) => {
+            let _ = write!(s, "smells {}", k.name());
+        }
+        Cond::Perceives(k) => {
+            let _ = write!(s, "perceives {}", k.name());
+        }
+        Cond::Within(k, d) => {
+            let _ = write!(s, "{} within {d}", k.name());
+        }
+        Cond::EscapeDone => s.push_str("predator behind and out of sight"),
+        Cond::ObstacleNear => s.push_str("obstacle pressure above M_min"),
+        Cond::TrafficNear => s.push_str("moving obstacle pressure above M_min"),
+        Cond::Heard(m) => {
+            let _ = write!(s, "heard {}", m.name());
+        }
+        Cond::TimeIn(t) => {
+            let _ = write!(s, "{t} s in behavior");
+        }
+        Cond::Chance(p) => {
+            let _ = write!(s, "chance {p}/s");
+        }
+        Cond::NearBounds(m) => {
+            let _ = write!(s, "within {m} of the bounds");
+        }
+        Cond::Script(n) => {
+            let _ = write!(s, "{n}()");
+        }
+    }
+}
+
+/// Every species of a world, with relations resolved between them.
+#[derive(Debug, Clone)]
+pub struct SpeciesSet {
+    /// Species by index ([`crate::world::SpeciesId`]).
+    pub species: Vec<Arc<Species>>,
+    /// What each species is to each other one.
+    pub relations: Relations,
+    /// Senses by species index.
+    pub senses: Vec<SenseParams>,
+}
+
+impl SpeciesSet {
+    /// Resolves relations between `species` (names must be unique, and every relation must name
+    /// one of them).
+    pub fn new(species: Vec<Arc<Species>>) -> Result<SpeciesSet, Diagnostics> {
+        let mut diags = Vec::new();
+        let index: BTreeMap<&str, usize> = species
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (s.name.as_str(), i))
+            .collect();
+        if index.len() != species.len() {
+            for (i, s) in species.iter().enumerate() {
+                if index[s.name.as_str()] != i {
+                    diags.push(Diagnostic::file(
+                        &s.file,
+                        format!("species name \"{}\" is used by two files", s.name),
+                    ));
+                }
+            }
+        }
+        let n = species.len();
+        let mut rel = Relations::new(n);
+        for (i, s) in species.iter().enumerate() {
+            let text = std::fs::read_to_string(&s.file).unwrap_or_default();
+            let r = &s.def.relations;
+            rel.set_eats_items(i, r.eats_items);
+            rel.set_mates(i, r.mates);
+            if r.see_others {
+                for j in 0..n {
+                    rel.set(i, j, Some(Category::Other));
+                }
+            }
+            let mut resolve = |names: &Vec<String>, cat: Category, field: &str| {
+                for name in names {
+                    match index.get(name.as_str()) {
+                        Some(&j) => rel.set(i, j, Some(cat)),
+                        None => {
+                            let (l, c, _) =
+                                locate(&text, &format!("\"{name}\""), 0).unwrap_or((0, 0, 0));
+                            let known: Vec<&str> = index.keys().copied().collect();
+                            diags.push(Diagnostic::new(
+                                &s.file,
+                                l,
+                                c,
+                                format!("unknown species \"{name}\" in `{field}`: loaded species are {}", known.join(", ")),
+                                Some(&text),
+                            ));
+                        }
+                    }
+                }
+            };
+            resolve(&r.kin, Category::Kin, "kin");
+            resolve(&r.prey, Category::Food, "prey");
+            resolve(&r.predators, Category::Predator, "predators");
+            rel.set(i, i, Some(Category::Kin));
+        }
+        if !diags.is_empty() {
+            return Err(Diagnostics(diags));
+        }
+        let senses = species.iter().map(|s| s.senses).collect();
+        Ok(SpeciesSet {
+            species,
+            relations: rel,
+            senses,
+        })
+    }
+
+    /// Index of the species named `name`.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.species.iter().position(|s| s.name == name)
+    }
+}

@@ -1,0 +1,280 @@
+//! Evaluating a behavior's steering recipe (a primitive, a priority list or a weighted blend) for
+//! one agent, every tick, from its percepts. Script-built recipes are cached terms evaluated here
+//! natively.
+
+use super::avoid::{self, MovingObstacle};
+use super::group::{self, Neighbor};
+use super::{blend, escape, goal, wander, Kin, Steer, Term};
+use crate::decision::{self, Ctx};
+use crate::perception::{Category, Sense, Source};
+use crate::species::{Recipe, RecipeNode, Target};
+use crate::world::{Mind, Rng};
+use glam::Vec3;
+
+/// Scratch buffers reused across agents by one worker.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    neighbors: Vec<Neighbor>,
+    kin_ready: bool,
+    filtered: Vec<Neighbor>,
+    moving: Vec<MovingObstacle>,
+    /// Position of a planned-path target, if the agent follows a plan.
+    pub plan_target: Option<Vec3>,
+}
+
+impl Scratch {
+    /// Clears per-agent state.
+    pub fn reset(&mut self) {
+        self.kin_ready = false;
+        self.plan_target = None;
+    }
+    fn kin<'a>(&'a mut self, ctx: &Ctx) -> &'a [Neighbor] {
+        if !self.kin_ready {
+            self.neighbors.clear();
+            for p in ctx.percepts {
+                if let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) {
+                    let o = &ctx.world.agents[j as usize];
+                    self.neighbors.push(Neighbor {
+                        offset: p.offset,
+                        dist: p.dist,
+                        velocity: o.velocity(),
+                    });
+                }
+            }
+            self.kin_ready = true;
+        }
+        &self.neighbors
+    }
+}
+
+fn target_point(t: &Target, ctx: &Ctx) -> Option<Vec3> {
+    match *t {
+        Target::Nearest(c) => ctx.nearest(c).map(|p| ctx.agent.pos + p.offset),
+        Target::Centroid(c) => {
+            (ctx.summaries[c as usize].count > 0).then(|| ctx.summaries[c as usize].centroid)
+        }
+        Target::Point(p) => Some(p),
+        Target::Home => Some(ctx.world.bounds.center()),
+    }
+}
+
+fn force(kin: &Kin, f: Vec3) -> Steer {
+    if f == Vec3::ZERO || !f.is_finite() {
+        Steer::None
+    } else {
+        Steer::Velocity(kin.velocity() + f)
+    }
+}
+
+fn within(n: &[Neighbor], r: f32, buf: &mut Vec<Neighbor>) {
+    buf.clear();
+    buf.extend(n.iter().copied().filter(|x| x.dist <= r));
+}
+
+/// Evaluates a leaf primitive.
+fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
+    let kin = ctx.kin();
+    let limits = &ctx.species.def.body.limits;
+    let vmax = limits.max_speed;
+    let vr = ctx.species.senses.vision_radius;
+    match r {
+        Recipe::AvoidStatic(p) => avoid::avoid_static(
+            &kin,
+            ctx.static_sources(),
+            vr,
+            ctx.agent.diagonal(),
+            vmax,
+            ctx.dt,
+            p,
+        ),
+        Recipe::AvoidDynamic(p) => {
+            let mut v = std::mem::take(&mut scratch.moving);
+            ctx.moving_obstacles(&mut v);
+            let s = avoid::avoid_dynamic(&kin, &v, vr, ctx.agent.diagonal(), ctx.dt, p);
+            scratch.moving = v;
+            s
+        }
+        Recipe::PredictCollision(l) => {
+            let obstacles = ctx.percepts.iter().filter_map(|p| match p.source {
+                Source::Obstacle(k) => {
+                    let o = &ctx.world.obstacles[k as usize];
+                    Some((
+                        o.shape.center(),
+                        o.shape.bounding_radius() + ctx.agent.radius(),
+                    ))
+                }
+                _ => None,
+            });
+            avoid::predict_collision(&kin, obstacles, l.horizon, vmax)
+        }
+        Recipe::Contain(l) => avoid::contain(&kin, &ctx.world.bounds, l.margin, l.horizon, vmax),
+        Recipe::Chase(c) => match ctx.nearest(c.target) {
+            None => Steer::None,
+            Some(p) if p.sense == Sense::Vision => {
+                goal::goal_by_vision(p.bearing, p.elevation, p.dist, c.d0, vmax, c.max_turn)
+            }
+            Some(p) => goal::goal_by_smell(p.bearing, p.elevation, vmax),
+        },
+        Recipe::Escape(e) => match ctx.nearest(e.from) {
+            None => Steer::None,
+            Some(p) if p.sense == Sense::Vision => {
+                escape::escape_by_vision(p.bearing, p.elevation, p.dist, vr, vmax)
+            }
+            Some(p) => escape::escape_by_smell(p.bearing, p.elevation, kin.speed, vmax),
+        },
+        Recipe::EscapeMirror(e) => match ctx.nearest(e.from) {
+            None => Steer::None,
+            Some(p) => escape::escape_mirror(&kin, kin.pos + p.offset, vmax),
+        },
+        Recipe::Pursue(pd) => match ctx.nearest(pd.target) {
+            None => Steer::None,
+            Some(p) => {
+                let now = kin.pos + p.offset;
+                let before = match p.source {
+                    Source::Agent(j) => ctx.world.agents[j as usize].prev_pos,
+                    _ => now,
+                };
+                goal::pursue(&kin, now, before, ctx.dt, pd.prediction, vmax)
+            }
+        },
+        Recipe::Seek(s) => target_point(&s.target, ctx)
+            .map_or(Steer::None, |t| super::seek(&kin, t, vmax * s.speed)),
+        Recipe::Flee(s) => target_point(&s.target, ctx)
+            .map_or(Steer::None, |t| super::flee(&kin, t, vmax * s.speed)),
+        Recipe::Arrive(s) => target_point(&s.target, ctx).map_or(Steer::None, |t| {
+            super::arrive(&kin, t, vmax * s.speed, s.slow_radius)
+        }),
+        Recipe::Separation(g) | Recipe::Alignment(g) | Recipe::Cohesion(g) => {
+            let mut buf = std::mem::take(&mut scratch.filtered);
+            let all = scratch.kin(ctx);
+            within(all, g.radius, &mut buf);
+            let m1 = ctx.agent.attrs.mass;
+            let f = match r {
+                Recipe::Separation(_) => {
+                    group::separation(&buf, m1, g.k, ctx.agent.size.z, g.factor)
+                }
+                Recipe::Alignment(_) => group::alignment(&buf, kin.velocity(), m1, g.k),
+                _ => group::cohesion(&buf, g.k),
+            };
+            scratch.filtered = buf;
+            force(&kin, f)
+        }
+        Recipe::Zones(z) => group::ra_zones(scratch.kin(ctx), z, kin.speed.max(0.5 * vmax)),
+        Recipe::Vicsek(v) => {
+            let u = (rng.next_f32(), rng.next_f32());
+            group::vicsek(
+                kin.forward(),
+                scratch.kin(ctx),
+                v.radius,
+                v.speed * vmax,
+                v.noise,
+                u,
+            )
+        }
+        Recipe::Disperse(d) => {
+            // Seed 003 group escape (1): a fish slower than v_d re-draws its speed in
+            // [V_min, V_max] and keeps its heading.
+            if kin.speed < d.below * vmax {
+                Steer::Turn {
+                    yaw: 0.0,
+                    pitch: 0.0,
+                    speed: rng.range(limits.min_speed, vmax),
+                }
+            } else {
+                Steer::None
+            }
+        }
+        Recipe::Wander(w) => {
+            let u = (rng.next_f32(), rng.next_f32());
+            wander::wander(kin.pitch, vmax, w, u)
+        }
+        Recipe::Cruise(c) => Steer::Turn {
+            yaw: 0.0,
+            pitch: -0.1 * kin.pitch,
+            speed: c.speed * vmax,
+        },
+        Recipe::Stop => Steer::Turn {
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: 0.0,
+        },
+        Recipe::FollowPlan(c) => match scratch.plan_target {
+            Some(t) => super::arrive(&kin, t, c.speed * vmax, 1.0),
+            None => Steer::None,
+        },
+        // Composite recipes are resolved into `RecipeNode`s at load time.
+        Recipe::Priority(_) | Recipe::Blend(_) | Recipe::Script(_) => Steer::None,
+    }
+}
+
+/// Evaluates a recipe node.
+pub fn evaluate(
+    node: &RecipeNode,
+    ctx: &Ctx,
+    mind: &Mind,
+    rng: &mut Rng,
+    scratch: &mut Scratch,
+    depth: u8,
+) -> Steer {
+    if depth > 16 {
+        return Steer::None;
+    }
+    match node {
+        RecipeNode::Leaf(r) => leaf(r, ctx, rng, scratch),
+        RecipeNode::Priority(v) => {
+            for r in v {
+                let s = evaluate(r, ctx, mind, rng, scratch, depth + 1);
+                if !s.is_none() {
+                    return s;
+                }
+            }
+            Steer::None
+        }
+        RecipeNode::Blend(v) => {
+            let kin = ctx.kin();
+            let mut parts: [(f32, Steer); 16] = [(0.0, Steer::None); 16];
+            let n = v.len().min(16);
+            for (k, (w, by, r)) in v.iter().take(16).enumerate() {
+                let f = by.as_ref().map_or(1.0, |b| decision::value(b, ctx, mind));
+                let weight = w * f;
+                parts[k] = if weight == 0.0 {
+                    (0.0, Steer::None)
+                } else {
+                    (weight, evaluate(r, ctx, mind, rng, scratch, depth + 1))
+                };
+            }
+            blend(&kin, parts[..n].iter().copied())
+        }
+        RecipeNode::Script(slot) => {
+            let kin = ctx.kin();
+            let Some(terms) = mind.script_steer.get(*slot as usize) else {
+                return Steer::None;
+            };
+            let mut parts: [(f32, Steer); 8] = [(0.0, Steer::None); 8];
+            let n = terms.len().min(8);
+            for (k, (w, t)) in terms.iter().take(8).enumerate() {
+                let s = match *t {
+                    Term::Recipe(i) => ctx
+                        .species
+                        .recipes
+                        .get(i as usize)
+                        .map_or(Steer::None, |r| {
+                            evaluate(r, ctx, mind, rng, scratch, depth + 1)
+                        }),
+                    Term::Velocity(v) => Steer::Velocity(v),
+                    Term::Turn(y, p, s) => Steer::Turn {
+                        yaw: y,
+                        pitch: p,
+                        speed: s,
+                    },
+                };
+                parts[k] = (*w, s);
+            }
+            if n == 1 && parts[0].0 == 1.0 {
+                parts[0].1
+            } else {
+                blend(&kin, parts[..n].iter().copied())
+            }
+        }
+    }
+}

@@ -1,0 +1,730 @@
+//! The tick: the one place the world advances.
+//!
+//! `index → perception → drives → decision → steering → locomotion → world events`. Stages 3–6
+//! run per agent in parallel (rayon) from the state at the start of the tick, each agent writing
+//! only its own outcome slot; stage 7 applies the outcomes in agent order. Results are therefore
+//! bit-identical whatever the thread count.
+
+use crate::decision::{self, scripts, Ctx, Transitions};
+use crate::diag::Diagnostic;
+use crate::drives::{self, Stimuli};
+use crate::events::{Cause, Event, MessageKind};
+use crate::index::Grid;
+use crate::locomotion::{self, anim, Motion};
+use crate::perception::{Category, Perception, Source};
+use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
+use crate::steering::recipe::{self, Scratch};
+use crate::steering::Steer;
+use crate::world::{
+    Agent, AgentId, Anim, Attributes, Drives, MemValue, Mind, Rng, Sex, SpeciesId, World,
+};
+use glam::Vec3;
+use rayon::prelude::*;
+use rhai::{Dynamic, ImmutableString, Scope};
+use std::sync::Arc;
+
+/// The parts of an agent the decision stage mutates, moved out of the world during the pass.
+#[derive(Debug, Default)]
+struct Brain {
+    mind: Mind,
+    memory: Vec<(String, MemValue)>,
+    rng: Rng,
+}
+
+impl Default for Mind {
+    fn default() -> Self {
+        Mind::new(0, 0, 0)
+    }
+}
+
+/// What one agent's pass produced.
+#[derive(Debug, Default)]
+struct Outcome {
+    motion: Motion,
+    anim: Anim,
+    drives: Drives,
+    transitions: Transitions,
+    contact: Option<(Contact, Source)>,
+    messages: [Option<(MessageKind, f32)>; 4],
+    error: Option<Diagnostic>,
+}
+
+/// Counters a run summary reports.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Stats {
+    /// Food items eaten.
+    pub meals: u64,
+    /// Prey caught.
+    pub catches: u64,
+    /// Matings.
+    pub matings: u64,
+    /// Behavior transitions.
+    pub transitions: u64,
+    /// Failed script calls (each agent's first one is also an event).
+    pub script_errors: u64,
+    /// Agent-ticks spent in each behavior, by species then behavior index.
+    pub behavior_ticks: Vec<Vec<u64>>,
+}
+
+/// The tick pipeline and its reusable buffers.
+pub struct Pipeline {
+    /// The species in use (swapped on reload).
+    pub species: Arc<SpeciesSet>,
+    agent_grid: Grid,
+    food_grid: Grid,
+    perception: Perception,
+    brains: Vec<Brain>,
+    outcomes: Vec<Outcome>,
+    species_names: Vec<ImmutableString>,
+    behavior_names: Vec<Vec<ImmutableString>>,
+    taken_food: Vec<bool>,
+    dead: Vec<bool>,
+    mated: Vec<bool>,
+    next_inbox: Vec<Option<MessageKind>>,
+    /// Events of the last tick, in order.
+    pub events: Vec<Event>,
+    /// Running counters.
+    pub stats: Stats,
+    /// Per-agent targets of planned paths (set by the planning layer), by agent index.
+    pub plan_targets: Vec<Option<Vec3>>,
+}
+
+fn draw(d: Draw, rng: &mut Rng) -> f32 {
+    match d {
+        Draw::Fixed(x) => x,
+        Draw::Uniform(a, b) => rng.range(a, b),
+    }
+}
+
+impl Pipeline {
+    /// A pipeline for these species.
+    pub fn new(species: Arc<SpeciesSet>) -> Self {
+        let mut p = Pipeline {
+            species: species.clone(),
+            agent_grid: Grid::new(),
+            food_grid: Grid::new(),
+            perception: Perception::new(),
+            brains: Vec::new(),
+            outcomes: Vec::new(),
+            species_names: Vec::new(),
+            behavior_names: Vec::new(),
+            taken_food: Vec::new(),
+            dead: Vec::new(),
+            mated: Vec::new(),
+            next_inbox: Vec::new(),
+            events: Vec::new(),
+            stats: Stats::default(),
+            plan_targets: Vec::new(),
+        };
+        p.set_species(species);
+        p
+    }
+
+    /// Installs a species set (at a tick boundary) and refreshes the name tables.
+    pub fn set_species(&mut self, species: Arc<SpeciesSet>) {
+        self.species_names = species
+            .species
+            .iter()
+            .map(|s| s.name.as_str().into())
+            .collect();
+        self.behavior_names = species
+            .species
+            .iter()
+            .map(|s| s.behaviors.iter().map(|b| (&*b.name).into()).collect())
+            .collect();
+        self.stats
+            .behavior_ticks
+            .resize(species.species.len(), Vec::new());
+        for (i, s) in species.species.iter().enumerate() {
+            self.stats.behavior_ticks[i].resize(s.behaviors.len(), 0);
+        }
+        self.species = species;
+    }
+
+    /// Percepts of the last tick's perception stage, by agent index.
+    pub fn perception(&self) -> &Perception {
+        &self.perception
+    }
+
+    /// Spawns an agent of species `s` at `pos` heading `(yaw, pitch)`; attributes and initial
+    /// drives are drawn from the species' distributions with the agent's own random stream.
+    pub fn spawn(
+        &mut self,
+        world: &mut World,
+        s: usize,
+        pos: Vec3,
+        yaw: f32,
+        pitch: f32,
+    ) -> AgentId {
+        let sp = &self.species.species[s];
+        let id = AgentId(world.next_agent_id);
+        world.next_agent_id += 1;
+        let mut rng = Rng::new(world.seed, id.0 as u64);
+        let d = &sp.def;
+        let sex = match d.attributes.sex {
+            SexDef::Random => {
+                if rng.next_f32() < 0.5 {
+                    Sex::Female
+                } else {
+                    Sex::Male
+                }
+            }
+            SexDef::Female => Sex::Female,
+            SexDef::Male => Sex::Male,
+        };
+        let attrs = Attributes {
+            sex,
+            age: draw(d.attributes.age, &mut rng),
+            mass: draw(d.attributes.mass, &mut rng),
+            kind: d.attributes.kind,
+        };
+        let mut drives = Drives {
+            hunger: draw(d.drives.hunger, &mut rng),
+            libido: draw(d.drives.libido, &mut rng),
+            since_meal: draw(d.drives.since_meal, &mut rng),
+            ..Drives::default()
+        };
+        // Start digestion where the initial hunger says: n_e·r(Δt)/n_a = 1 − H.
+        drives.eaten = (1.0 - drives.hunger).max(0.0) * d.drives.params.appetite;
+        let mut mind = Mind::new(sp.initial, sp.behaviors.len(), sp.slots.len());
+        mind.script_steer = vec![Vec::new(); sp.steer_slots];
+        mind.entered_tick = world.tick;
+        let speed = 0.5 * d.body.limits.max_speed;
+        let agent = Agent {
+            id,
+            species: SpeciesId(s as u16),
+            pos,
+            prev_pos: pos,
+            yaw,
+            pitch: pitch.clamp(-d.body.limits.pitch_limit(), d.body.limits.pitch_limit()),
+            speed,
+            yaw_rate: 0.0,
+            pitch_rate: 0.0,
+            size: d.body.size,
+            drives,
+            attrs,
+            mind,
+            anim: Anim::default(),
+            rng,
+            memory: Vec::new(),
+            inbox: None,
+        };
+        world.agents.push(agent);
+        self.events.push(Event::Spawn {
+            agent: id,
+            species: s as u16,
+        });
+        id
+    }
+
+    /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
+    /// (cleared at the start of each tick, after spawns made between ticks).
+    pub fn step(&mut self, world: &mut World) {
+        let n = world.agents.len();
+        let set = self.species.clone();
+        // 1. Spatial index.
+        let cell = set
+            .senses
+            .iter()
+            .map(|s| s.query_radius())
+            .fold(1.0f32, f32::max);
+        self.agent_grid
+            .rebuild(world.bounds, cell, world.agents.iter().map(|a| a.pos));
+        self.food_grid
+            .rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
+        // 2. Perception.
+        self.perception.run(
+            world,
+            &self.agent_grid,
+            &self.food_grid,
+            &set.senses,
+            &set.relations,
+        );
+        // 3–6. Per agent: drives, decision, steering, locomotion.
+        self.brains.resize_with(n, Brain::default);
+        for (a, b) in world.agents.iter_mut().zip(self.brains.iter_mut()) {
+            b.mind = std::mem::take(&mut a.mind);
+            b.memory = std::mem::take(&mut a.memory);
+            b.rng = a.rng;
+        }
+        self.outcomes.resize_with(n, Outcome::default);
+        self.plan_targets.resize(n, None);
+        let world_ref: &World = world;
+        let perception = &self.perception;
+        let names = (&self.species_names, &self.behavior_names);
+        let plan_targets = &self.plan_targets;
+        self.brains
+            .par_iter_mut()
+            .zip(self.outcomes.par_iter_mut())
+            .enumerate()
+            .with_min_len(32)
+            .for_each_init(
+                || (Scope::new(), Scratch::default()),
+                |(scope, scratch), (i, (brain, out))| {
+                    scratch.reset();
+                    scratch.plan_target = plan_targets[i];
+                    agent_pass(
+                        i, world_ref, &set, perception, names, brain, out, scope, scratch,
+                    );
+                },
+            );
+        // 7. World events, applied in agent order.
+        self.apply(world);
+    }
+
+    fn apply(&mut self, world: &mut World) {
+        let set = self.species.clone();
+        let n = world.agents.len();
+        self.taken_food.clear();
+        self.taken_food.resize(world.food.len(), false);
+        self.dead.clear();
+        self.dead.resize(n, false);
+        self.mated.clear();
+        self.mated.resize(n, false);
+        self.next_inbox.clear();
+        self.next_inbox.resize(n, None);
+        let tick = world.tick;
+        for i in 0..n {
+            let out = std::mem::take(&mut self.outcomes[i]);
+            let brain = std::mem::take(&mut self.brains[i]);
+            let a = &mut world.agents[i];
+            a.prev_pos = a.pos;
+            a.pos = world.bounds.closest_point(out.motion.pos);
+            a.yaw = out.motion.yaw;
+            a.pitch = out.motion.pitch;
+            a.speed = out.motion.speed;
+            a.yaw_rate = out.motion.yaw_rate;
+            a.pitch_rate = out.motion.pitch_rate;
+            a.anim = out.anim;
+            a.drives = out.drives;
+            a.mind = brain.mind;
+            a.memory = brain.memory;
+            a.rng = brain.rng;
+            let s = a.species.0 as usize;
+            if let Some(row) = self.stats.behavior_ticks.get_mut(s) {
+                if let Some(c) = row.get_mut(a.mind.current as usize) {
+                    *c += 1;
+                }
+            }
+            for t in out.transitions.into_iter().flatten() {
+                self.stats.transitions += 1;
+                self.events.push(Event::Transition {
+                    agent: a.id,
+                    species: s as u16,
+                    from: t.from,
+                    to: t.to,
+                    cause: t.cause,
+                    condition: t.condition,
+                    stack: a.mind.stack().to_vec(),
+                });
+            }
+            if let Some(e) = out.error {
+                self.stats.script_errors += 1;
+                if !a.mind.script_error_reported {
+                    a.mind.script_error_reported = true;
+                    self.events.push(Event::ScriptError {
+                        agent: a.id,
+                        species: s as u16,
+                        message: e.to_string(),
+                    });
+                }
+            }
+            let (aid, pos, sid) = (a.id, a.pos, a.species);
+            for (kind, radius) in out.messages.into_iter().flatten() {
+                self.events.push(Event::Message {
+                    from: aid,
+                    kind,
+                    radius,
+                });
+                let radius = radius.max(0.0);
+                let agents = &world.agents;
+                let inbox = &mut self.next_inbox;
+                self.agent_grid.for_each_within(pos, radius, |j, _, _| {
+                    let j = j as usize;
+                    if j != i && agents[j].species == sid {
+                        inbox[j] = Some(MessageKind::max_priority(inbox[j], kind));
+                    }
+                });
+            }
+            if let Some((contact, source)) = out.contact {
+                if self.dead[i] {
+                    continue;
+                }
+                self.contact(world, &set, i, contact, source, tick);
+            }
+        }
+        for (a, m) in world.agents.iter_mut().zip(self.next_inbox.iter()) {
+            a.inbox = *m;
+        }
+        if self.dead.iter().any(|&d| d) {
+            let dead = &self.dead;
+            let mut k = 0;
+            world.agents.retain(|_| {
+                k += 1;
+                !dead[k - 1]
+            });
+        }
+        if self.taken_food.iter().any(|&t| t) {
+            let taken = &self.taken_food;
+            let mut k = 0;
+            world.food.retain(|_| {
+                k += 1;
+                !taken[k - 1]
+            });
+        }
+        world.tick += 1;
+    }
+
+    fn contact(
+        &mut self,
+        world: &mut World,
+        set: &SpeciesSet,
+        i: usize,
+        contact: Contact,
+        source: Source,
+        tick: u64,
+    ) {
+        let meal = set.species[world.agents[i].species.0 as usize]
+            .def
+            .drives
+            .meal_size;
+        match (contact, source) {
+            (Contact::Eat { .. }, Source::Food(f)) => {
+                let f = f as usize;
+                if !self.taken_food[f] {
+                    self.taken_food[f] = true;
+                    let a = &mut world.agents[i];
+                    a.drives.eaten += meal;
+                    a.drives.since_meal = 0.0;
+                    self.stats.meals += 1;
+                    self.events.push(Event::Meal {
+                        agent: a.id,
+                        food: world.food[f].id,
+                    });
+                    self.on_event(world, i, "meal", tick);
+                }
+            }
+            (Contact::Eat { .. }, Source::Agent(j)) => {
+                let j = j as usize;
+                if j != i && !self.dead[j] {
+                    self.dead[j] = true;
+                    let (prey, prey_species) = (world.agents[j].id, world.agents[j].species.0);
+                    let a = &mut world.agents[i];
+                    a.drives.eaten += meal;
+                    a.drives.since_meal = 0.0;
+                    self.stats.catches += 1;
+                    self.events.push(Event::Catch { agent: a.id, prey });
+                    self.events.push(Event::Death {
+                        agent: prey,
+                        species: prey_species,
+                        cause: "caught",
+                    });
+                    self.on_event(world, i, "catch", tick);
+                }
+            }
+            (Contact::Mate { .. }, Source::Agent(j)) => {
+                let j = j as usize;
+                if j != i && !self.mated[i] && !self.mated[j] && !self.dead[j] {
+                    self.mated[i] = true;
+                    self.mated[j] = true;
+                    for k in [i, j] {
+                        world.agents[k].drives.since_mating = 0.0;
+                        world.agents[k].drives.libido = 0.0;
+                    }
+                    self.stats.matings += 1;
+                    self.events.push(Event::Mating {
+                        agent: world.agents[i].id,
+                        mate: world.agents[j].id,
+                    });
+                    self.on_event(world, i, "mating", tick);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Calls the species' `on_event(kind)` for agent `i`, if it has one (sequential: events are
+    /// rare).
+    fn on_event(&mut self, world: &mut World, i: usize, kind: &str, tick: u64) {
+        let set = self.species.clone();
+        let sp = &set.species[world.agents[i].species.0 as usize];
+        let (Some(script), true) = (&sp.script, sp.has_on_event) else {
+            return;
+        };
+        let agent = world.agents[i].clone();
+        let summaries = self
+            .perception
+            .summaries(i.min(self.perception.len().saturating_sub(1)));
+        let percepts = if i < self.perception.len() {
+            self.perception.percepts(i)
+        } else {
+            &[]
+        };
+        let ctx = Ctx {
+            world,
+            species: sp,
+            agent: &agent,
+            percepts,
+            summaries,
+            tick,
+            dt: world.dt,
+        };
+        let s = agent.species.0 as usize;
+        let view = scripts::view_of(
+            &ctx,
+            &agent.mind,
+            &self.species_names[s],
+            &self.behavior_names[s][agent.mind.current as usize],
+        );
+        let mut this = Dynamic::from(view);
+        let mut scope = Scope::new();
+        let r: Result<Dynamic, _> = script.call_args(
+            &mut scope,
+            &mut this,
+            "on_event",
+            (ImmutableString::from(kind),),
+        );
+        match r {
+            Ok(_) => {
+                if let Some(v) = this.try_cast::<crate::script::AgentView>() {
+                    scripts::write_back(&v, &mut world.agents[i]);
+                }
+            }
+            Err(e) => {
+                self.stats.script_errors += 1;
+                let a = &mut world.agents[i];
+                if !a.mind.script_error_reported {
+                    a.mind.script_error_reported = true;
+                    self.events.push(Event::ScriptError {
+                        agent: a.id,
+                        species: s as u16,
+                        message: e.diagnostic.to_string(),
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// Stages 3–6 for agent `i`.
+#[allow(clippy::too_many_arguments)]
+fn agent_pass(
+    i: usize,
+    world: &World,
+    set: &SpeciesSet,
+    perception: &Perception,
+    names: (&Vec<ImmutableString>, &Vec<Vec<ImmutableString>>),
+    brain: &mut Brain,
+    out: &mut Outcome,
+    scope: &mut Scope,
+    scratch: &mut Scratch,
+) {
+    let base = &world.agents[i];
+    let s = base.species.0 as usize;
+    let sp = &set.species[s];
+    let def = &sp.def;
+    let percepts = perception.percepts(i);
+    let summaries = perception.summaries(i);
+    let dt = world.dt;
+    let tick = world.tick;
+
+    // 3. Drives.
+    let mut me = base.clone();
+    if def.drives.native {
+        let stim = |c: Category| {
+            let d = summaries[c as usize].nearest_dist;
+            if d.is_finite() && sp.senses.smell_radius > 0.0 {
+                (1.0 - d / sp.senses.smell_radius).clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
+        let stimuli = Stimuli {
+            food: stim(Category::Food),
+            mate: stim(Category::Mate),
+        };
+        let predators = percepts
+            .iter()
+            .filter(|p| p.category == Category::Predator)
+            .map(|p| p.dist);
+        drives::update(&mut me.drives, &def.drives.params, stimuli, predators, dt);
+    } else {
+        me.drives.since_meal += dt;
+        me.drives.since_mating += dt;
+    }
+    me.memory = std::mem::take(&mut brain.memory);
+    let mind = &mut brain.mind;
+    let rng = &mut brain.rng;
+    let mut error = None;
+
+    // 4. Decision: scripts at the decision rate, then arbitration.
+    let script = sp
+        .script
+        .as_deref()
+        .filter(|_| !sp.slots.is_empty() || sp.has_on_tick);
+    if let Some(script) = script {
+        if scripts::due(tick, me.id.0, def.decision_interval) {
+            let ctx = Ctx {
+                world,
+                species: sp,
+                agent: &me,
+                percepts,
+                summaries,
+                tick,
+                dt,
+            };
+            let mut view =
+                scripts::view_of(&ctx, mind, &names.0[s], &names.1[s][mind.current as usize]);
+            view.rng = *rng;
+            let mut this = Dynamic::from(view);
+            let r = scripts::run_slots(sp, script, mind, &mut this, scope);
+            if let Some(v) = this.try_cast::<crate::script::AgentView>() {
+                scripts::write_back(&v, &mut me);
+                *rng = v.rng;
+                for (k, m) in v.outbox.into_iter().take(2).enumerate() {
+                    out.messages[2 + k] = Some(m);
+                }
+            }
+            if let Err(e) = r {
+                error = Some(e);
+            }
+        }
+    }
+    let ctx = Ctx {
+        world,
+        species: sp,
+        agent: &me,
+        percepts,
+        summaries,
+        tick,
+        dt,
+    };
+    let transitions = decision::arbitrate(&ctx, mind, rng);
+    let mut pending = None;
+    if let Some(t) = transitions.iter().flatten().last() {
+        let b = &sp.behaviors[t.to as usize];
+        let mut k = 0;
+        for a in &b.on_enter {
+            match a {
+                ActionNode::Send(kind, r) if k < 2 => {
+                    out.messages[k] = Some((*kind, *r));
+                    k += 1;
+                }
+                ActionNode::Call(f) => {
+                    if let Some(script) = sp.script.as_deref() {
+                        let view = scripts::view_of(
+                            &ctx,
+                            mind,
+                            &names.0[s],
+                            &names.1[s][mind.current as usize],
+                        );
+                        let mut this = Dynamic::from(view);
+                        match script.call::<Dynamic>(scope, &mut this, f) {
+                            Ok(_) => pending = this.try_cast::<crate::script::AgentView>(),
+                            Err(e) => error = Some(e.diagnostic),
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    if let Some(v) = pending {
+        scripts::write_back(&v, &mut me);
+    }
+    let ctx = Ctx {
+        world,
+        species: sp,
+        agent: &me,
+        percepts,
+        summaries,
+        tick,
+        dt,
+    };
+
+    // 5. Steering.
+    let b = &sp.behaviors[mind.current as usize];
+    let mut steer = recipe::evaluate(&b.steer, &ctx, mind, rng, scratch, 0);
+    if error.is_some() || !steer.is_finite() {
+        steer = mind.last_steer;
+    }
+    if steer.is_none() {
+        steer = Steer::keep(&ctx.kin());
+    }
+    mind.last_steer = steer;
+
+    // 6. Locomotion and animation.
+    let mut motion = Motion {
+        pos: me.pos,
+        yaw: me.yaw,
+        pitch: me.pitch,
+        speed: me.speed,
+        yaw_rate: me.yaw_rate,
+        pitch_rate: me.pitch_rate,
+    };
+    let limits = &def.body.limits;
+    let info = locomotion::step(
+        &mut motion,
+        steer,
+        limits,
+        &def.body.locomotion,
+        world.current,
+        dt,
+    );
+    let mut an = me.anim;
+    let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
+    anim::advance(
+        &mut an,
+        &def.body.anim,
+        motion.speed,
+        def.body.size.z,
+        accel,
+        info.dyaw,
+        limits.max_turn,
+        dt,
+    );
+
+    // Contact intent (resolved in agent order by stage 7).
+    out.contact = match b.contact {
+        Some(c @ Contact::Eat { reach }) => ctx
+            .nearest(Category::Food)
+            .filter(|p| p.dist <= reach)
+            .map(|p| (c, p.source)),
+        Some(c @ Contact::Mate { reach }) => ctx
+            .nearest(Category::Mate)
+            .filter(|p| p.dist <= reach)
+            .map(|p| (c, p.source)),
+        None => None,
+    };
+    out.motion = motion;
+    out.anim = an;
+    out.drives = me.drives;
+    out.transitions = transitions;
+    out.error = error;
+    brain.memory = me.memory;
+}
+
+/// Cause of a forced behavior change (tests and tools).
+pub fn force_behavior(
+    world: &mut World,
+    set: &SpeciesSet,
+    id: AgentId,
+    behavior: &str,
+) -> Option<Event> {
+    let i = world.agent_index(id)?;
+    let a = &mut world.agents[i];
+    let sp = &set.species[a.species.0 as usize];
+    let to = sp.behavior_index(behavior)?;
+    let from = a.mind.current;
+    a.mind.current = to;
+    a.mind.entered_tick = world.tick;
+    Some(Event::Transition {
+        agent: a.id,
+        species: a.species.0,
+        from,
+        to,
+        cause: Cause::Script,
+        condition: None,
+        stack: a.mind.stack().to_vec(),
+    })
+}
