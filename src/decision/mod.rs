@@ -57,11 +57,18 @@ impl Ctx<'_> {
     pub fn time_in_behavior(&self, mind: &Mind) -> f32 {
         self.tick.saturating_sub(mind.entered_tick) as f32 * self.dt
     }
-    /// Seen static obstacles as pressure sources.
-    pub fn static_sources(&self) -> impl Iterator<Item = PressureSource> + '_ {
+    /// Seen static obstacles within `params.range` as pressure sources.
+    pub fn static_sources<'p>(
+        &'p self,
+        params: &'p avoid::AvoidParams,
+    ) -> impl Iterator<Item = PressureSource> + 'p {
         self.percepts
             .iter()
-            .filter(|p| p.category == Category::Obstacle && p.sense == Sense::Vision)
+            .filter(move |p| {
+                p.category == Category::Obstacle
+                    && p.sense == Sense::Vision
+                    && params.in_range(p.dist)
+            })
             .map(|p| PressureSource {
                 dist: p.dist,
                 bearing: p.bearing,
@@ -70,10 +77,19 @@ impl Ctx<'_> {
                 weight: 1.0,
             })
     }
-    /// Seen agents as moving obstacles (seed 000 §4.2: the whole ±150° field counts).
-    pub fn moving_obstacles(&self, out: &mut Vec<avoid::MovingObstacle>) {
+    /// Seen agents within `params.range` as moving obstacles (seed 000 §4.2: the whole ±150°
+    /// field counts); kin only when `params.kin`.
+    pub fn moving_obstacles(
+        &self,
+        params: &avoid::AvoidParams,
+        out: &mut Vec<avoid::MovingObstacle>,
+    ) {
         out.clear();
         for p in self.percepts {
+            let kin = matches!(p.category, Category::Kin | Category::Mate);
+            if kin && !params.kin || !params.in_range(p.dist) {
+                continue;
+            }
             if let (Source::Agent(j), Sense::Vision) = (p.source, p.sense) {
                 let o = &self.world.agents[j as usize];
                 out.push(avoid::MovingObstacle {
@@ -167,23 +183,21 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
             ),
         },
         CondNode::ObstacleNear => {
-            let p = avoid::pressures(ctx.static_sources(), avoid::AvoidParams::default().m0);
-            p.max()
-                > avoid::static_m_min(
-                    ctx.species.senses.vision_radius,
-                    avoid::AvoidParams::default().m0,
-                )
+            let params = &ctx.species.def.avoid;
+            let p = avoid::pressures(ctx.static_sources(params), params.m0);
+            p.max() > avoid::static_m_min(ctx.species.senses.vision_radius, params.m0)
         }
         CondNode::TrafficNear => {
+            let params = &ctx.species.def.avoid;
             let mut v = Vec::new();
-            ctx.moving_obstacles(&mut v);
+            ctx.moving_obstacles(params, &mut v);
             let s = avoid::avoid_dynamic(
                 &ctx.kin(),
                 &v,
                 ctx.species.senses.vision_radius,
                 ctx.agent.diagonal(),
                 ctx.dt,
-                &avoid::AvoidParams::default(),
+                params,
             );
             !s.is_none()
         }

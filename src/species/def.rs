@@ -17,7 +17,7 @@ use serde::{Deserialize, Serialize};
 
 /// A species file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, rename = "Species")]
 pub struct SpeciesDef {
     /// Unique name; agents and relations refer to it.
     pub name: String,
@@ -30,6 +30,10 @@ pub struct SpeciesDef {
     /// Senses.
     #[serde(default)]
     pub senses: SenseParams,
+    /// Obstacle-avoidance constants used by `ObstacleNear`/`TrafficNear` and by `AvoidStatic()` /
+    /// `AvoidDynamic()` written without parameters.
+    #[serde(default)]
+    pub avoid: AvoidParams,
     /// Attribute distributions for spawned agents.
     #[serde(default)]
     pub attributes: AttributesDef,
@@ -200,7 +204,7 @@ impl Default for RelationsDef {
 
 /// One behavior of the prioritized FSM (seed 000 §3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, rename = "Behavior")]
 pub struct BehaviorDef {
     /// Unique name within the species.
     pub name: String,

@@ -3,7 +3,7 @@
 //! looks up by string what is resolved here.
 
 pub mod def;
-mod validate;
+pub mod validate;
 
 pub use def::*;
 pub use validate::{load_species, load_species_str, SpeciesSet};

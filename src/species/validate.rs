@@ -5,6 +5,7 @@ use super::*;
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::perception::Relations;
 use crate::script::{Limits, Script};
+use crate::steering::avoid::AvoidParams;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -316,7 +317,16 @@ impl Builder<'_> {
                     }
                     _ => {}
                 }
-                RecipeNode::Leaf(leaf.clone())
+                // Avoidance written without parameters uses the species' `avoid` constants.
+                match leaf {
+                    Recipe::AvoidStatic(p) if *p == AvoidParams::default() => {
+                        RecipeNode::Leaf(Recipe::AvoidStatic(self.def.avoid))
+                    }
+                    Recipe::AvoidDynamic(p) if *p == AvoidParams::default() => {
+                        RecipeNode::Leaf(Recipe::AvoidDynamic(self.def.avoid))
+                    }
+                    _ => RecipeNode::Leaf(leaf.clone()),
+                }
             }
         }
     }
@@ -612,6 +622,16 @@ impl SpeciesSet {
     /// Resolves relations between `species` (names must be unique, and every relation must name
     /// one of them).
     pub fn new(species: Vec<Arc<Species>>) -> Result<SpeciesSet, Diagnostics> {
+        Self::with_library(species, |_| false)
+    }
+
+    /// Like [`SpeciesSet::new`], but a relation may also name a species that is not in this
+    /// world as long as `exists(name)` says it is defined elsewhere (e.g. another file of the
+    /// behaviors folder): a shark that eats sardines runs in a world without sardines.
+    pub fn with_library(
+        species: Vec<Arc<Species>>,
+        exists: impl Fn(&str) -> bool,
+    ) -> Result<SpeciesSet, Diagnostics> {
         let mut diags = Vec::new();
         let index: BTreeMap<&str, usize> = species
             .iter()
@@ -644,6 +664,7 @@ impl SpeciesSet {
                 for name in names {
                     match index.get(name.as_str()) {
                         Some(&j) => rel.set(i, j, Some(cat)),
+                        None if exists(name) => {}
                         None => {
                             let (l, c, _) =
                                 locate(&text, &format!("\"{name}\""), 0).unwrap_or((0, 0, 0));

@@ -81,6 +81,11 @@ pub struct AvoidParams {
     pub m0: f32,
     /// Turn applied when one side's pressure dominates (π/8).
     pub turn: f32,
+    /// Obstacles farther than this are ignored (`None`: everything in view counts, as in the
+    /// paper).
+    pub range: Option<f32>,
+    /// Whether kin count as dynamic obstacles (schooling species leave that to separation).
+    pub kin: bool,
 }
 
 impl Default for AvoidParams {
@@ -88,7 +93,16 @@ impl Default for AvoidParams {
         AvoidParams {
             m0: 1.0,
             turn: FRAC_PI_8,
+            range: None,
+            kin: false,
         }
+    }
+}
+
+impl AvoidParams {
+    /// Whether an obstacle at `dist` counts.
+    pub fn in_range(&self, dist: f32) -> bool {
+        self.range.is_none_or(|r| dist <= r)
     }
 }
 

@@ -80,7 +80,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
     match r {
         Recipe::AvoidStatic(p) => avoid::avoid_static(
             &kin,
-            ctx.static_sources(),
+            ctx.static_sources(p),
             vr,
             ctx.agent.diagonal(),
             vmax,
@@ -89,7 +89,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
         ),
         Recipe::AvoidDynamic(p) => {
             let mut v = std::mem::take(&mut scratch.moving);
-            ctx.moving_obstacles(&mut v);
+            ctx.moving_obstacles(p, &mut v);
             let s = avoid::avoid_dynamic(&kin, &v, vr, ctx.agent.diagonal(), ctx.dt, p);
             scratch.moving = v;
             s

@@ -1,0 +1,261 @@
+//! The scenario file format (`scenarios/*.ron`): plain `*Def` types read with RON.
+
+use crate::species::Draw;
+use crate::world::Aabb;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// A scenario file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, rename = "Scenario")]
+pub struct ScenarioDef {
+    /// Name (defaults to the file stem).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Run seed.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Fixed time step (s).
+    #[serde(default = "default_dt")]
+    pub dt: f32,
+    /// Duration (s).
+    pub duration: f32,
+    /// World bounds.
+    pub bounds: Aabb,
+    /// Uniform current (world units / s).
+    #[serde(default)]
+    pub current: Vec3,
+    /// Folder of species files, relative to the scenario file (default `../behaviors`).
+    #[serde(default)]
+    pub behaviors: Option<String>,
+    /// Species to load, by name (`<behaviors>/<name>.ron`).
+    pub species: Vec<String>,
+    /// Static obstacles; their index is their id.
+    #[serde(default)]
+    pub obstacles: Vec<ObstacleDef>,
+    /// Food.
+    #[serde(default)]
+    pub food: FoodDef,
+    /// Agent groups spawned at t = 0.
+    #[serde(default)]
+    pub groups: Vec<GroupDef>,
+    /// Timed events.
+    #[serde(default)]
+    pub events: Vec<TimedEvent>,
+    /// Recording options.
+    #[serde(default)]
+    pub record: RecordDef,
+    /// Expectations checked at the end of a run (`shoal test` and `shoal run` report them).
+    #[serde(default)]
+    pub expect: Vec<Expectation>,
+    /// Terrain (for walking species and squads).
+    #[serde(default)]
+    pub terrain: Option<TerrainDef>,
+    /// Squads that plan formation-keeping paths over the terrain.
+    #[serde(default)]
+    pub squads: Vec<SquadDef>,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+fn default_dt() -> f32 {
+    0.05
+}
+
+/// A static obstacle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum ObstacleDef {
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// An axis-aligned box.
+    Box {
+        /// Smallest corner.
+        min: Vec3,
+        /// Largest corner.
+        max: Vec3,
+    },
+}
+
+/// Food: initial items and respawning.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FoodDef {
+    /// Items at t = 0.
+    pub initial: u32,
+    /// Where food appears (default: the world bounds).
+    pub region: Option<Aabb>,
+    /// New items per second.
+    pub respawn_per_second: f32,
+    /// Never more items than this.
+    pub max: u32,
+}
+
+impl Default for FoodDef {
+    fn default() -> Self {
+        FoodDef {
+            initial: 0,
+            region: None,
+            respawn_per_second: 0.0,
+            max: 1000,
+        }
+    }
+}
+
+/// Initial headings of a group.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum HeadingDef {
+    /// Random yaw, level.
+    #[default]
+    Random,
+    /// All facing this yaw (degrees; 0 = +Z, positive to the right).
+    Yaw(f32),
+    /// All facing this point.
+    Toward(Vec3),
+}
+
+/// Initial drive overrides of a group.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default, deny_unknown_fields)]
+pub struct DrivesOverride {
+    /// Hunger.
+    pub hunger: Option<Draw>,
+    /// Libido.
+    pub libido: Option<Draw>,
+    /// Fear.
+    pub fear: Option<Draw>,
+    /// Fatigue.
+    pub fatigue: Option<Draw>,
+}
+
+/// A group of agents of one species.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupDef {
+    /// Species name.
+    pub species: String,
+    /// How many.
+    pub count: i64,
+    /// Spawn region (inside the bounds).
+    pub region: Aabb,
+    /// Headings.
+    #[serde(default)]
+    pub heading: HeadingDef,
+    /// Drive overrides.
+    #[serde(default)]
+    pub drives: DrivesOverride,
+}
+
+/// Something that happens at a given time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimedEvent {
+    /// Time (s).
+    pub at: f32,
+    /// What.
+    pub action: EventAction,
+}
+
+/// A timed event's action.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum EventAction {
+    /// Spawn a group.
+    Spawn(GroupDef),
+    /// Remove the obstacle with this id.
+    RemoveObstacle(u32),
+    /// Drop food.
+    DropFood {
+        /// How many items.
+        count: u32,
+        /// Where.
+        region: Aabb,
+    },
+    /// Change the current.
+    SetCurrent(Vec3),
+}
+
+/// Recording options.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RecordDef {
+    /// Record every this many ticks.
+    pub interval: u32,
+}
+
+impl Default for RecordDef {
+    fn default() -> Self {
+        RecordDef { interval: 1 }
+    }
+}
+
+/// An end-of-run expectation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Expectation {
+    /// At least `fraction` of the agents of `species` are in `behavior` at some tick within
+    /// `within` seconds after `after` seconds.
+    BehaviorShare {
+        /// Species.
+        species: String,
+        /// Behavior.
+        behavior: String,
+        /// Fraction in [0, 1].
+        fraction: f32,
+        /// Start of the window (s).
+        after: f32,
+        /// Length of the window (s).
+        within: f32,
+    },
+    /// At least this many catches by the end.
+    MinCatches(u64),
+    /// At least this many meals by the end.
+    MinMeals(u64),
+    /// At least this many agents of a species alive at the end.
+    MinAlive(String, u64),
+    /// At most this many agents of a species alive at the end.
+    MaxAlive(String, u64),
+    /// The polarization of a species (|mean heading|, 1 = aligned) is at least this at the end.
+    MinPolarization(String, f32),
+    /// No script errors.
+    NoScriptErrors,
+}
+
+/// Terrain of a scenario.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainDef {
+    /// ESRI ASCII grid, relative to the scenario file.
+    pub dem: String,
+    /// Feature file (RON), relative to the scenario file.
+    #[serde(default)]
+    pub features: Option<String>,
+}
+
+/// A squad: members of one species that plan a formation-keeping path to a goal.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SquadDef {
+    /// Species of the members.
+    pub species: String,
+    /// Members.
+    pub count: u32,
+    /// Start (x, z) of the leader.
+    pub start: (f32, f32),
+    /// Goal (x, z).
+    pub goal: (f32, f32),
+    /// Formations allowed, widest first (e.g. `["wedge", "column"]`).
+    pub formations: Vec<String>,
+    /// Task class: `MustKeep`, `MayChangeRarely`, `ShortestFirst`.
+    pub task: String,
+    /// Slot spacing (world units).
+    #[serde(default = "default_spacing")]
+    pub spacing: f32,
+}
+
+fn default_spacing() -> f32 {
+    4.0
+}

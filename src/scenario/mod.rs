@@ -1,0 +1,452 @@
+//! Scenarios: RON files naming the world, its species, its agents and timed events, loaded and
+//! validated once, and a [`Run`] that drives the tick pipeline through them. This layer reads
+//! files; the core below it does not.
+
+pub mod def;
+
+pub use def::*;
+
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::species::validate::{locate, ron_diag, ron_options};
+use crate::species::{load_species, Draw, Species, SpeciesSet};
+use crate::tick::Pipeline;
+use crate::world::{Aabb, Rng, Shape, World};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A scenario read and validated, with its species loaded.
+#[derive(Debug, Clone)]
+pub struct Scenario {
+    /// Name (file stem unless given).
+    pub name: String,
+    /// The scenario file.
+    pub file: PathBuf,
+    /// Its text.
+    pub text: String,
+    /// The definition.
+    pub def: ScenarioDef,
+    /// The behaviors folder species were loaded from.
+    pub behaviors_dir: PathBuf,
+    /// The species, in the order the scenario lists them.
+    pub species: Arc<SpeciesSet>,
+}
+
+/// Removes `.` and `a/..` components without touching the file system, so that diagnostics
+/// name files the way a user would.
+pub fn normalize(p: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out: Vec<Component> = Vec::new();
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    if out.is_empty() {
+        PathBuf::from(".")
+    } else {
+        out.iter().collect()
+    }
+}
+
+/// Script limits used for every load.
+pub fn script_limits() -> crate::script::Limits {
+    crate::script::Limits::default()
+}
+
+fn check_region(
+    diags: &mut Vec<Diagnostic>,
+    file: &Path,
+    text: &str,
+    bounds: &Aabb,
+    region: &Aabb,
+    what: &str,
+    from: usize,
+) {
+    if !bounds.contains_box(region) || region.min.cmpgt(region.max).any() {
+        let (l, c, _) = locate(text, "region", from).unwrap_or((0, 0, 0));
+        diags.push(Diagnostic::new(
+            file,
+            l,
+            c,
+            format!(
+                "{what}: spawn region {:?}..{:?} is outside the world bounds {:?}..{:?}",
+                region.min.to_array(),
+                region.max.to_array(),
+                bounds.min.to_array(),
+                bounds.max.to_array()
+            ),
+            Some(text),
+        ));
+    }
+}
+
+impl Scenario {
+    /// Reads, validates and loads a scenario and every species it names.
+    pub fn load(file: &Path) -> Result<Scenario, Diagnostics> {
+        let text = std::fs::read_to_string(file)
+            .map_err(|e| Diagnostic::file(file, format!("cannot read scenario: {e}")))?;
+        Self::load_str(file, &text)
+    }
+
+    /// Validates scenario `text` (named `file`).
+    pub fn load_str(file: &Path, text: &str) -> Result<Scenario, Diagnostics> {
+        let def: ScenarioDef = ron_options()
+            .from_str(text)
+            .map_err(|e| Diagnostics::from(ron_diag(file, text, &e)))?;
+        let dir = file.parent().unwrap_or(Path::new("."));
+        let behaviors_dir =
+            normalize(&dir.join(def.behaviors.as_deref().unwrap_or("../behaviors")));
+        let mut diags = Vec::new();
+        let at = |needle: &str, from: usize| locate(text, needle, from).unwrap_or((0, 0, 0));
+        if !(def.dt > 0.0 && def.dt.is_finite()) {
+            let (l, c, _) = at("dt", 0);
+            diags.push(Diagnostic::new(
+                file,
+                l,
+                c,
+                "`dt` must be a positive number of seconds",
+                Some(text),
+            ));
+        }
+        if !(def.duration >= 0.0 && def.duration.is_finite()) {
+            let (l, c, _) = at("duration", 0);
+            diags.push(Diagnostic::new(
+                file,
+                l,
+                c,
+                "`duration` must be ≥ 0 seconds",
+                Some(text),
+            ));
+        }
+        if def.bounds.min.cmpge(def.bounds.max).any() {
+            let (l, c, _) = at("bounds", 0);
+            diags.push(Diagnostic::new(
+                file,
+                l,
+                c,
+                "`bounds`: `min` must be below `max` on every axis",
+                Some(text),
+            ));
+        }
+        let mut loaded: Vec<Arc<Species>> = Vec::new();
+        for name in &def.species {
+            let path = behaviors_dir.join(format!("{name}.ron"));
+            if !path.is_file() {
+                let (l, c, _) = at(&format!("\"{name}\""), 0);
+                diags.push(Diagnostic::new(
+                    file,
+                    l,
+                    c,
+                    format!("species file \"{}\" not found", path.display()),
+                    Some(text),
+                ));
+                continue;
+            }
+            match load_species(&path, &behaviors_dir, &script_limits()) {
+                Ok(s) => {
+                    if &s.name != name {
+                        let (l, c, _) = at(&format!("\"{name}\""), 0);
+                        diags.push(Diagnostic::new(
+                            file,
+                            l,
+                            c,
+                            format!(
+                                "\"{}\" defines species \"{}\", not \"{name}\"",
+                                path.display(),
+                                s.name
+                            ),
+                            Some(text),
+                        ));
+                    }
+                    loaded.push(Arc::new(s))
+                }
+                Err(d) => diags.extend(d.0),
+            }
+        }
+        let known = |n: &str| def.species.iter().any(|s| s == n);
+        let check_group = |g: &GroupDef, diags: &mut Vec<Diagnostic>, from: usize| {
+            let from = locate(text, &format!("\"{}\"", g.species), from).map_or(from, |x| x.2);
+            if !known(&g.species) {
+                let (l, c, _) = at(&format!("\"{}\"", g.species), from);
+                diags.push(Diagnostic::new(
+                    file,
+                    l,
+                    c,
+                    format!(
+                        "unknown species \"{}\": the scenario loads {}",
+                        g.species,
+                        def.species.join(", ")
+                    ),
+                    Some(text),
+                ));
+            }
+            if g.count < 0 {
+                let (l, c, _) = at("count", from);
+                diags.push(Diagnostic::new(
+                    file,
+                    l,
+                    c,
+                    format!("`count` must be ≥ 0, not {}", g.count),
+                    Some(text),
+                ));
+            }
+            check_region(
+                diags,
+                file,
+                text,
+                &def.bounds,
+                &g.region,
+                &format!("group of \"{}\"", g.species),
+                from,
+            );
+            from + 1
+        };
+        let mut from = locate(text, "groups", 0).map_or(0, |x| x.2);
+        for g in &def.groups {
+            from = check_group(g, &mut diags, from);
+        }
+        let mut from = locate(text, "events", 0).map_or(0, |x| x.2);
+        for e in &def.events {
+            match e.action.clone() {
+                EventAction::Spawn(g) => from = check_group(&g, &mut diags, from),
+                EventAction::RemoveObstacle(id) if id as usize >= def.obstacles.len() => {
+                    let (l, c, _) = at("RemoveObstacle", from);
+                    diags.push(Diagnostic::new(
+                        file,
+                        l,
+                        c,
+                        format!(
+                            "no obstacle {id}: the scenario has {} (ids start at 0)",
+                            def.obstacles.len()
+                        ),
+                        Some(text),
+                    ));
+                }
+                EventAction::DropFood { region, .. } => check_region(
+                    &mut diags,
+                    file,
+                    text,
+                    &def.bounds,
+                    &region,
+                    "DropFood",
+                    from,
+                ),
+                _ => {}
+            }
+        }
+        if let Some(r) = def.food.region {
+            check_region(&mut diags, file, text, &def.bounds, &r, "food", 0);
+        }
+        if !diags.is_empty() {
+            return Err(Diagnostics(diags));
+        }
+        let lib = behaviors_dir.clone();
+        let species = Arc::new(SpeciesSet::with_library(loaded, |n| {
+            lib.join(format!("{n}.ron")).is_file()
+        })?);
+        Ok(Scenario {
+            name: def.name.clone().unwrap_or_else(|| {
+                file.file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+            }),
+            file: file.to_path_buf(),
+            text: text.to_string(),
+            def,
+            behaviors_dir,
+            species,
+        })
+    }
+
+    /// Every file the scenario was built from: itself, species, scripts and imports.
+    pub fn files(&self) -> Vec<PathBuf> {
+        let mut v = vec![self.file.clone()];
+        for s in &self.species.species {
+            v.extend(s.files());
+        }
+        v
+    }
+}
+
+/// Options a run may override.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Overrides {
+    /// Seed.
+    pub seed: Option<u64>,
+    /// Duration (s).
+    pub duration: Option<f32>,
+}
+
+/// A scenario being run: world, pipeline and the scenario's own clock of timed events.
+pub struct Run {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// The world.
+    pub world: World,
+    /// The pipeline.
+    pub pipeline: Pipeline,
+    /// Ticks to run.
+    pub total_ticks: u64,
+    next_event: usize,
+    food_rng: Rng,
+    food_debt: f32,
+    /// Agents alive per species at the last tick.
+    pub scenario_events: Vec<crate::events::Event>,
+}
+
+fn uniform_in(r: &Aabb, rng: &mut Rng) -> Vec3 {
+    Vec3::new(
+        rng.range(r.min.x, r.max.x),
+        rng.range(r.min.y, r.max.y),
+        rng.range(r.min.z, r.max.z),
+    )
+}
+
+impl Run {
+    /// Builds the world of `scenario` at t = 0.
+    pub fn new(scenario: Scenario, o: Overrides) -> Run {
+        let def = &scenario.def;
+        let seed = o.seed.unwrap_or(def.seed);
+        let mut world = World::new(def.bounds, def.dt, seed);
+        world.current = def.current;
+        for ob in &def.obstacles {
+            world.add_obstacle(match *ob {
+                ObstacleDef::Sphere { center, radius } => Shape::Sphere { center, radius },
+                ObstacleDef::Box { min, max } => Shape::Box(Aabb::new(min, max)),
+            });
+        }
+        let duration = o.duration.unwrap_or(def.duration);
+        let total_ticks = (duration / def.dt).round().max(0.0) as u64;
+        let mut pipeline = Pipeline::new(scenario.species.clone());
+        let mut food_rng = Rng::new(seed, u64::MAX);
+        let region = def.food.region.unwrap_or(def.bounds);
+        for _ in 0..def.food.initial {
+            let p = uniform_in(&region, &mut food_rng);
+            world.add_food(p);
+        }
+        let groups = def.groups.clone();
+        let mut run = Run {
+            scenario,
+            world,
+            pipeline: Pipeline::new(Arc::new(SpeciesSet::new(Vec::new()).expect("empty set"))),
+            total_ticks,
+            next_event: 0,
+            food_rng,
+            food_debt: 0.0,
+            scenario_events: Vec::new(),
+        };
+        std::mem::swap(&mut run.pipeline, &mut pipeline);
+        for (k, g) in groups.iter().enumerate() {
+            run.spawn_group(g, k as u64);
+        }
+        run
+    }
+
+    /// Spawns a group; `salt` separates the random streams of different groups.
+    pub fn spawn_group(&mut self, g: &GroupDef, salt: u64) {
+        let Some(s) = self.scenario.species.index_of(&g.species) else {
+            return;
+        };
+        let mut rng = Rng::new(
+            self.world.seed ^ 0x5EED_0000,
+            salt.wrapping_add(self.world.tick << 16),
+        );
+        for _ in 0..g.count.max(0) {
+            let pos = uniform_in(&g.region, &mut rng);
+            let yaw = match g.heading {
+                HeadingDef::Random => rng.range(-std::f32::consts::PI, std::f32::consts::PI),
+                HeadingDef::Yaw(d) => d.to_radians(),
+                HeadingDef::Toward(t) => crate::frame::heading_of(t - pos).map_or(0.0, |h| h.0),
+            };
+            let id = self.pipeline.spawn(&mut self.world, s, pos, yaw, 0.0);
+            let a = self.world.agents.last_mut().expect("just spawned");
+            debug_assert_eq!(a.id, id);
+            let d = &g.drives;
+            let mut set = |v: Option<Draw>, f: &mut f32| {
+                if let Some(v) = v {
+                    *f = match v {
+                        Draw::Fixed(x) => x,
+                        Draw::Uniform(lo, hi) => rng.range(lo, hi),
+                    };
+                }
+            };
+            set(d.hunger, &mut a.drives.hunger);
+            set(d.libido, &mut a.drives.libido);
+            set(d.fear, &mut a.drives.fear);
+            set(d.fatigue, &mut a.drives.fatigue);
+            if d.hunger.is_some() {
+                let appetite = self.scenario.species.species[s].def.drives.params.appetite;
+                a.drives.eaten = (1.0 - a.drives.hunger).max(0.0) * appetite;
+                a.drives.since_meal = 0.0;
+            }
+        }
+    }
+
+    /// Whether the run has done all its ticks.
+    pub fn finished(&self) -> bool {
+        self.world.tick >= self.total_ticks
+    }
+
+    /// Applies timed events due now and food respawn, then advances one tick. Events of the
+    /// tick (scenario ones first) are in `self.pipeline.events` afterwards.
+    pub fn step(&mut self) {
+        self.pipeline.events.clear();
+        let t = self.world.time() as f32;
+        let dt = self.world.dt;
+        while let Some(ev) = self.scenario.def.events.get(self.next_event) {
+            if ev.at > t + dt * 0.5 {
+                break;
+            }
+            let ev = ev.clone();
+            self.next_event += 1;
+            match ev.action {
+                EventAction::Spawn(g) => self.spawn_group(&g, 1000 + self.next_event as u64),
+                EventAction::RemoveObstacle(id) => {
+                    if let Some(o) = self.world.obstacles.get_mut(id as usize) {
+                        o.active = false;
+                    }
+                }
+                EventAction::DropFood { count, region } => {
+                    for _ in 0..count {
+                        let p = uniform_in(&region, &mut self.food_rng);
+                        self.world.add_food(p);
+                    }
+                }
+                EventAction::SetCurrent(c) => self.world.current = c,
+            }
+        }
+        let f = &self.scenario.def.food;
+        if f.respawn_per_second > 0.0 {
+            self.food_debt += f.respawn_per_second * dt;
+            let region = f.region.unwrap_or(self.world.bounds);
+            while self.food_debt >= 1.0 {
+                self.food_debt -= 1.0;
+                if (self.world.food.len() as u32) < f.max {
+                    let p = uniform_in(&region, &mut self.food_rng);
+                    self.world.add_food(p);
+                }
+            }
+        }
+        self.pipeline.step(&mut self.world);
+    }
+
+    /// Agents alive per species, in species order.
+    pub fn alive(&self) -> Vec<(String, usize)> {
+        let mut counts = vec![0usize; self.scenario.species.species.len()];
+        for a in &self.world.agents {
+            counts[a.species.0 as usize] += 1;
+        }
+        self.scenario
+            .species
+            .species
+            .iter()
+            .zip(counts)
+            .map(|(s, c)| (s.name.clone(), c))
+            .collect()
+    }
+}
