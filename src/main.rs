@@ -1,1 +1,63 @@
-fn main() {}
+//! The `shoal` command line: a thin layer over the library. Arguments are parsed here, turned
+//! into a configuration once, and handed to the command's module in `cli/`.
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// shoal: animal and unit behavior as data and scripts.
+#[derive(Parser, Debug)]
+#[command(name = "shoal", version, about, long_about = None)]
+struct Args {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run a scenario headless, as fast as possible, and record it.
+    Run(cli::run::RunArgs),
+    /// Re-run a recorded run from its folder and check that it matches bit for bit.
+    Rerun(cli::run::RerunArgs),
+    /// Validate species, scripts and scenarios without running them.
+    Check {
+        /// Files or folders (default: behaviors/ and scenarios/).
+        paths: Vec<PathBuf>,
+    },
+    /// Write (and optionally open) the replay viewer of a recorded run.
+    View(cli::view::ViewArgs),
+    /// Report where two runs of the same scenario diverge.
+    Diff(cli::diff::DiffArgs),
+    /// Run a scenario live with hot reload and a browser viewer.
+    Watch(cli::watch::WatchArgs),
+    /// Run designers' script tests.
+    Test(cli::test::TestArgs),
+    /// Run a benchmark workload and print a table.
+    Bench(cli::bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    let command = args
+        .command
+        .unwrap_or(Command::Run(cli::run::RunArgs::default()));
+    let result = match command {
+        Command::Run(a) => cli::run::run(a),
+        Command::Rerun(a) => cli::run::rerun(a),
+        Command::Check { paths } => cli::check::check(&paths),
+        Command::View(a) => cli::view::view(a),
+        Command::Diff(a) => cli::diff::diff(a),
+        Command::Watch(a) => cli::watch::watch(a),
+        Command::Test(a) => cli::test::test(a),
+        Command::Bench(a) => cli::bench::bench(a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
