@@ -13,6 +13,7 @@ pub mod frame;
 pub mod index;
 pub mod locomotion;
 pub mod perception;
+pub mod record;
 pub mod scenario;
 pub mod script;
 pub mod species;

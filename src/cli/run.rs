@@ -1,7 +1,13 @@
-//! `shoal run` and `shoal rerun`.
+//! `shoal run` and `shoal rerun`: headless recorded runs.
 
-use std::path::PathBuf;
+use shoal::record::Recorder;
+use shoal::scenario::{Overrides, Run, Scenario};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
 
 /// Arguments of `shoal run`.
 #[derive(clap::Args, Debug, Default)]
@@ -23,6 +29,9 @@ pub struct RunArgs {
     /// Record every this many ticks (default: the scenario's).
     #[arg(long)]
     pub interval: Option<u32>,
+    /// Print nothing but errors and the output folder.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Arguments of `shoal rerun`.
@@ -33,14 +42,274 @@ pub struct RerunArgs {
     /// Worker threads.
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Where to write the re-run (default: <DIR>/rerun).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// What a finished (or stopped) run reports.
+pub struct Outcome {
+    /// The run folder.
+    pub dir: PathBuf,
+    /// Whether all ticks ran.
+    pub complete: bool,
+}
+
+fn pool(threads: Option<usize>) -> anyhow::Result<(rayon::ThreadPool, usize)> {
+    let n = threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    Ok((rayon::ThreadPoolBuilder::new().num_threads(n).build()?, n))
+}
+
+fn interrupted() -> Arc<AtomicBool> {
+    static FLAG: std::sync::OnceLock<Arc<AtomicBool>> = std::sync::OnceLock::new();
+    FLAG.get_or_init(|| {
+        let f = Arc::new(AtomicBool::new(false));
+        let g = f.clone();
+        let _ = ctrlc::set_handler(move || g.store(true, Ordering::SeqCst));
+        f
+    })
+    .clone()
+}
+
+/// Runs `run` to its end, recording into `dir`; prints a progress bar on a terminal.
+pub fn execute(
+    mut run: Run,
+    dir: &Path,
+    interval: u32,
+    threads: Option<usize>,
+    quiet: bool,
+) -> anyhow::Result<Outcome> {
+    let (pool, n_threads) = pool(threads)?;
+    let stop = interrupted();
+    let mut rec = Recorder::start(dir, &run, interval, n_threads)?;
+    rec.states(&run)?;
+    let progress = !quiet && std::io::stderr().is_terminal();
+    let start = Instant::now();
+    let mut last_draw = Instant::now();
+    let total = run.total_ticks.max(1);
+    let result: anyhow::Result<()> = pool.install(|| {
+        while !run.finished() {
+            if stop.load(Ordering::SeqCst) {
+                anyhow::bail!("interrupted (Ctrl-C)");
+            }
+            run.step();
+            rec.record_tick(&run)?;
+            if progress && last_draw.elapsed().as_millis() >= 100 {
+                last_draw = Instant::now();
+                let done = run.world.tick;
+                let rate = done as f64 / start.elapsed().as_secs_f64().max(1e-9);
+                let eta = (total - done.min(total)) as f64 / rate.max(1e-9);
+                let width = 30;
+                let filled = (done as usize * width / total as usize).min(width);
+                eprint!(
+                    "\r[{}{}] {:>3}% {:>8.0} ticks/s  ETA {:>5.1}s ",
+                    "#".repeat(filled),
+                    " ".repeat(width - filled),
+                    done * 100 / total,
+                    rate,
+                    eta
+                );
+                let _ = std::io::stderr().flush();
+            }
+        }
+        Ok(())
+    });
+    if progress {
+        eprint!("\r{}\r", " ".repeat(70));
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    match result {
+        Ok(()) => {
+            let summary = summary(&run, elapsed);
+            if !quiet {
+                print_summary(&run, &summary);
+            }
+            let dir = rec.finish(&run, n_threads, summary)?;
+            Ok(Outcome {
+                dir,
+                complete: true,
+            })
+        }
+        Err(e) => {
+            let dir = rec.abort(&run, n_threads, &format!("{e:#}"))?;
+            eprintln!(
+                "run stopped at tick {} of {}: {e:#}",
+                run.world.tick, run.total_ticks
+            );
+            Ok(Outcome {
+                dir,
+                complete: false,
+            })
+        }
+    }
+}
+
+/// The run summary as JSON (also stored in the manifest).
+pub fn summary(run: &Run, elapsed: f64) -> serde_json::Value {
+    let s = &run.pipeline.stats;
+    let mut shares = serde_json::Map::new();
+    for (i, sp) in run.scenario.species.species.iter().enumerate() {
+        let row = &s.behavior_ticks[i];
+        let total: u64 = row.iter().sum();
+        let mut m = serde_json::Map::new();
+        for (b, n) in sp.behaviors.iter().zip(row) {
+            let share = if total > 0 {
+                *n as f64 / total as f64
+            } else {
+                0.0
+            };
+            m.insert(
+                b.name.to_string(),
+                serde_json::json!((share * 1000.0).round() / 1000.0),
+            );
+        }
+        shares.insert(sp.name.clone(), serde_json::Value::Object(m));
+    }
+    let alive: serde_json::Map<String, serde_json::Value> = run
+        .alive()
+        .into_iter()
+        .map(|(k, v)| (k, serde_json::json!(v)))
+        .collect();
+    serde_json::json!({
+        "ticks": run.world.tick,
+        "alive": alive,
+        "food_eaten": s.meals,
+        "catches": s.catches,
+        "matings": s.matings,
+        "transitions": s.transitions,
+        "script_errors": s.script_errors,
+        "behavior_shares": shares,
+        "ticks_per_second": (run.world.tick as f64 / elapsed.max(1e-9)).round(),
+    })
+}
+
+fn print_summary(run: &Run, s: &serde_json::Value) {
+    println!(
+        "scenario {} (seed {}): {} ticks, {:.1} s simulated",
+        run.scenario.name,
+        run.world.seed,
+        run.world.tick,
+        run.world.time()
+    );
+    println!("  alive:");
+    for (name, n) in run.alive() {
+        println!("    {name:<14} {n}");
+    }
+    println!(
+        "  food eaten {}, catches {}, matings {}, transitions {}, script errors {}",
+        s["food_eaten"], s["catches"], s["matings"], s["transitions"], s["script_errors"]
+    );
+    println!("  behavior time shares:");
+    if let Some(m) = s["behavior_shares"].as_object() {
+        for (sp, shares) in m {
+            let mut parts: Vec<(String, f64)> = shares
+                .as_object()
+                .map(|o| {
+                    o.iter()
+                        .map(|(k, v)| (k.clone(), v.as_f64().unwrap_or(0.0)))
+                        .collect()
+                })
+                .unwrap_or_default();
+            parts.retain(|p| p.1 > 0.0);
+            parts.sort_by(|a, b| b.1.total_cmp(&a.1));
+            let text: Vec<String> = parts
+                .iter()
+                .map(|(k, v)| format!("{k} {:.0}%", v * 100.0))
+                .collect();
+            println!("    {sp:<14} {}", text.join(", "));
+        }
+    }
+    println!("  speed: {} ticks/s", s["ticks_per_second"]);
 }
 
 /// Runs `shoal run`.
-pub fn run(_args: RunArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`shoal run` is not available in this build yet")
+pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
+    let file = args
+        .scenario
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("scenarios/reef.ron"));
+    let scenario = match Scenario::load(&file) {
+        Ok(s) => s,
+        Err(d) => return Ok(super::report(&d)),
+    };
+    let seed = args.seed.unwrap_or(scenario.def.seed);
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}-{seed}", scenario.name)));
+    let interval = args.interval.unwrap_or(scenario.def.record.interval).max(1);
+    let run = Run::new(
+        scenario,
+        Overrides {
+            seed: Some(seed),
+            duration: args.duration,
+        },
+    );
+    let out = execute(run, &dir, interval, args.threads, args.quiet)?;
+    if out.complete {
+        println!("output written to {}", out.dir.display());
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!(
+            "incomplete output left in {} (marked INCOMPLETE)",
+            out.dir.display()
+        );
+        Ok(ExitCode::from(130))
+    }
 }
 
-/// Runs `shoal rerun`.
-pub fn rerun(_args: RerunArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`shoal rerun` is not available in this build yet")
+/// Runs `shoal rerun`: replays the resolved scenario with the stored inputs and compares the
+/// recorded files byte for byte.
+pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(args.dir.join("manifest.json"))?)?;
+    let scenario_file = args.dir.join("scenario.ron");
+    let scenario = match Scenario::load(&scenario_file) {
+        Ok(s) => s,
+        Err(d) => return Ok(super::report(&d)),
+    };
+    // Inputs changed since the run? Report it (the stored copies are what is re-run).
+    if let Some(files) = manifest["files"].as_object() {
+        for (rel, hash) in files {
+            let stored = args.dir.join("inputs").join(rel);
+            let now = shoal::record::sha256_file(&stored).unwrap_or_default();
+            if Some(now.as_str()) != hash.as_str() {
+                eprintln!(
+                    "warning: stored input {} does not match its recorded hash",
+                    stored.display()
+                );
+            }
+        }
+    }
+    let interval = manifest["record_interval"].as_u64().unwrap_or(1) as u32;
+    let out = args.out.clone().unwrap_or_else(|| args.dir.join("rerun"));
+    let run = Run::new(scenario, Overrides::default());
+    let o = execute(run, &out, interval, args.threads, true)?;
+    if !o.complete {
+        return Ok(ExitCode::from(130));
+    }
+    let mut same = true;
+    for f in ["trajectories.csv", "food.csv", "events.jsonl"] {
+        let a = std::fs::read(args.dir.join(f))?;
+        let b = std::fs::read(out.join(f))?;
+        if a == b {
+            println!("{f}: identical ({} bytes)", a.len());
+        } else {
+            same = false;
+            println!("{f}: DIFFERENT ({} vs {} bytes)", a.len(), b.len());
+        }
+    }
+    if same {
+        println!("re-run matches bit for bit: {}", out.display());
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!(
+            "re-run differs; see `shoal diff {} {}`",
+            args.dir.display(),
+            out.display()
+        );
+        Ok(ExitCode::from(1))
+    }
 }

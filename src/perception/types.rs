@@ -82,11 +82,11 @@ impl Sector {
             Sector::Front
         } else if theta <= -FRAC_PI_6 && theta > -FRAC_PI_2 {
             Sector::LeftFront
-        } else if theta >= FRAC_PI_6 && theta < FRAC_PI_2 {
+        } else if (FRAC_PI_6..FRAC_PI_2).contains(&theta) {
             Sector::RightFront
         } else if theta <= -FRAC_PI_2 && theta > -five_sixths {
             Sector::LeftRear
-        } else if theta >= FRAC_PI_2 && theta < five_sixths {
+        } else if (FRAC_PI_2..five_sixths).contains(&theta) {
             Sector::RightRear
         } else {
             Sector::Rear

@@ -1,0 +1,118 @@
+//! JSON forms of events and of the world description, shared by the recorder and the live
+//! viewer.
+
+use crate::events::Event;
+use crate::scenario::Run;
+use crate::species::SpeciesSet;
+use crate::world::Shape;
+use serde_json::{json, Value};
+
+/// One event as a JSON object with `tick`, `time`, `kind` and its fields, names resolved.
+pub fn event_json(e: &Event, tick: u64, dt: f32, set: &SpeciesSet) -> Value {
+    let time = tick as f64 * dt as f64;
+    let sname = |s: u16| {
+        set.species
+            .get(s as usize)
+            .map_or("?", |x| x.name.as_str())
+            .to_string()
+    };
+    let bname = |s: u16, b: u16| {
+        set.species
+            .get(s as usize)
+            .map_or("?", |x| x.behavior_name(b))
+            .to_string()
+    };
+    let mut v = match e {
+        Event::Spawn { agent, species } => json!({"agent": agent.0, "species": sname(*species)}),
+        Event::Death {
+            agent,
+            species,
+            cause,
+        } => json!({"agent": agent.0, "species": sname(*species), "cause": cause}),
+        Event::Meal { agent, food } => json!({"agent": agent.0, "food": food}),
+        Event::Catch { agent, prey } => json!({"agent": agent.0, "prey": prey.0}),
+        Event::Mating { agent, mate } => json!({"agent": agent.0, "mate": mate.0}),
+        Event::Transition {
+            agent,
+            species,
+            from,
+            to,
+            cause,
+            condition,
+            stack,
+        } => json!({
+            "agent": agent.0,
+            "species": sname(*species),
+            "from": bname(*species, *from),
+            "to": bname(*species, *to),
+            "cause": cause.name(),
+            "condition": condition.as_deref(),
+            "stack": stack.iter().map(|b| bname(*species, *b)).collect::<Vec<_>>(),
+        }),
+        Event::Message { from, kind, radius } => {
+            json!({"from": from.0, "kind": kind.name(), "radius": radius})
+        }
+        Event::ScriptError {
+            agent,
+            species,
+            message,
+        } => {
+            json!({"agent": agent.0, "species": sname(*species), "message": message})
+        }
+    };
+    let obj = v.as_object_mut().expect("object");
+    // Message events carry their own `kind`; name the event kind first.
+    let mut out = serde_json::Map::new();
+    out.insert("tick".into(), json!(tick));
+    out.insert("time".into(), json!(time));
+    out.insert("kind".into(), json!(e.kind()));
+    if let Event::Message { kind, .. } = e {
+        obj.remove("kind");
+        out.insert("message".into(), json!(kind.name()));
+    }
+    out.extend(std::mem::take(obj));
+    Value::Object(out)
+}
+
+/// The world description of `world.json`: bounds, obstacles (with the tick each was removed at),
+/// species with colors and behavior names.
+pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
+    let w = &run.world;
+    let obstacles: Vec<Value> = w
+        .obstacles
+        .iter()
+        .enumerate()
+        .map(|(k, o)| {
+            let removed_tick = removed.get(k).copied().flatten();
+            match o.shape {
+                Shape::Sphere { center, radius } => json!({
+                    "id": o.id, "shape": "sphere", "center": center.to_array(), "radius": radius, "removed_tick": removed_tick
+                }),
+                Shape::Box(b) => json!({
+                    "id": o.id, "shape": "box", "min": b.min.to_array(), "max": b.max.to_array(), "removed_tick": removed_tick
+                }),
+            }
+        })
+        .collect();
+    let species: Vec<Value> = run
+        .scenario
+        .species
+        .species
+        .iter()
+        .map(|s| {
+            json!({
+                "name": s.name,
+                "color": s.def.color,
+                "length": s.def.body.size.z,
+                "behaviors": s.behaviors.iter().map(|b| b.name.to_string()).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    json!({
+        "bounds": {"min": w.bounds.min.to_array(), "max": w.bounds.max.to_array()},
+        "obstacles": obstacles,
+        "species": species,
+        "terrain": Value::Null,
+        "plans": [],
+    })
+}

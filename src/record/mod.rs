@@ -1,0 +1,355 @@
+//! Recording a run to a folder (an I/O layer above the core): trajectories (CSV), food (CSV),
+//! events (JSON Lines), the world description (JSON), the resolved scenario with copies of every
+//! input file, and a manifest with content hashes.
+//!
+//! Files are written as `*.partial` while the run goes on and the manifest says `incomplete`
+//! from the first tick; only a finished run renames them and marks the manifest `complete`
+//! (each final file is written by temp file + rename). An interrupted run keeps what it recorded,
+//! clearly marked incomplete, and never a file that looks complete but is not.
+//!
+//! Why CSV: pandas (`read_csv`) and polars read it directly with no extra dependency on either
+//! side, and floats are written in their shortest round-trip form so a re-read gives the exact
+//! bits. Parquet would be smaller but costs a heavy dependency for little gain at these sizes.
+
+mod json;
+
+pub use json::{event_json, world_json};
+
+use crate::events::Event;
+use crate::scenario::Run;
+use sha2::{Digest, Sha256};
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Header of `trajectories.csv`.
+pub const TRAJECTORY_HEADER: &str =
+    "tick,time,id,species,x,y,z,fx,fy,fz,speed,behavior,stack_depth,hunger,libido,fear,swim_phase,tail_bend";
+
+/// Files a run folder holds when complete.
+pub const RUN_FILES: [&str; 4] = ["trajectories.csv", "food.csv", "events.jsonl", "world.json"];
+
+/// A recording in progress.
+pub struct Recorder {
+    dir: PathBuf,
+    interval: u32,
+    traj: BufWriter<File>,
+    food: BufWriter<File>,
+    events: BufWriter<File>,
+    /// Ticks recorded so far.
+    pub recorded: u64,
+    removed: Vec<Option<u64>>,
+    line: String,
+}
+
+/// SHA-256 of a file's bytes, as hex.
+pub fn sha256_file(path: &Path) -> std::io::Result<String> {
+    let bytes = std::fs::read(path)?;
+    Ok(hex(&Sha256::digest(&bytes)))
+}
+
+fn hex(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
+
+/// Writes `bytes` to `path` atomically (temp file in the same folder, then rename).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = path.with_extension(format!(
+        "{}.tmp",
+        path.extension().and_then(|e| e.to_str()).unwrap_or("")
+    ));
+    {
+        let mut f = File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+    }
+    std::fs::rename(&tmp, path)
+}
+
+fn partial(dir: &Path, name: &str) -> PathBuf {
+    dir.join(format!("{name}.partial"))
+}
+
+impl Recorder {
+    /// Starts recording `run` into `dir` (created if needed; a previous recording there is
+    /// replaced). Writes the resolved scenario, copies of the inputs and an `incomplete`
+    /// manifest at once.
+    pub fn start(
+        dir: &Path,
+        run: &Run,
+        interval: u32,
+        threads: usize,
+    ) -> std::io::Result<Recorder> {
+        std::fs::create_dir_all(dir)?;
+        for f in RUN_FILES
+            .iter()
+            .chain(["manifest.json", "view.html", "INCOMPLETE"].iter())
+        {
+            let _ = std::fs::remove_file(dir.join(f));
+            let _ = std::fs::remove_file(partial(dir, f));
+        }
+        let _ = std::fs::remove_dir_all(dir.join("inputs"));
+        write_inputs(dir, run)?;
+        let mut rec = Recorder {
+            dir: dir.to_path_buf(),
+            interval: interval.max(1),
+            traj: BufWriter::with_capacity(
+                1 << 20,
+                File::create(partial(dir, "trajectories.csv"))?,
+            ),
+            food: BufWriter::new(File::create(partial(dir, "food.csv"))?),
+            events: BufWriter::new(File::create(partial(dir, "events.jsonl"))?),
+            recorded: 0,
+            removed: vec![None; run.world.obstacles.len()],
+            line: String::with_capacity(256),
+        };
+        writeln!(rec.traj, "{TRAJECTORY_HEADER}")?;
+        writeln!(rec.food, "tick,id,x,y,z")?;
+        std::fs::write(
+            dir.join("INCOMPLETE"),
+            "this run did not finish; see manifest.json\n",
+        )?;
+        rec.write_manifest(run, "incomplete", threads, None)?;
+        // Spawns at t = 0 happened before the first tick.
+        rec.events_of(run, &run.pipeline.events.clone())?;
+        Ok(rec)
+    }
+
+    /// The run folder.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    fn events_of(&mut self, run: &Run, events: &[Event]) -> std::io::Result<()> {
+        for e in events {
+            let v = event_json(e, run.world.tick, run.world.dt, &run.scenario.species);
+            serde_json::to_writer(&mut self.events, &v)?;
+            self.events.write_all(b"\n")?;
+        }
+        Ok(())
+    }
+
+    /// Records what the last tick produced: its events always, agent states every `interval`
+    /// ticks (and the state at tick 0).
+    pub fn record_tick(&mut self, run: &Run) -> std::io::Result<()> {
+        let tick = run.world.tick;
+        // Events were produced while advancing from tick−1 to tick.
+        let events = &run.pipeline.events;
+        for e in events {
+            let v = event_json(
+                e,
+                tick.saturating_sub(1),
+                run.world.dt,
+                &run.scenario.species,
+            );
+            serde_json::to_writer(&mut self.events, &v)?;
+            self.events.write_all(b"\n")?;
+        }
+        for (k, o) in run.world.obstacles.iter().enumerate() {
+            if !o.active && self.removed.get(k).is_some_and(|r| r.is_none()) {
+                self.removed[k] = Some(tick);
+            }
+        }
+        if tick.is_multiple_of(self.interval as u64) {
+            self.states(run)?;
+        }
+        Ok(())
+    }
+
+    /// Writes agent and food states of the current tick.
+    pub fn states(&mut self, run: &Run) -> std::io::Result<()> {
+        use std::fmt::Write as _;
+        let w = &run.world;
+        let t = w.time();
+        let set = &run.scenario.species;
+        for a in &w.agents {
+            let sp = &set.species[a.species.0 as usize];
+            let f = a.forward();
+            self.line.clear();
+            let _ = writeln!(
+                self.line,
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                w.tick,
+                t,
+                a.id.0,
+                sp.name,
+                a.pos.x,
+                a.pos.y,
+                a.pos.z,
+                f.x,
+                f.y,
+                f.z,
+                a.speed,
+                sp.behavior_name(a.mind.current),
+                a.mind.depth,
+                a.drives.hunger,
+                a.drives.libido,
+                a.drives.fear,
+                a.anim.phase,
+                a.anim.bend
+            );
+            self.traj.write_all(self.line.as_bytes())?;
+        }
+        for f in &w.food {
+            writeln!(
+                self.food,
+                "{},{},{},{},{}",
+                w.tick, f.id, f.pos.x, f.pos.y, f.pos.z
+            )?;
+        }
+        self.recorded += 1;
+        Ok(())
+    }
+
+    fn write_manifest(
+        &self,
+        run: &Run,
+        status: &str,
+        threads: usize,
+        summary: Option<serde_json::Value>,
+    ) -> std::io::Result<()> {
+        let mut files = serde_json::Map::new();
+        for f in run.scenario.files() {
+            let rel = rel_name(&f, run);
+            files.insert(
+                rel,
+                serde_json::Value::String(sha256_file(&f).unwrap_or_default()),
+            );
+        }
+        let m = serde_json::json!({
+            "format": 1,
+            "status": status,
+            "scenario": run.scenario.name,
+            "scenario_file": run.scenario.file.display().to_string(),
+            "seed": run.world.seed,
+            "dt": run.world.dt,
+            "ticks": run.world.tick,
+            "total_ticks": run.total_ticks,
+            "record_interval": self.interval,
+            "recorded_ticks": self.recorded,
+            "threads": threads,
+            "files": files,
+            "summary": summary.unwrap_or(serde_json::Value::Null),
+        });
+        write_atomic(
+            &self.dir.join("manifest.json"),
+            serde_json::to_string_pretty(&m)?.as_bytes(),
+        )
+    }
+
+    fn flush_all(&mut self, run: &Run) -> std::io::Result<()> {
+        self.traj.flush()?;
+        self.food.flush()?;
+        self.events.flush()?;
+        let world = world_json(run, &self.removed);
+        std::fs::write(
+            partial(&self.dir, "world.json"),
+            serde_json::to_string(&world)?,
+        )?;
+        Ok(())
+    }
+
+    /// Finishes a complete run: flushes, renames every file to its final name and marks the
+    /// manifest complete with `summary`.
+    pub fn finish(
+        mut self,
+        run: &Run,
+        threads: usize,
+        summary: serde_json::Value,
+    ) -> std::io::Result<PathBuf> {
+        self.flush_all(run)?;
+        for f in RUN_FILES {
+            std::fs::rename(partial(&self.dir, f), self.dir.join(f))?;
+        }
+        self.write_manifest(run, "complete", threads, Some(summary))?;
+        let _ = std::fs::remove_file(self.dir.join("INCOMPLETE"));
+        Ok(self.dir)
+    }
+
+    /// Ends an interrupted run: keeps what was recorded under the final names, with the
+    /// manifest and an `INCOMPLETE` file saying why it stopped.
+    pub fn abort(mut self, run: &Run, threads: usize, reason: &str) -> std::io::Result<PathBuf> {
+        self.flush_all(run)?;
+        for f in RUN_FILES {
+            let _ = std::fs::rename(partial(&self.dir, f), self.dir.join(f));
+        }
+        self.write_manifest(
+            run,
+            "incomplete",
+            threads,
+            Some(serde_json::json!({ "stopped": reason })),
+        )?;
+        std::fs::write(
+            self.dir.join("INCOMPLETE"),
+            format!(
+                "this run stopped at tick {} of {}: {reason}\n",
+                run.world.tick, run.total_ticks
+            ),
+        )?;
+        Ok(self.dir)
+    }
+}
+
+/// Name of an input file relative to the scenario's behaviors folder (species, scripts) or
+/// `scenario/<file>` for the scenario itself.
+fn rel_name(f: &Path, run: &Run) -> String {
+    if let Ok(r) = f.strip_prefix(&run.scenario.behaviors_dir) {
+        return format!("behaviors/{}", r.display());
+    }
+    if f == run.scenario.file {
+        return format!(
+            "scenario/{}",
+            f.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        );
+    }
+    format!(
+        "other/{}",
+        f.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    )
+}
+
+/// Writes `scenario.ron` (resolved: seed and duration as run, species from `inputs/behaviors`)
+/// and copies of every input under `inputs/`.
+fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
+    let inputs = dir.join("inputs");
+    for f in run.scenario.files() {
+        let rel = rel_name(&f, run);
+        let dest = inputs.join(&rel);
+        if let Some(p) = dest.parent() {
+            std::fs::create_dir_all(p)?;
+        }
+        std::fs::copy(&f, &dest)?;
+    }
+    let mut def = run.scenario.def.clone();
+    def.seed = run.world.seed;
+    def.duration = run.total_ticks as f32 * run.world.dt;
+    def.name = Some(run.scenario.name.clone());
+    def.behaviors = Some("inputs/behaviors".into());
+    // Terrain and feature files are copied next to the scenario copy.
+    if let Some(t) = def.terrain.as_mut() {
+        let base = run.scenario.file.parent().unwrap_or(Path::new("."));
+        for p in std::iter::once(&mut t.dem).chain(t.features.iter_mut()) {
+            let src = base.join(&*p);
+            let name = src
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let dest = inputs.join("terrain").join(&name);
+            std::fs::create_dir_all(dest.parent().expect("has parent"))?;
+            std::fs::copy(&src, &dest)?;
+            *p = format!("inputs/terrain/{name}");
+        }
+    }
+    let text = ron::ser::to_string_pretty(
+        &def,
+        ron::ser::PrettyConfig::default()
+            .struct_names(true)
+            .extensions(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES),
+    )
+    .map_err(std::io::Error::other)?;
+    write_atomic(&dir.join("scenario.ron"), text.as_bytes())
+}
