@@ -2,3 +2,5 @@
 #![warn(missing_docs)]
 
 pub mod diag;
+pub mod formation;
+pub mod terrain;
