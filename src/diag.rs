@@ -119,7 +119,10 @@ mod tests {
     #[test]
     fn display_shows_location_line_and_caret() {
         let d = Diagnostic::new("a.ron", 2, 5, "expected `)`", Some("x\nabc def\n"));
-        assert_eq!(d.to_string(), "a.ron:2:5: expected `)`\n2 | abc def\n  |     ^");
+        assert_eq!(
+            d.to_string(),
+            "a.ron:2:5: expected `)`\n2 | abc def\n  |     ^"
+        );
     }
 
     #[test]

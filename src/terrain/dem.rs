@@ -77,7 +77,8 @@ struct Header {
 /// cell with data, so the surface stays finite. NaN and infinite values are rejected.
 pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnostics> {
     let file = file.as_ref();
-    let at = |line: usize, col: usize, msg: String| Diagnostic::new(file, line, col, msg, Some(text));
+    let at =
+        |line: usize, col: usize, msg: String| Diagnostic::new(file, line, col, msg, Some(text));
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l)).peekable();
 
     // Header: lines whose first token starts with a letter.
@@ -91,7 +92,14 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
         let lower = key.text.to_ascii_lowercase();
         let known = matches!(
             lower.as_str(),
-            "ncols" | "nrows" | "xllcorner" | "xllcenter" | "yllcorner" | "yllcenter" | "cellsize" | "nodata_value"
+            "ncols"
+                | "nrows"
+                | "xllcorner"
+                | "xllcenter"
+                | "yllcorner"
+                | "yllcenter"
+                | "cellsize"
+                | "nodata_value"
         );
         // The data starts at the first line that opens with a number (`nan` and `inf` count),
         // or, once the required keys are all there, with anything but a header key.
@@ -111,7 +119,10 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
             return Err(at(
                 ln,
                 key.col,
-                format!("unknown header key `{}`; expected one of {HEADER_KEYS}", key.text),
+                format!(
+                    "unknown header key `{}`; expected one of {HEADER_KEYS}",
+                    key.text
+                ),
             )
             .into());
         }
@@ -123,7 +134,10 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
             return Err(at(
                 ln,
                 extra.col,
-                format!("unexpected `{}` after the value of `{}`", extra.text, key.text),
+                format!(
+                    "unexpected `{}` after the value of `{}`",
+                    extra.text, key.text
+                ),
             )
             .into());
         }
@@ -150,14 +164,22 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
                     .ok()
                     .filter(|&n| n > 0)
                     .ok_or_else(|| bad("a positive whole number"))?;
-                let slot = if lower == "ncols" { &mut h.ncols } else { &mut h.nrows };
+                let slot = if lower == "ncols" {
+                    &mut h.ncols
+                } else {
+                    &mut h.nrows
+                };
                 if slot.replace(n).is_some() {
                     return Err(duplicate());
                 }
             }
             "xllcorner" | "xllcenter" | "yllcorner" | "yllcenter" => {
                 let v = number.ok_or_else(|| bad("a number"))?;
-                let slot = if lower.starts_with('x') { &mut h.x } else { &mut h.y };
+                let slot = if lower.starts_with('x') {
+                    &mut h.x
+                } else {
+                    &mut h.y
+                };
                 if slot.replace((v, lower.ends_with("center"))).is_some() {
                     return Err(duplicate());
                 }
@@ -179,7 +201,10 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
         }
     }
 
-    let (data_line, _) = lines.peek().copied().unwrap_or((text.lines().count() + 1, ""));
+    let (data_line, _) = lines
+        .peek()
+        .copied()
+        .unwrap_or((text.lines().count() + 1, ""));
     let missing = |key: &str| {
         Diagnostics::from(at(
             data_line,
@@ -220,7 +245,10 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
                 errors.push(at(
                     ln,
                     tok.col,
-                    format!("row {} has {total} values, expected {ncols} (ncols)", row + 1),
+                    format!(
+                        "row {} has {total} values, expected {ncols} (ncols)",
+                        row + 1
+                    ),
                 ));
             }
             if count > ncols {
@@ -240,7 +268,9 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
                     nodata.push(true);
                 }
                 Ok(v) => {
-                    let missing = h.nodata.is_some_and(|nd| f64::from(v) == nd || v == nd as f32);
+                    let missing = h
+                        .nodata
+                        .is_some_and(|nd| f64::from(v) == nd || v == nd as f32);
                     heights.push(if missing { 0.0 } else { v });
                     nodata.push(missing);
                 }
@@ -259,7 +289,10 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
             errors.push(at(
                 ln,
                 line.trim_end().chars().count() + 1,
-                format!("row {} has {count} values, expected {ncols} (ncols)", row + 1),
+                format!(
+                    "row {} has {count} values, expected {ncols} (ncols)",
+                    row + 1
+                ),
             ));
             for _ in count..ncols {
                 heights.push(0.0);
@@ -373,10 +406,17 @@ pub fn parse_pgm(
             }
         }
         if pos >= bytes.len() {
-            return Err(Diagnostic::file(file, "the PGM header ends before width, height and maxval").into());
+            return Err(Diagnostic::file(
+                file,
+                "the PGM header ends before width, height and maxval",
+            )
+            .into());
         }
         let (start_line, start_col, start) = (line, col, pos);
-        while pos < bytes.len() && !bytes[pos].is_ascii_whitespace() && (fields.is_empty() || bytes[pos] != b'#') {
+        while pos < bytes.len()
+            && !bytes[pos].is_ascii_whitespace()
+            && (fields.is_empty() || bytes[pos] != b'#')
+        {
             pos += 1;
             col += 1;
         }
@@ -387,10 +427,19 @@ pub fn parse_pgm(
         ));
     }
     let at = |i: usize, msg: String| {
-        Diagnostics::from(Diagnostic::new(file, fields[i].1, fields[i].2, msg, Some(&header_text)))
+        Diagnostics::from(Diagnostic::new(
+            file,
+            fields[i].1,
+            fields[i].2,
+            msg,
+            Some(&header_text),
+        ))
     };
     if fields[0].0 != "P5" {
-        return Err(at(0, format!("expected `P5` (binary greymap), found `{}`", fields[0].0)));
+        return Err(at(
+            0,
+            format!("expected `P5` (binary greymap), found `{}`", fields[0].0),
+        ));
     }
     let number = |i: usize, what: &str, max: usize| {
         fields[i]
@@ -427,7 +476,13 @@ pub fn parse_pgm(
             s.min(maxval as u32) as f32 * vertical_scale
         })
         .collect();
-    Ok(Terrain::from_heights(cols, rows, cell_size, Vec2::ZERO, heights))
+    Ok(Terrain::from_heights(
+        cols,
+        rows,
+        cell_size,
+        Vec2::ZERO,
+        heights,
+    ))
 }
 
 #[cfg(test)]
@@ -458,7 +513,10 @@ mod tests {
     #[test]
     fn wrong_header_key_is_located_at_the_key() {
         let d = err("ncols 3\nnrows 2\nxllcorner 0\nylcorner 0\ncellsize 1\n1 2 3\n4 5 6\n");
-        assert_eq!((d.file.to_str().unwrap(), d.line, d.col), ("hills.asc", 4, 1));
+        assert_eq!(
+            (d.file.to_str().unwrap(), d.line, d.col),
+            ("hills.asc", 4, 1)
+        );
         assert_eq!(
             d.message,
             "unknown header key `ylcorner`; expected one of ncols, nrows, xllcorner, xllcenter, yllcorner, yllcenter, cellsize, NODATA_value"
@@ -470,14 +528,19 @@ mod tests {
     fn missing_header_key_is_reported_where_the_data_starts() {
         let d = err("ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\n1 2 3\n4 5 6\n");
         assert_eq!((d.line, d.col), (5, 1));
-        assert!(d.message.starts_with("missing header key `cellsize` before the data"));
+        assert!(d
+            .message
+            .starts_with("missing header key `cellsize` before the data"));
     }
 
     #[test]
     fn bad_header_value_is_located_at_the_value() {
         let d = err("ncols three\nnrows 2\n");
         assert_eq!((d.line, d.col), (1, 7));
-        assert_eq!(d.message, "expected a positive whole number for `ncols`, found `three`");
+        assert_eq!(
+            d.message,
+            "expected a positive whole number for `ncols`, found `three`"
+        );
     }
 
     #[test]
@@ -495,7 +558,10 @@ mod tests {
     #[test]
     fn bad_number_is_located_at_its_token() {
         let d = err("ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2 3\n4 5.5.1 6\n");
-        assert_eq!((d.file.to_str().unwrap(), d.line, d.col), ("hills.asc", 7, 3));
+        assert_eq!(
+            (d.file.to_str().unwrap(), d.line, d.col),
+            ("hills.asc", 7, 3)
+        );
         assert_eq!(d.message, "expected a number, found `5.5.1`");
         assert_eq!(
             d.to_string(),
@@ -557,17 +623,32 @@ mod tests {
         assert_eq!(t.heights, vec![0.0, 0.5, 128.0, 32767.5]);
         let mut small = b"P5 2 1 255\n".to_vec();
         small.extend_from_slice(&[10, 20]);
-        assert_eq!(parse_pgm(&small, "s.pgm", 1.0, 1.0).unwrap().heights, vec![10.0, 20.0]);
+        assert_eq!(
+            parse_pgm(&small, "s.pgm", 1.0, 1.0).unwrap().heights,
+            vec![10.0, 20.0]
+        );
     }
 
     #[test]
     fn pgm_errors_are_located_in_the_header() {
-        let d = parse_pgm(b"P2\n2 2\n255\n", "h.pgm", 1.0, 1.0).unwrap_err().0.remove(0);
+        let d = parse_pgm(b"P2\n2 2\n255\n", "h.pgm", 1.0, 1.0)
+            .unwrap_err()
+            .0
+            .remove(0);
         assert_eq!((d.line, d.col), (1, 1));
         assert_eq!(d.message, "expected `P5` (binary greymap), found `P2`");
-        let d = parse_pgm(b"P5\n2 2\n70000\n", "h.pgm", 1.0, 1.0).unwrap_err().0.remove(0);
+        let d = parse_pgm(b"P5\n2 2\n70000\n", "h.pgm", 1.0, 1.0)
+            .unwrap_err()
+            .0
+            .remove(0);
         assert_eq!((d.line, d.col), (3, 1));
-        let d = parse_pgm(b"P5\n2 2\n255\n\x01", "h.pgm", 1.0, 1.0).unwrap_err().0.remove(0);
-        assert_eq!(d.message, "expected 4 bytes of samples for 2×2 at maxval 255, found 1");
+        let d = parse_pgm(b"P5\n2 2\n255\n\x01", "h.pgm", 1.0, 1.0)
+            .unwrap_err()
+            .0
+            .remove(0);
+        assert_eq!(
+            d.message,
+            "expected 4 bytes of samples for 2×2 at maxval 255, found 1"
+        );
     }
 }

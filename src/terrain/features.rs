@@ -153,7 +153,13 @@ impl Features {
             .filter_map(|(i, f)| f.problem().map(|msg| (i, msg)))
             .map(|(i, msg)| {
                 let (line, col) = nth_item_position(text, i).unwrap_or((0, 0));
-                Diagnostic::new(file, line, col, format!("feature {}: {msg}", i + 1), Some(text))
+                Diagnostic::new(
+                    file,
+                    line,
+                    col,
+                    format!("feature {}: {msg}", i + 1),
+                    Some(text),
+                )
             })
             .collect();
         if problems.is_empty() {
@@ -168,7 +174,8 @@ impl Feature {
     /// What is wrong with this feature's values, if anything.
     fn problem(&self) -> Option<String> {
         let bad_width = |w: f32| !(w.is_finite() && w > 0.0);
-        let bad_points = |p: &[(f32, f32)]| p.iter().any(|&(x, z)| !(x.is_finite() && z.is_finite()));
+        let bad_points =
+            |p: &[(f32, f32)]| p.iter().any(|&(x, z)| !(x.is_finite() && z.is_finite()));
         let area = |p: &[(f32, f32)]| {
             if p.len() < 3 {
                 Some("an area needs at least three points".to_string())
@@ -340,7 +347,9 @@ impl Terrain {
                 Feature::Building { polygon } => {
                     self.mark_area(polygon, |a| a.flags |= CellAttrs::BUILDING)
                 }
-                Feature::Water { polygon } => self.mark_area(polygon, |a| a.flags |= CellAttrs::WATER),
+                Feature::Water { polygon } => {
+                    self.mark_area(polygon, |a| a.flags |= CellAttrs::WATER)
+                }
                 Feature::Point { at, kind } => {
                     if let Some(c) = self.cell_of(Vec2::new(at.0, at.1)) {
                         let i = self.index(c);
@@ -378,15 +387,26 @@ impl Terrain {
         });
     }
 
-    fn mark_line(&mut self, points: &[(f32, f32)], width: f32, mut mark: impl FnMut(&mut CellAttrs)) {
+    fn mark_line(
+        &mut self,
+        points: &[(f32, f32)],
+        width: f32,
+        mut mark: impl FnMut(&mut CellAttrs),
+    ) {
         let half = 0.5 * width / self.cell_size;
         for w in points.windows(2) {
             let (a, b) = (self.to_grid(w[0]), self.to_grid(w[1]));
             self.mark_segment_cells(a, b, &mut mark);
             let lo = a.min(b) - Vec2::splat(half + 1.0);
             let hi = a.max(b) + Vec2::splat(half + 1.0);
-            let (c0, c1) = (lo.x.floor().max(0.0) as usize, (hi.x.ceil().max(0.0) as usize).min(self.cols));
-            let (r0, r1) = (lo.y.floor().max(0.0) as usize, (hi.y.ceil().max(0.0) as usize).min(self.rows));
+            let (c0, c1) = (
+                lo.x.floor().max(0.0) as usize,
+                (hi.x.ceil().max(0.0) as usize).min(self.cols),
+            );
+            let (r0, r1) = (
+                lo.y.floor().max(0.0) as usize,
+                (hi.y.ceil().max(0.0) as usize).min(self.rows),
+            );
             for r in r0..r1 {
                 for c in c0..c1 {
                     let p = Vec2::new(c as f32 + 0.5, r as f32 + 0.5);
@@ -405,8 +425,14 @@ impl Terrain {
             lo = lo.min(p);
             hi = hi.max(p);
         }
-        let (c0, c1) = (lo.x.floor().max(0.0) as usize, (hi.x.ceil().max(0.0) as usize).min(self.cols));
-        let (r0, r1) = (lo.y.floor().max(0.0) as usize, (hi.y.ceil().max(0.0) as usize).min(self.rows));
+        let (c0, c1) = (
+            lo.x.floor().max(0.0) as usize,
+            (hi.x.ceil().max(0.0) as usize).min(self.cols),
+        );
+        let (r0, r1) = (
+            lo.y.floor().max(0.0) as usize,
+            (hi.y.ceil().max(0.0) as usize).min(self.rows),
+        );
         for r in r0..r1 {
             for c in c0..c1 {
                 if point_in_polygon(Vec2::new(c as f32 + 0.5, r as f32 + 0.5), &pts) {
@@ -453,7 +479,11 @@ impl Terrain {
 fn distance_to_segment(p: Vec2, a: Vec2, b: Vec2) -> f32 {
     let ab = b - a;
     let len2 = ab.length_squared();
-    let t = if len2 > 0.0 { ((p - a).dot(ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     p.distance(a + ab * t)
 }
 
@@ -515,9 +545,14 @@ mod tests {
     #[test]
     fn steep_cells_are_blocked_per_species() {
         // A 1-in-1 step (45°) between columns 4 and 5.
-        let h = (0..100).map(|i| if i % 10 >= 5 { 4.0 } else { 0.0 }).collect();
+        let h = (0..100)
+            .map(|i| if i % 10 >= 5 { 4.0 } else { 0.0 })
+            .collect();
         let t = Terrain::from_heights(10, 10, 2.0, Vec2::ZERO, h);
-        let goat = Mobility { max_slope_deg: 50.0, ..Mobility::default() };
+        let goat = Mobility {
+            max_slope_deg: 50.0,
+            ..Mobility::default()
+        };
         let cart = Mobility::default();
         assert!(t.cost_grid(&cart).blocked[4]);
         assert!(!t.cost_grid(&goat).blocked[4]);
@@ -545,6 +580,9 @@ mod tests {
         let text = "Features(items: [\n  Road(points: [(0.0, 0.0), (1.0, 1.0)], width: 4.0),\n  Vegetation(polygon: [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)], density: 1.5),\n])";
         let d = Features::parse(text, "f.ron").unwrap_err().0.remove(0);
         assert_eq!((d.line, d.col), (3, 3));
-        assert_eq!(d.message, "feature 2: density must lie in [0, 1], found 1.5");
+        assert_eq!(
+            d.message,
+            "feature 2: density must lie in [0, 1], found 1.5"
+        );
     }
 }

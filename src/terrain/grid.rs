@@ -71,7 +71,11 @@ impl CostGrid {
         let cols = lines.first().map_or(0, |l| l.len());
         let mut grid = CostGrid::open(cols, rows, 1.0, Vec2::ZERO);
         for (r, line) in lines.iter().enumerate() {
-            assert_eq!(line.len(), cols, "row {r} of the map has a different length");
+            assert_eq!(
+                line.len(),
+                cols,
+                "row {r} of the map has a different length"
+            );
             for (c, ch) in line.bytes().enumerate() {
                 let i = r * cols + c;
                 match ch {
@@ -138,10 +142,22 @@ impl CostGrid {
     }
 }
 
-pub(crate) fn cell_of(origin: Vec2, cell_size: f32, cols: usize, rows: usize, p: Vec2) -> Option<Cell> {
+pub(crate) fn cell_of(
+    origin: Vec2,
+    cell_size: f32,
+    cols: usize,
+    rows: usize,
+    p: Vec2,
+) -> Option<Cell> {
     let fx = ((p.x - origin.x) / cell_size).floor();
     let fz = ((p.y - origin.y) / cell_size).floor();
-    if fx < 0.0 || fz < 0.0 || fx >= cols as f32 || fz >= rows as f32 || !fx.is_finite() || !fz.is_finite() {
+    if fx < 0.0
+        || fz < 0.0
+        || fx >= cols as f32
+        || fz >= rows as f32
+        || !fx.is_finite()
+        || !fz.is_finite()
+    {
         return None;
     }
     Some(Cell::new(fx as usize, fz as usize))

@@ -53,7 +53,11 @@ impl Terrain {
         heights: Vec<f32>,
     ) -> Self {
         assert!(cols > 0 && rows > 0, "terrain must have at least one cell");
-        assert_eq!(heights.len(), cols * rows, "heights must hold cols × rows values");
+        assert_eq!(
+            heights.len(),
+            cols * rows,
+            "heights must hold cols × rows values"
+        );
         assert!(cell_size > 0.0, "cell size must be positive");
         Terrain {
             origin,
@@ -194,7 +198,9 @@ mod tests {
 
     fn ramp() -> Terrain {
         // 3×3, heights grow 1 per cell eastwards and 10 per cell southwards.
-        let h = (0..9).map(|i| (i % 3) as f32 + 10.0 * (i / 3) as f32).collect();
+        let h = (0..9)
+            .map(|i| (i % 3) as f32 + 10.0 * (i / 3) as f32)
+            .collect();
         Terrain::from_heights(3, 3, 2.0, Vec2::new(0.0, 0.0), h)
     }
 

@@ -85,7 +85,12 @@ pub fn fractal_heights(
         for c in 0..cols {
             let (mut sum, mut amp, mut freq) = (0.0, 1.0, 1.0 / feature_cells);
             for o in 0..octaves {
-                sum += amp * value_noise(seed.wrapping_add(o as u64), c as f32 * freq, r as f32 * freq);
+                sum += amp
+                    * value_noise(
+                        seed.wrapping_add(o as u64),
+                        c as f32 * freq,
+                        r as f32 * freq,
+                    );
                 amp *= 0.5;
                 freq *= 2.0;
             }
@@ -122,7 +127,10 @@ mod tests {
         for _ in 0..4000 {
             counts[g.below(4)] += 1;
         }
-        assert!(counts.iter().all(|&n| (850..1150).contains(&n)), "{counts:?}");
+        assert!(
+            counts.iter().all(|&n| (850..1150).contains(&n)),
+            "{counts:?}"
+        );
         assert!((0..1000).all(|_| (0.0..1.0).contains(&g.next_f32())));
     }
 
