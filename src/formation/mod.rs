@@ -587,4 +587,69 @@ mod tests {
             "formation 1: spacing must be a positive number, found -1"
         );
     }
+
+    #[test]
+    fn the_valley_squad_takes_the_pass_or_squeezes_through_the_gap() {
+        use crate::terrain::{load_asc, Features, Mobility};
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/terrain");
+        let mut terrain = load_asc(&root.join("valley.asc")).unwrap();
+        terrain.apply_features(&Features::load(&root.join("valley_features.ron")).unwrap());
+        let grid = terrain.cost_grid(&Mobility::default());
+        let f = vec![
+            Formation::new(&Shape::Wedge, 5, 4.0).unwrap(),
+            Formation::new(&Shape::Column, 5, 3.0).unwrap(),
+        ];
+        let (start, goal) = (
+            grid.center_of(Cell::new(200, 70)),
+            grid.center_of(Cell::new(40, 165)),
+        );
+        let mut planner = Planner::new();
+        let mut run = |formations: &[Formation], task: TaskClass| {
+            planner
+                .plan(&PlanRequest {
+                    grid: &grid,
+                    start,
+                    goal,
+                    formations,
+                    leader: 0,
+                    weights: task.weights(),
+                })
+                .unwrap()
+        };
+        // The slot canyon through the ridge (columns 58–61) is too narrow for the wedge.
+        let in_gap = |p: &Plan| {
+            p.leader_cells
+                .iter()
+                .any(|c| (56..64).contains(&c.col) && (100..136).contains(&c.row))
+        };
+        let in_pass = |p: &Plan| {
+            p.leader_cells
+                .iter()
+                .any(|c| (200..240).contains(&c.col) && (100..136).contains(&c.row))
+        };
+
+        let keep = run(&f[..1], TaskClass::MustKeep);
+        assert!(in_pass(&keep) && !in_gap(&keep));
+        assert!(keep.transitions.is_empty());
+        let rarely = run(&f, TaskClass::MayChangeRarely);
+        assert!(in_pass(&rarely) && !in_gap(&rarely));
+        let shortest = run(&f, TaskClass::ShortestFirst);
+        assert!(in_gap(&shortest) && !in_pass(&shortest));
+        assert!(shortest.cost < rarely.cost);
+        // In the canyon the team files through as a column.
+        let gap_nodes: Vec<usize> = (0..shortest.leader_cells.len())
+            .filter(|&k| (100..120).contains(&shortest.leader_cells[k].row))
+            .collect();
+        assert!(!gap_nodes.is_empty());
+        assert!(gap_nodes.iter().all(|&k| shortest.formation_along[k] == 1));
+        assert!(shortest
+            .transitions
+            .iter()
+            .any(|t| t.from == 0 && t.to == 1));
+        for p in [&keep, &rarely, &shortest] {
+            for w in p.key_points.windows(2) {
+                assert!(grid.clear_line(w[0].cell, w[1].cell));
+            }
+        }
+    }
 }
