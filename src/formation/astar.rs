@@ -24,7 +24,6 @@ use super::shape::{to_world, Formation, FormationError};
 use crate::terrain::{Cell, CostGrid};
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
-use std::collections::BinaryHeap;
 
 /// Formation cost of a step where no follower fits its primary slot but another formation of the
 /// list still places someone: twice that of a step where a single follower fits.
@@ -264,38 +263,100 @@ pub struct LeaderSearch {
     pub expanded: usize,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Open {
-    /// `f` bits in the high half, `h` bits in the low half: both non-negative floats, whose bit
-    /// patterns order like the values; ties on `f` go to the node nearer the goal.
-    key: u64,
-    idx: u32,
+/// A monotone priority queue over `u64` keys (a radix heap): pushes are O(1), and a pop moves
+/// each element down a bucket at most 64 times over its life. Keys below the last one popped
+/// are raised to it, which only float rounding can cause under a consistent heuristic.
+#[derive(Debug)]
+struct RadixHeap {
+    last: u64,
+    len: usize,
+    /// Bit `b` set when bucket `b` may be non-empty.
+    used: u128,
+    buckets: Vec<Vec<(u64, u32)>>,
 }
 
-impl Ord for Open {
-    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
-        other.key.cmp(&self.key).then(other.idx.cmp(&self.idx))
+impl Default for RadixHeap {
+    fn default() -> Self {
+        RadixHeap {
+            last: 0,
+            len: 0,
+            used: 0,
+            buckets: (0..65).map(|_| Vec::new()).collect(),
+        }
     }
 }
 
-impl PartialOrd for Open {
-    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
-        Some(self.cmp(other))
+impl RadixHeap {
+    fn clear(&mut self) {
+        self.last = 0;
+        self.len = 0;
+        self.used = 0;
+        self.buckets.iter_mut().for_each(Vec::clear);
+    }
+
+    #[inline]
+    fn bucket(last: u64, key: u64) -> usize {
+        64 - (key ^ last).leading_zeros() as usize
+    }
+
+    #[inline]
+    fn push(&mut self, key: u64, idx: u32) {
+        let key = key.max(self.last);
+        let b = Self::bucket(self.last, key);
+        self.buckets[b].push((key, idx));
+        self.used |= 1 << b;
+        self.len += 1;
+    }
+
+    fn pop(&mut self) -> Option<u32> {
+        if self.len == 0 {
+            return None;
+        }
+        if self.buckets[0].is_empty() {
+            self.used &= !1;
+            let i = self.used.trailing_zeros() as usize;
+            let mut moved = std::mem::take(&mut self.buckets[i]);
+            self.used &= !(1 << i);
+            self.last = moved.iter().map(|e| e.0).min().unwrap_or(self.last);
+            for e in moved.drain(..) {
+                let b = Self::bucket(self.last, e.0);
+                self.buckets[b].push(e);
+                self.used |= 1 << b;
+            }
+            self.buckets[i] = moved;
+        }
+        self.len -= 1;
+        self.buckets[0].pop().map(|e| e.1)
     }
 }
 
-const CLOSED: u8 = 0x80;
-const NO_PARENT: u8 = 8;
+/// Per-cell search state: `g`, and a tag holding the generation (high 28 bits), a closed bit
+/// and the heading of the step into the cell (low 3 bits).
+#[derive(Debug, Clone, Copy, Default)]
+struct NodeState {
+    g: f32,
+    tag: u32,
+}
 
-/// Reusable search buffers: flat per-cell arrays stamped with a generation, so a new search
-/// clears nothing.
+/// The largest grid side a search handles (cells are packed as two 16-bit halves in the queue).
+pub const MAX_SIDE: usize = 1 << 16;
+
+#[inline]
+fn pack(col: usize, row: usize) -> u32 {
+    (col as u32 & 0xFFFF) | ((row as u32) << 16)
+}
+
+const CLOSED: u32 = 0b1000;
+const DIR_MASK: u32 = 0b0111;
+const GEN_SHIFT: u32 = 4;
+
+/// Reusable search buffers: a flat per-cell array stamped with a generation, so a new search
+/// clears nothing, and a radix heap.
 #[derive(Debug, Default)]
 pub struct Planner {
-    g: Vec<f32>,
-    parent: Vec<u8>,
-    stamp: Vec<u32>,
+    nodes: Vec<NodeState>,
     generation: u32,
-    heap: BinaryHeap<Open>,
+    heap: RadixHeap,
 }
 
 /// Linearised slot offsets of one formation for one heading, with their bounding box.
@@ -354,14 +415,12 @@ impl Planner {
     }
 
     fn prepare(&mut self, n: usize) {
-        if self.g.len() < n {
-            self.g.resize(n, f32::INFINITY);
-            self.parent.resize(n, NO_PARENT);
-            self.stamp.resize(n, 0);
+        if self.nodes.len() < n {
+            self.nodes.resize(n, NodeState::default());
         }
-        self.generation = self.generation.wrapping_add(1);
-        if self.generation == 0 {
-            self.stamp.iter_mut().for_each(|s| *s = 0);
+        self.generation += 1;
+        if self.generation >= 1 << (32 - GEN_SHIFT) {
+            self.nodes.iter_mut().for_each(|s| s.tag = 0);
             self.generation = 1;
         }
         self.heap.clear();
@@ -381,6 +440,10 @@ impl Planner {
         may_change: bool,
     ) -> Option<LeaderSearch> {
         let (cols, rows) = (grid.cols, grid.rows);
+        assert!(
+            cols <= MAX_SIDE && rows <= MAX_SIDE,
+            "grids are at most {MAX_SIDE} cells a side"
+        );
         let n = cols * rows;
         self.prepare(n);
         let gen = self.generation;
@@ -429,32 +492,30 @@ impl Planner {
                 .then_some(FM_BROKEN)
         };
 
-        self.g[si] = 0.0;
-        self.parent[si] = NO_PARENT;
-        self.stamp[si] = gen;
+        let tag = gen << GEN_SHIFT;
+        let nodes = &mut self.nodes;
+        nodes[si] = NodeState { g: 0.0, tag };
         let h0 = h_rate * octile(start.col as i32, start.row as i32);
-        self.heap.push(Open {
-            key: key(h0, h0),
-            idx: si as u32,
-        });
+        self.heap.push(key(h0, h0), pack(start.col, start.row));
         let mut expanded = 0usize;
         let mut found = false;
-        while let Some(Open { idx, .. }) = self.heap.pop() {
-            let i = idx as usize;
-            if self.parent[i] & CLOSED != 0 {
+        while let Some(packed) = self.heap.pop() {
+            let (c, r) = ((packed & 0xFFFF) as usize, (packed >> 16) as usize);
+            let i = r * cols + c;
+            if nodes[i].tag & CLOSED != 0 {
                 continue;
             }
-            self.parent[i] |= CLOSED;
+            nodes[i].tag |= CLOSED;
             expanded += 1;
             if i == gi {
                 found = true;
                 break;
             }
-            let gcur = self.g[i];
-            let (c, r) = (i % cols, i / cols);
+            let gcur = nodes[i].g;
+            let interior = c > 0 && r > 0 && c + 1 < cols && r + 1 < rows;
             for (d, &(dx, dz)) in DIRS.iter().enumerate() {
                 let (nc, nr) = (c as i32 + dx, r as i32 + dz);
-                if nc < 0 || nr < 0 || nc >= cols as i32 || nr >= rows as i32 {
+                if !interior && (nc < 0 || nr < 0 || nc >= cols as i32 || nr >= rows as i32) {
                     continue;
                 }
                 let j = (i as isize + deltas[d]) as usize;
@@ -468,8 +529,9 @@ impl Planner {
                 {
                     continue;
                 }
-                let seen = self.stamp[j] == gen;
-                if seen && self.parent[j] & CLOSED != 0 {
+                let node = nodes[j];
+                let seen = node.tag >> GEN_SHIFT == gen;
+                if seen && node.tag & CLOSED != 0 {
                     continue;
                 }
                 let len = if diagonal {
@@ -478,7 +540,7 @@ impl Planner {
                     1.0
                 };
                 let base = gcur + len * k1 * grid.cost[j];
-                if seen && base + len * k2 * fm_min >= self.g[j] {
+                if seen && base + len * k2 * fm_min >= node.g {
                     continue;
                 }
                 let term = if need_fm {
@@ -490,17 +552,16 @@ impl Planner {
                     0.0
                 };
                 let ng = base + term;
-                if seen && ng >= self.g[j] {
+                if seen && ng >= node.g {
                     continue;
                 }
-                self.g[j] = ng;
-                self.parent[j] = d as u8;
-                self.stamp[j] = gen;
+                nodes[j] = NodeState {
+                    g: ng,
+                    tag: tag | d as u32,
+                };
                 let h = h_rate * octile(nc, nr);
-                self.heap.push(Open {
-                    key: key(ng + h, h),
-                    idx: j as u32,
-                });
+                self.heap
+                    .push(key(ng + h, h), pack(nc as usize, nr as usize));
             }
         }
         if !found {
@@ -510,7 +571,7 @@ impl Planner {
         let mut cells = vec![goal];
         let mut i = gi;
         while i != si {
-            let d = (self.parent[i] & !CLOSED) as usize;
+            let d = (nodes[i].tag & DIR_MASK) as usize;
             i = (i as isize - deltas[d]) as usize;
             cells.push(grid.cell_at(i));
         }
@@ -530,7 +591,7 @@ impl Planner {
         Some(LeaderSearch {
             cells,
             cost,
-            score: self.g[gi],
+            score: nodes[gi].g,
             expanded,
         })
     }
