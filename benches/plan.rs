@@ -3,7 +3,7 @@
 //! column), task class "may change rarely". Run with `cargo bench --bench plan`.
 
 use divan::Bencher;
-use shoal::formation::{Formation, PlanRequest, Planner, Shape, TaskClass};
+use shoal::formation::{Formation, PlanRequest, Planner, Shape, TaskClass, Weights};
 use shoal::terrain::{Cell, CostGrid, Mobility, Terrain};
 
 fn main() {
@@ -101,5 +101,18 @@ fn leader_search_only(bencher: Bencher, n: usize) {
     let start = free_near(&grid, Cell::new(n / 16, n / 16));
     let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12));
     let mut planner = Planner::new();
-    bencher.bench_local(|| planner.search(&grid, start, goal, &team, 0.1, 0.9, true));
+    bencher.bench_local(|| {
+        planner.search(
+            &grid,
+            start,
+            goal,
+            &team,
+            Weights {
+                k1: 0.1,
+                k2: 0.9,
+                may_change: true,
+                step: 0.1,
+            },
+        )
+    });
 }

@@ -426,19 +426,18 @@ impl Planner {
         self.heap.clear();
     }
 
-    /// One formation-aware A* search from `start` to `goal` with factors `k1`, `k2`; `None` when
-    /// no feasible path exists under them. `may_change` selects the rule for slots that do not
-    /// fit (see the module notes).
+    /// One formation-aware A* search from `start` to `goal` with the factors of `w` (its step is
+    /// not used); `None` when no feasible path exists under them. `w.may_change` selects the rule
+    /// for slots that do not fit (see the module notes).
     pub fn search(
         &mut self,
         grid: &CostGrid,
         start: Cell,
         goal: Cell,
         team: &GridFormations<'_>,
-        k1: f32,
-        k2: f32,
-        may_change: bool,
+        w: Weights,
     ) -> Option<LeaderSearch> {
+        let (k1, k2, may_change) = (w.k1, w.k2, w.may_change);
         let (cols, rows) = (grid.cols, grid.rows);
         assert!(
             cols <= MAX_SIDE && rows <= MAX_SIDE,
@@ -682,7 +681,7 @@ mod tests {
             let f = [Formation::new(&Shape::Wedge, members, 1.0).unwrap()];
             let team = GridFormations::new(&f, 0, 1.0);
             let mut p = Planner::new();
-            let found = p.search(&grid, start, goal, &team, 1.0, 0.0, true);
+            let found = p.search(&grid, start, goal, &team, Weights { k1: 1.0, k2: 0.0, may_change: true, step: 0.1 });
             let reference = dijkstra(&grid, start, goal);
             match (found, reference) {
                 (None, None) => {}
@@ -695,7 +694,7 @@ mod tests {
                         prop_assert!(grid.clear_line(w[0], w[1]));
                     }
                     // Reusing the buffers gives the same answer.
-                    let again = p.search(&grid, start, goal, &team, 0.5, 0.0, true).unwrap();
+                    let again = p.search(&grid, start, goal, &team, Weights { k1: 0.5, k2: 0.0, may_change: true, step: 0.1 }).unwrap();
                     prop_assert!((again.cost - s.cost).abs() <= 1e-3 * s.cost.max(1.0));
                 }
                 (a, b) => prop_assert!(false, "A* {:?} vs Dijkstra {:?}", a.map(|s| s.cost), b),

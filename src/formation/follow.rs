@@ -128,14 +128,15 @@ mod tests {
         assert!(paths[0].speed_factors.iter().all(|&s| s == 1.0));
         // Leg 0 ends at a transition wedge → column: at t the member is the lerp between its wedge
         // slot and its column slot for the leader's position at t.
-        for m in 1..3 {
+        for p in &paths[1..] {
+            let m = p.member;
             for t in [0.0, 0.25, 0.5, 0.75, 1.0] {
                 let leader = keys[0].pos.lerp(keys[1].pos, t);
                 let old = f[0].world_slot(m, 0, leader, h[0]);
                 let new = f[1].world_slot(m, 0, leader, h[1]);
                 let expected = old.lerp(new, t);
                 assert!(
-                    (paths[m].position_at(0, t) - expected).length() < 1e-4,
+                    (p.position_at(0, t) - expected).length() < 1e-4,
                     "member {m} t {t}"
                 );
             }

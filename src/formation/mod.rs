@@ -190,7 +190,7 @@ impl Planner {
         let mut tried = Vec::new();
         let found = loop {
             tried.push((w.k1, w.k2));
-            if let Some(found) = self.search(grid, start, goal, &team, w.k1, w.k2, w.may_change) {
+            if let Some(found) = self.search(grid, start, goal, &team, w) {
                 break found;
             }
             match w.relaxed() {

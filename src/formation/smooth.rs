@@ -150,7 +150,7 @@ fn segment_holds(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formation::astar::Planner;
+    use crate::formation::astar::{Planner, TaskClass, Weights};
     use crate::formation::shape::{Formation, Shape};
     use crate::terrain::SplitMix64;
     use proptest::prelude::*;
@@ -183,7 +183,7 @@ mod tests {
                 Formation::new(&Shape::Column, 5, 1.0).unwrap(),
             ];
             let team = GridFormations::new(&f, 0, 1.0);
-            let Some(found) = Planner::new().search(&grid, start, goal, &team, 1.0 - k2, k2, may_change) else {
+            let Some(found) = Planner::new().search(&grid, start, goal, &team, Weights { k1: 1.0 - k2, k2, may_change, step: 0.1 }) else {
                 return Ok(());
             };
             let along = formation_along(&grid, &found.cells, &team, may_change);
@@ -215,9 +215,7 @@ mod tests {
                 Cell::new(10, 10),
                 Cell::new(25, 17),
                 &team,
-                0.1,
-                0.9,
-                true,
+                TaskClass::MayChangeRarely.weights(),
             )
             .unwrap();
         let along = formation_along(&grid, &found.cells, &team, true);
