@@ -5,10 +5,9 @@
 //! [`events`], driven by [`tick`].
 #![warn(missing_docs)]
 
-pub mod decision;
-pub mod diag;
 pub mod drives;
 pub mod events;
+pub mod formation;
 pub mod frame;
 pub mod index;
 pub mod locomotion;
@@ -18,5 +17,6 @@ pub mod scenario;
 pub mod script;
 pub mod species;
 pub mod steering;
+pub mod terrain;
 pub mod tick;
 pub mod world;

@@ -1,0 +1,752 @@
+//! Formation-aware A* for the leader, seed 004 ("improved A*": `f = K1·(g + h) + K2·FM`).
+//!
+//! Not a tick stage: path planning, run when a team is given a goal. The grid is 8-connected; a
+//! diagonal step needs both side cells free (no corner cutting), which is what makes every single
+//! step of a path pass the supercover line-of-sight test used by smoothing.
+//!
+//! The evaluation follows the source with one reading made explicit. `FM(n) = 1 / Σ aᵢ`, where
+//! `aᵢ = 1` when follower `i`'s slot in the team's *primary* formation (the first of its list),
+//! with the leader at `n` facing along the move into `n`, is a free cell inside the grid. The
+//! source's `f(n) = K1·(g(n) + h(n)) + K2·FM(n)` is applied with `FM` summed along the path, each
+//! step weighted by its length, so the search minimises the well-defined cost
+//! `Σ len · (K1·cost + K2·FM)` and stays exact (a node-local `FM` only reorders expansion and can
+//! be outvoted by a few cells of path length). The heuristic is the octile distance times the
+//! cheapest possible step, `K1·min cost + K2·FM_min`, so it is admissible and consistent.
+//!
+//! The all-blocked case (`Σ aᵢ = 0`, where `1/Σ aᵢ` is infinite): when the formation may change
+//! and another formation of the list can place at least one follower there, the step costs the
+//! finite penalty [`FM_BROKEN`]; otherwise the node is infeasible while `K2 > 0` (the source's
+//! infinite `f`) and free of formation cost when `K2 = 0`. When the formation may not change
+//! (`may_change = false`), a node is feasible only where every follower's slot is free: the
+//! formation is kept everywhere or the plan fails. The start cell is exempt: the team is where it is.
+
+use super::shape::{to_world, Formation, FormationError};
+use crate::terrain::{Cell, CostGrid};
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+
+/// Formation cost of a step where no follower fits its primary slot but another formation of the
+/// list still places someone: twice that of a step where a single follower fits.
+pub const FM_BROKEN: f32 = 2.0;
+
+/// The 8 move directions `(dcol, drow)`, clockwise from east; a heading index is an index here.
+pub const DIRS: [(i32, i32); 8] = [
+    (1, 0),
+    (1, 1),
+    (0, 1),
+    (-1, 1),
+    (-1, 0),
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+];
+
+/// The task classes of the source, which set the path factor K1, the formation factor K2 and
+/// whether the formation may change.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub enum TaskClass {
+    /// The formation must not change: `K1 = 0.05, K2 = 0.95`, no relaxation.
+    MustKeep,
+    /// The formation may change, but rarely: `K1 = 0.1, K2 = 0.9`.
+    #[default]
+    MayChangeRarely,
+    /// Shortest path first, formation secondary: `K1 = 0.9, K2 = 0.1`.
+    ShortestFirst,
+    /// Explicit constants.
+    Custom {
+        /// Path factor, in (0, 1].
+        k1: f32,
+        /// Formation factor, in [0, 1].
+        k2: f32,
+        /// Whether the formation may change (and the weights relax when no path is found).
+        may_change: bool,
+    },
+}
+
+impl TaskClass {
+    /// The weights this class starts from, with the source's relaxation step of 0.1.
+    pub fn weights(&self) -> Weights {
+        let (k1, k2, may_change) = match *self {
+            TaskClass::MustKeep => (0.05, 0.95, false),
+            TaskClass::MayChangeRarely => (0.1, 0.9, true),
+            TaskClass::ShortestFirst => (0.9, 0.1, true),
+            TaskClass::Custom { k1, k2, may_change } => (k1, k2, may_change),
+        };
+        Weights {
+            k1,
+            k2,
+            may_change,
+            step: 0.1,
+        }
+    }
+}
+
+/// The factors of one search and how they relax after a failed one.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Weights {
+    /// Path factor K1.
+    pub k1: f32,
+    /// Formation factor K2.
+    pub k2: f32,
+    /// Whether the formation may change; also whether the weights relax after a failure.
+    pub may_change: bool,
+    /// How much K2 drops and K1 rises per relaxation.
+    pub step: f32,
+}
+
+impl Weights {
+    /// Checks the ranges: `0 < K1 ≤ 1`, `0 ≤ K2 ≤ 1`, `0 < step ≤ 1`.
+    pub fn validate(self) -> Result<Weights, FormationError> {
+        let ok = self.k1 > 0.0
+            && self.k1 <= 1.0
+            && (0.0..=1.0).contains(&self.k2)
+            && self.step > 0.0
+            && self.step <= 1.0;
+        if ok {
+            Ok(self)
+        } else {
+            Err(FormationError::BadWeights {
+                k1: self.k1,
+                k2: self.k2,
+                step: self.step,
+            })
+        }
+    }
+
+    /// The next weights after a failed search: `K2 −= step` (not below 0), `K1 += step` (not
+    /// above 1), rounded to 1e-6 so the sequence reads 0.1/0.9, 0.2/0.8, … exactly. `None` when
+    /// the formation may not change or K2 is already 0.
+    pub fn relaxed(&self) -> Option<Weights> {
+        if !self.may_change || self.k2 <= 0.0 {
+            return None;
+        }
+        let round = |v: f64| ((v * 1e6).round() / 1e6) as f32;
+        Some(Weights {
+            k1: round((f64::from(self.k1) + f64::from(self.step)).min(1.0)),
+            k2: round((f64::from(self.k2) - f64::from(self.step)).max(0.0)),
+            ..*self
+        })
+    }
+}
+
+/// Cell offsets `(dcol, drow)` of each follower's slot for each of the 8 headings.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlotOffsets {
+    per_dir: [Vec<(i32, i32)>; 8],
+}
+
+impl SlotOffsets {
+    /// The followers' (every member but `leader`) slot cells of `formation` relative to the
+    /// leader's cell, for each heading of [`DIRS`].
+    pub fn new(formation: &Formation, leader: usize, cell_size: f32) -> Self {
+        SlotOffsets {
+            per_dir: std::array::from_fn(|d| {
+                let (dx, dz) = DIRS[d];
+                Self::for_heading(
+                    formation,
+                    leader,
+                    cell_size,
+                    Vec2::new(dx as f32, dz as f32),
+                )
+            }),
+        }
+    }
+
+    /// The followers' slot cells relative to the leader's for an arbitrary heading: the cell
+    /// holding the slot when the leader stands at a cell centre.
+    pub fn for_heading(
+        formation: &Formation,
+        leader: usize,
+        cell_size: f32,
+        heading: Vec2,
+    ) -> Vec<(i32, i32)> {
+        (0..formation.len())
+            .filter(|&i| i != leader)
+            .map(|i| {
+                let w = to_world(formation.offset(i, leader), heading) / cell_size;
+                ((w.x + 0.5).floor() as i32, (w.y + 0.5).floor() as i32)
+            })
+            .collect()
+    }
+
+    /// Offsets for heading index `dir`.
+    pub fn dir(&self, dir: usize) -> &[(i32, i32)] {
+        &self.per_dir[dir]
+    }
+}
+
+/// How many of `offsets` are free cells when the leader stands on `cell`.
+pub fn free_slots(grid: &CostGrid, cell: Cell, offsets: &[(i32, i32)]) -> usize {
+    offsets
+        .iter()
+        .filter(|&&(dx, dz)| {
+            !grid.is_blocked(
+                cell.col as i64 + i64::from(dx),
+                cell.row as i64 + i64::from(dz),
+            )
+        })
+        .count()
+}
+
+/// The formations of a team laid on a grid: slot offsets per heading for each formation of the
+/// list (primary first).
+#[derive(Debug, Clone)]
+pub struct GridFormations<'a> {
+    /// The formations, primary (widest, preferred) first.
+    pub formations: &'a [Formation],
+    /// The leader's member index.
+    pub leader: usize,
+    /// Cell size of the grid they are laid on.
+    pub cell_size: f32,
+    /// Slot offsets of each formation.
+    pub tables: Vec<SlotOffsets>,
+}
+
+impl<'a> GridFormations<'a> {
+    /// Precomputes the slot offsets of every formation for every heading.
+    pub fn new(formations: &'a [Formation], leader: usize, cell_size: f32) -> Self {
+        GridFormations {
+            formations,
+            leader,
+            cell_size,
+            tables: formations
+                .iter()
+                .map(|f| SlotOffsets::new(f, leader, cell_size))
+                .collect(),
+        }
+    }
+
+    /// Number of followers (members other than the leader).
+    pub fn followers(&self) -> usize {
+        self.formations
+            .first()
+            .map_or(0, |f| f.len().saturating_sub(1))
+    }
+
+    /// The formation the team takes with the leader on `cell`, and whether all its slots are
+    /// free: the first (widest) formation of the list whose slots are all free, or failing that
+    /// the one placing the most followers (earliest on ties). Only the primary when the
+    /// formation may not change. `slots(j)` gives formation `j`'s offsets for the heading.
+    pub fn choose<'s>(
+        &self,
+        grid: &CostGrid,
+        cell: Cell,
+        may_change: bool,
+        slots: impl Fn(usize) -> std::borrow::Cow<'s, [(i32, i32)]>,
+    ) -> (usize, bool) {
+        let n = self.followers();
+        let count = if may_change { self.formations.len() } else { 1 };
+        let mut best = (0usize, usize::MAX);
+        for j in 0..count {
+            let free = free_slots(grid, cell, &slots(j));
+            if free == n {
+                return (j, true);
+            }
+            if best.1 == usize::MAX || free > best.1 {
+                best = (j, free);
+            }
+        }
+        (best.0, false)
+    }
+}
+
+/// A leader path found by one search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeaderSearch {
+    /// Cells from start to goal.
+    pub cells: Vec<Cell>,
+    /// Terrain cost: `Σ step length (cells) × cost of the cell entered`.
+    pub cost: f32,
+    /// The minimised score `Σ len · (K1·cost + K2·FM)`.
+    pub score: f32,
+    /// Nodes expanded.
+    pub expanded: usize,
+}
+
+/// A monotone priority queue over `u64` keys (a radix heap): pushes are O(1), and a pop moves
+/// each element down a bucket at most 64 times over its life. Keys below the last one popped
+/// are raised to it, which only float rounding can cause under a consistent heuristic.
+#[derive(Debug)]
+struct RadixHeap {
+    last: u64,
+    len: usize,
+    /// Bit `b` set when bucket `b` may be non-empty.
+    used: u128,
+    buckets: Vec<Vec<(u64, u32)>>,
+}
+
+impl Default for RadixHeap {
+    fn default() -> Self {
+        RadixHeap {
+            last: 0,
+            len: 0,
+            used: 0,
+            buckets: (0..65).map(|_| Vec::new()).collect(),
+        }
+    }
+}
+
+impl RadixHeap {
+    fn clear(&mut self) {
+        self.last = 0;
+        self.len = 0;
+        self.used = 0;
+        self.buckets.iter_mut().for_each(Vec::clear);
+    }
+
+    #[inline]
+    fn bucket(last: u64, key: u64) -> usize {
+        64 - (key ^ last).leading_zeros() as usize
+    }
+
+    #[inline]
+    fn push(&mut self, key: u64, idx: u32) {
+        let key = key.max(self.last);
+        let b = Self::bucket(self.last, key);
+        self.buckets[b].push((key, idx));
+        self.used |= 1 << b;
+        self.len += 1;
+    }
+
+    fn pop(&mut self) -> Option<u32> {
+        if self.len == 0 {
+            return None;
+        }
+        if self.buckets[0].is_empty() {
+            self.used &= !1;
+            let i = self.used.trailing_zeros() as usize;
+            let mut moved = std::mem::take(&mut self.buckets[i]);
+            self.used &= !(1 << i);
+            self.last = moved.iter().map(|e| e.0).min().unwrap_or(self.last);
+            for e in moved.drain(..) {
+                let b = Self::bucket(self.last, e.0);
+                self.buckets[b].push(e);
+                self.used |= 1 << b;
+            }
+            self.buckets[i] = moved;
+        }
+        self.len -= 1;
+        self.buckets[0].pop().map(|e| e.1)
+    }
+}
+
+/// Per-cell search state: `g`, and a tag holding the generation (high 28 bits), a closed bit
+/// and the heading of the step into the cell (low 3 bits).
+#[derive(Debug, Clone, Copy, Default)]
+struct NodeState {
+    g: f32,
+    tag: u32,
+}
+
+/// The largest grid side a search handles (cells are packed as two 16-bit halves in the queue).
+pub const MAX_SIDE: usize = 1 << 16;
+
+#[inline]
+fn pack(col: usize, row: usize) -> u32 {
+    (col as u32 & 0xFFFF) | ((row as u32) << 16)
+}
+
+const CLOSED: u32 = 0b1000;
+const DIR_MASK: u32 = 0b0111;
+const GEN_SHIFT: u32 = 4;
+
+/// Reusable search buffers: a flat per-cell array stamped with a generation, so a new search
+/// clears nothing, and a radix heap.
+#[derive(Debug, Default)]
+pub struct Planner {
+    nodes: Vec<NodeState>,
+    generation: u32,
+    heap: RadixHeap,
+}
+
+/// Linearised slot offsets of one formation for one heading, with their bounding box.
+struct DirSlots {
+    delta: Vec<isize>,
+    offsets: Vec<(i32, i32)>,
+    min: (i32, i32),
+    max: (i32, i32),
+}
+
+impl DirSlots {
+    fn new(offsets: &[(i32, i32)], cols: usize) -> Self {
+        let mut min = (0, 0);
+        let mut max = (0, 0);
+        for &(dx, dz) in offsets {
+            min = (min.0.min(dx), min.1.min(dz));
+            max = (max.0.max(dx), max.1.max(dz));
+        }
+        DirSlots {
+            delta: offsets
+                .iter()
+                .map(|&(dx, dz)| dz as isize * cols as isize + dx as isize)
+                .collect(),
+            offsets: offsets.to_vec(),
+            min,
+            max,
+        }
+    }
+
+    #[inline]
+    fn free(&self, grid: &CostGrid, idx: usize, col: usize, row: usize) -> usize {
+        let (c, r) = (col as i32, row as i32);
+        if c + self.min.0 >= 0
+            && r + self.min.1 >= 0
+            && c + self.max.0 < grid.cols as i32
+            && r + self.max.1 < grid.rows as i32
+        {
+            let base = idx as isize;
+            self.delta
+                .iter()
+                .filter(|&&d| !grid.blocked[(base + d) as usize])
+                .count()
+        } else {
+            self.offsets
+                .iter()
+                .filter(|&&(dx, dz)| !grid.is_blocked(i64::from(c + dx), i64::from(r + dz)))
+                .count()
+        }
+    }
+}
+
+impl Planner {
+    /// Empty buffers; they grow to the largest grid searched.
+    pub fn new() -> Self {
+        Planner::default()
+    }
+
+    fn prepare(&mut self, n: usize) {
+        if self.nodes.len() < n {
+            self.nodes.resize(n, NodeState::default());
+        }
+        self.generation += 1;
+        if self.generation >= 1 << (32 - GEN_SHIFT) {
+            self.nodes.iter_mut().for_each(|s| s.tag = 0);
+            self.generation = 1;
+        }
+        self.heap.clear();
+    }
+
+    /// One formation-aware A* search from `start` to `goal` with the factors of `w` (its step is
+    /// not used); `None` when no feasible path exists under them. `w.may_change` selects the rule
+    /// for slots that do not fit (see the module notes).
+    pub fn search(
+        &mut self,
+        grid: &CostGrid,
+        start: Cell,
+        goal: Cell,
+        team: &GridFormations<'_>,
+        w: Weights,
+    ) -> Option<LeaderSearch> {
+        let (k1, k2, may_change) = (w.k1, w.k2, w.may_change);
+        let (cols, rows) = (grid.cols, grid.rows);
+        assert!(
+            cols <= MAX_SIDE && rows <= MAX_SIDE,
+            "grids are at most {MAX_SIDE} cells a side"
+        );
+        let n = cols * rows;
+        self.prepare(n);
+        let gen = self.generation;
+        let (si, gi) = (grid.index(start), grid.index(goal));
+        if grid.blocked[gi] {
+            return None;
+        }
+
+        let followers = team.followers();
+        let strict = !may_change;
+        let need_fm = followers > 0 && (k2 > 0.0 || strict);
+        let alternatives = if may_change { team.tables.len() } else { 1 };
+        let slots: Vec<[DirSlots; 8]> = team.tables[..alternatives.max(1).min(team.tables.len())]
+            .iter()
+            .map(|t| std::array::from_fn(|d| DirSlots::new(t.dir(d), cols)))
+            .collect();
+        let fm_min = if followers > 0 {
+            1.0 / followers as f32
+        } else {
+            0.0
+        };
+        let h_rate = k1 * grid.min_cost() + k2 * fm_min;
+        let (gc, gr) = (goal.col as i32, goal.row as i32);
+        let octile = |c: i32, r: i32| {
+            let (dx, dz) = ((c - gc).abs() as f32, (r - gr).abs() as f32);
+            dx.max(dz) + (std::f32::consts::SQRT_2 - 1.0) * dx.min(dz)
+        };
+        let key = |f: f32, h: f32| (u64::from(f.to_bits()) << 32) | u64::from(h.to_bits());
+        let deltas: [isize; 8] = DIRS.map(|(dx, dz)| dz as isize * cols as isize + dx as isize);
+
+        // FM of entering cell `j` (at `col`, `row`) heading `d`; None when infeasible.
+        let fm = |j: usize, col: usize, row: usize, d: usize| -> Option<f32> {
+            let free = slots[0][d].free(grid, j, col, row);
+            if strict {
+                return (free == followers).then_some(fm_min);
+            }
+            if free > 0 {
+                return Some(1.0 / free as f32);
+            }
+            if k2 <= 0.0 {
+                return Some(0.0);
+            }
+            slots[1..]
+                .iter()
+                .any(|s| s[d].free(grid, j, col, row) > 0)
+                .then_some(FM_BROKEN)
+        };
+
+        let tag = gen << GEN_SHIFT;
+        let nodes = &mut self.nodes;
+        nodes[si] = NodeState { g: 0.0, tag };
+        let h0 = h_rate * octile(start.col as i32, start.row as i32);
+        self.heap.push(key(h0, h0), pack(start.col, start.row));
+        let mut expanded = 0usize;
+        let mut found = false;
+        while let Some(packed) = self.heap.pop() {
+            let (c, r) = ((packed & 0xFFFF) as usize, (packed >> 16) as usize);
+            let i = r * cols + c;
+            if nodes[i].tag & CLOSED != 0 {
+                continue;
+            }
+            nodes[i].tag |= CLOSED;
+            expanded += 1;
+            if i == gi {
+                found = true;
+                break;
+            }
+            let gcur = nodes[i].g;
+            let interior = c > 0 && r > 0 && c + 1 < cols && r + 1 < rows;
+            for (d, &(dx, dz)) in DIRS.iter().enumerate() {
+                let (nc, nr) = (c as i32 + dx, r as i32 + dz);
+                if !interior && (nc < 0 || nr < 0 || nc >= cols as i32 || nr >= rows as i32) {
+                    continue;
+                }
+                let j = (i as isize + deltas[d]) as usize;
+                if grid.blocked[j] {
+                    continue;
+                }
+                let diagonal = dx != 0 && dz != 0;
+                if diagonal
+                    && (grid.blocked[(i as isize + dx as isize) as usize]
+                        || grid.blocked[(i as isize + dz as isize * cols as isize) as usize])
+                {
+                    continue;
+                }
+                let node = nodes[j];
+                let seen = node.tag >> GEN_SHIFT == gen;
+                if seen && node.tag & CLOSED != 0 {
+                    continue;
+                }
+                let len = if diagonal {
+                    std::f32::consts::SQRT_2
+                } else {
+                    1.0
+                };
+                let base = gcur + len * k1 * grid.cost[j];
+                if seen && base + len * k2 * fm_min >= node.g {
+                    continue;
+                }
+                let term = if need_fm {
+                    match fm(j, nc as usize, nr as usize, d) {
+                        Some(v) => len * k2 * v,
+                        None => continue,
+                    }
+                } else {
+                    0.0
+                };
+                let ng = base + term;
+                if seen && ng >= node.g {
+                    continue;
+                }
+                nodes[j] = NodeState {
+                    g: ng,
+                    tag: tag | d as u32,
+                };
+                let h = h_rate * octile(nc, nr);
+                self.heap
+                    .push(key(ng + h, h), pack(nc as usize, nr as usize));
+            }
+        }
+        if !found {
+            return None;
+        }
+
+        let mut cells = vec![goal];
+        let mut i = gi;
+        while i != si {
+            let d = (nodes[i].tag & DIR_MASK) as usize;
+            i = (i as isize - deltas[d]) as usize;
+            cells.push(grid.cell_at(i));
+        }
+        cells.reverse();
+        let cost = cells
+            .windows(2)
+            .map(|w| {
+                let diagonal = w[0].col != w[1].col && w[0].row != w[1].row;
+                let len = if diagonal {
+                    std::f32::consts::SQRT_2
+                } else {
+                    1.0
+                };
+                len * grid.cost[grid.index(w[1])]
+            })
+            .sum();
+        Some(LeaderSearch {
+            cells,
+            cost,
+            score: nodes[gi].g,
+            expanded,
+        })
+    }
+}
+
+/// Heading index of the step from `a` to the adjacent cell `b`.
+pub fn dir_between(a: Cell, b: Cell) -> Option<usize> {
+    let d = (b.col as i32 - a.col as i32, b.row as i32 - a.row as i32);
+    DIRS.iter().position(|&x| x == d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formation::shape::Shape;
+    use proptest::prelude::*;
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+
+    /// Plain Dijkstra with the same moves and step costs, as a reference.
+    fn dijkstra(grid: &CostGrid, start: Cell, goal: Cell) -> Option<f64> {
+        let n = grid.cols * grid.rows;
+        let mut dist = vec![f64::INFINITY; n];
+        let mut heap = BinaryHeap::new();
+        dist[grid.index(start)] = 0.0;
+        heap.push(Reverse(((0.0f64).to_bits(), grid.index(start))));
+        while let Some(Reverse((dbits, i))) = heap.pop() {
+            let d = f64::from_bits(dbits);
+            if d > dist[i] {
+                continue;
+            }
+            if i == grid.index(goal) {
+                return Some(d);
+            }
+            let (c, r) = ((i % grid.cols) as i64, (i / grid.cols) as i64);
+            for (dx, dz) in DIRS {
+                let (nc, nr) = (c + i64::from(dx), r + i64::from(dz));
+                if grid.is_blocked(nc, nr) {
+                    continue;
+                }
+                if dx != 0
+                    && dz != 0
+                    && (grid.is_blocked(c + i64::from(dx), r)
+                        || grid.is_blocked(c, r + i64::from(dz)))
+                {
+                    continue;
+                }
+                let j = nr as usize * grid.cols + nc as usize;
+                let len = if dx != 0 && dz != 0 {
+                    std::f64::consts::SQRT_2
+                } else {
+                    1.0
+                };
+                let nd = d + len * f64::from(grid.cost[j]);
+                if nd < dist[j] {
+                    dist[j] = nd;
+                    heap.push(Reverse((nd.to_bits(), j)));
+                }
+            }
+        }
+        None
+    }
+
+    fn random_grid(cols: usize, rows: usize, seed: u64, density: f32) -> CostGrid {
+        let mut rng = crate::terrain::SplitMix64::new(seed);
+        let mut g = CostGrid::open(cols, rows, 1.0, Vec2::ZERO);
+        for i in 0..cols * rows {
+            g.blocked[i] = rng.next_f32() < density;
+            g.cost[i] = 1.0 + (rng.next_f32() * 4.0).floor();
+        }
+        g
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+        #[test]
+        fn with_k2_zero_the_cost_equals_dijkstra(
+            cols in 2usize..24, rows in 2usize..24, seed in any::<u64>(), density in 0.0f32..0.45,
+            members in 1usize..6
+        ) {
+            let mut grid = random_grid(cols, rows, seed, density);
+            let start = Cell::new(0, 0);
+            let goal = Cell::new(cols - 1, rows - 1);
+            let si = grid.index(start);
+            grid.blocked[si] = false;
+            let gi = grid.index(goal);
+            grid.blocked[gi] = false;
+            let f = [Formation::new(&Shape::Wedge, members, 1.0).unwrap()];
+            let team = GridFormations::new(&f, 0, 1.0);
+            let mut p = Planner::new();
+            let found = p.search(&grid, start, goal, &team, Weights { k1: 1.0, k2: 0.0, may_change: true, step: 0.1 });
+            let reference = dijkstra(&grid, start, goal);
+            match (found, reference) {
+                (None, None) => {}
+                (Some(s), Some(d)) => {
+                    prop_assert!((f64::from(s.cost) - d).abs() <= 1e-3 * d.max(1.0), "A* {} vs Dijkstra {}", s.cost, d);
+                    prop_assert!((s.score - s.cost).abs() <= 1e-3 * s.cost.max(1.0));
+                    prop_assert_eq!(s.cells[0], start);
+                    prop_assert_eq!(*s.cells.last().unwrap(), goal);
+                    for w in s.cells.windows(2) {
+                        prop_assert!(grid.clear_line(w[0], w[1]));
+                    }
+                    // Reusing the buffers gives the same answer.
+                    let again = p.search(&grid, start, goal, &team, Weights { k1: 0.5, k2: 0.0, may_change: true, step: 0.1 }).unwrap();
+                    prop_assert!((again.cost - s.cost).abs() <= 1e-3 * s.cost.max(1.0));
+                }
+                (a, b) => prop_assert!(false, "A* {:?} vs Dijkstra {:?}", a.map(|s| s.cost), b),
+            }
+        }
+    }
+
+    #[test]
+    fn weights_relax_in_tenths_down_to_zero() {
+        let mut w = TaskClass::MayChangeRarely.weights();
+        let mut seq = vec![(w.k1, w.k2)];
+        while let Some(n) = w.relaxed() {
+            w = n;
+            seq.push((w.k1, w.k2));
+        }
+        assert_eq!(
+            seq,
+            vec![
+                (0.1, 0.9),
+                (0.2, 0.8),
+                (0.3, 0.7),
+                (0.4, 0.6),
+                (0.5, 0.5),
+                (0.6, 0.4),
+                (0.7, 0.3),
+                (0.8, 0.2),
+                (0.9, 0.1),
+                (1.0, 0.0)
+            ]
+        );
+        assert_eq!(TaskClass::MustKeep.weights().relaxed(), None);
+        let s = TaskClass::ShortestFirst.weights().relaxed().unwrap();
+        assert_eq!((s.k1, s.k2), (1.0, 0.0));
+        assert!(TaskClass::Custom {
+            k1: 0.0,
+            k2: 0.5,
+            may_change: true
+        }
+        .weights()
+        .validate()
+        .is_err());
+    }
+
+    #[test]
+    fn slot_offsets_turn_with_the_heading() {
+        let f = Formation::new(&Shape::Wedge, 3, 2.0).unwrap();
+        let t = SlotOffsets::new(&f, 0, 2.0);
+        // Heading east: member 1 is back-right = west-south.
+        assert_eq!(t.dir(0), &[(-1, 1), (-1, -1)]);
+        // Heading north: back is south (+row), right is east.
+        assert_eq!(t.dir(6), &[(1, 1), (-1, 1)]);
+        // Heading south-east: back-right is (−1, 1)·√2 rotated → straight west.
+        assert_eq!(t.dir(1), &[(-1, 0), (0, -1)]);
+    }
+}

@@ -1,0 +1,226 @@
+//! Leader-path smoothing into the key-point table and the formation-transition table, seed 004
+//! ("Leader path optimisation").
+//!
+//! Not a tick stage: path planning, after the leader's A* path is found. The formation at each
+//! path node is the widest formation of the team's list whose slots are all free there (the
+//! formation vector of the source; only the primary when the formation may not change). From key
+//! point `i` the smoother looks ahead to `k`, the first node where the formation changes (or the
+//! goal), and tests the straight line `i → k`: every cell it touches must be free, and the
+//! formation taken on every cell of the line (facing along it) must be the one of node `i` — up
+//! to but not including `k` when `k` is a transition. If the test fails, `k = ⌊(i + k)/2⌋` and it
+//! tests again; the next node (`k = i + 1`) is always accepted, being a valid A* step. When it
+//! passes, `k` is the next key point, and a transition there goes into the transition table.
+
+use super::astar::{dir_between, GridFormations, SlotOffsets};
+use crate::terrain::{supercover, Cell, CostGrid};
+use glam::Vec2;
+use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
+
+/// One row of the key-point table: a corner of the smoothed leader path.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct KeyPoint {
+    /// Grid cell.
+    pub cell: Cell,
+    /// World `(x, z)` of the cell centre.
+    pub pos: Vec2,
+    /// Index into the team's formation list of the formation held at this point.
+    pub formation: usize,
+    /// Index of this point in the leader's A* path.
+    pub path_index: usize,
+}
+
+/// One row of the formation-transition table: where the formation changes.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Transition {
+    /// Grid cell where the new formation holds.
+    pub cell: Cell,
+    /// World `(x, z)` of the cell centre.
+    pub pos: Vec2,
+    /// Formation before (index into the team's list).
+    pub from: usize,
+    /// Formation from here on.
+    pub to: usize,
+    /// Index of the key point at this place.
+    pub key_index: usize,
+}
+
+/// The formation at each node of a leader path, with whether all its slots are free there.
+/// The heading at node 0 is the first step's, at node `k > 0` the step into it.
+pub fn formation_along(
+    grid: &CostGrid,
+    path: &[Cell],
+    team: &GridFormations<'_>,
+    may_change: bool,
+) -> Vec<(usize, bool)> {
+    (0..path.len())
+        .map(|k| {
+            let d = match k {
+                0 if path.len() > 1 => dir_between(path[0], path[1]),
+                0 => Some(6),
+                _ => dir_between(path[k - 1], path[k]),
+            }
+            .expect("a leader path moves between adjacent cells");
+            team.choose(grid, path[k], may_change, |j| {
+                Cow::Borrowed(team.tables[j].dir(d))
+            })
+        })
+        .collect()
+}
+
+/// Smooths `path` (with `along` from [`formation_along`]) into key points and transitions.
+pub fn smooth(
+    grid: &CostGrid,
+    path: &[Cell],
+    along: &[(usize, bool)],
+    team: &GridFormations<'_>,
+    may_change: bool,
+) -> (Vec<KeyPoint>, Vec<Transition>) {
+    assert_eq!(path.len(), along.len());
+    let key = |k: usize| KeyPoint {
+        cell: path[k],
+        pos: grid.center_of(path[k]),
+        formation: along[k].0,
+        path_index: k,
+    };
+    let mut keys = vec![key(0)];
+    let mut transitions = Vec::new();
+    let last = path.len() - 1;
+    let mut i = 0;
+    while i < last {
+        let change = (i + 1..=last)
+            .find(|&k| along[k].0 != along[k - 1].0)
+            .unwrap_or(last);
+        let mut k = change;
+        while k > i + 1 && !segment_holds(grid, path, along, team, may_change, i, k, change) {
+            k = (i + k) / 2;
+        }
+        keys.push(key(k));
+        if along[k].0 != along[k - 1].0 {
+            transitions.push(Transition {
+                cell: path[k],
+                pos: grid.center_of(path[k]),
+                from: along[k - 1].0,
+                to: along[k].0,
+                key_index: keys.len() - 1,
+            });
+        }
+        i = k;
+    }
+    (keys, transitions)
+}
+
+/// The source's test of a shortcut `i → k`: clear line of sight, and the formation vector of
+/// node `i` on every cell of the line (the transition cell itself excluded).
+#[allow(clippy::too_many_arguments)]
+fn segment_holds(
+    grid: &CostGrid,
+    path: &[Cell],
+    along: &[(usize, bool)],
+    team: &GridFormations<'_>,
+    may_change: bool,
+    i: usize,
+    k: usize,
+    change: usize,
+) -> bool {
+    let (a, b) = (path[i], path[k]);
+    if !grid.clear_line(a, b) {
+        return false;
+    }
+    let heading = grid.center_of(b) - grid.center_of(a);
+    let tables: Vec<Vec<(i32, i32)>> = team
+        .formations
+        .iter()
+        .map(|f| SlotOffsets::for_heading(f, team.leader, team.cell_size, heading))
+        .collect();
+    let formation = along[i].0;
+    // A shortcut may not keep the formation worse than the path it replaces.
+    let full = along[i..k].iter().all(|&(_, full)| full);
+    let is_transition = k == change && along[k].0 != along[k - 1].0;
+    supercover(a, b, |c, r| {
+        let cell = Cell::new(c as usize, r as usize);
+        if is_transition && cell == b {
+            return true;
+        }
+        let (j, fits) = team.choose(grid, cell, may_change, |j| Cow::Borrowed(&tables[j]));
+        j == formation && (fits || !full)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formation::astar::{Planner, TaskClass, Weights};
+    use crate::formation::shape::{Formation, Shape};
+    use crate::terrain::SplitMix64;
+    use proptest::prelude::*;
+
+    fn random_grid(cols: usize, rows: usize, seed: u64, density: f32) -> CostGrid {
+        let mut rng = SplitMix64::new(seed);
+        let mut g = CostGrid::open(cols, rows, 1.0, Vec2::ZERO);
+        for i in 0..cols * rows {
+            g.blocked[i] = rng.next_f32() < density;
+            g.cost[i] = 1.0 + (rng.next_f32() * 3.0).floor();
+        }
+        g
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(96))]
+        #[test]
+        fn key_point_segments_never_cross_a_blocked_cell(
+            cols in 3usize..40, rows in 3usize..40, seed in any::<u64>(), density in 0.0f32..0.4,
+            k2 in prop_oneof![Just(0.0f32), Just(0.5), Just(0.9)], may_change in any::<bool>()
+        ) {
+            let mut grid = random_grid(cols, rows, seed, density);
+            let (start, goal) = (Cell::new(0, rows / 2), Cell::new(cols - 1, rows / 3));
+            let si = grid.index(start);
+            grid.blocked[si] = false;
+            let gi = grid.index(goal);
+            grid.blocked[gi] = false;
+            let f = [
+                Formation::new(&Shape::Wedge, 5, 1.0).unwrap(),
+                Formation::new(&Shape::Column, 5, 1.0).unwrap(),
+            ];
+            let team = GridFormations::new(&f, 0, 1.0);
+            let Some(found) = Planner::new().search(&grid, start, goal, &team, Weights { k1: 1.0 - k2, k2, may_change, step: 0.1 }) else {
+                return Ok(());
+            };
+            let along = formation_along(&grid, &found.cells, &team, may_change);
+            let (keys, transitions) = smooth(&grid, &found.cells, &along, &team, may_change);
+            prop_assert_eq!(keys[0].cell, start);
+            prop_assert_eq!(keys.last().unwrap().cell, goal);
+            for w in keys.windows(2) {
+                prop_assert!(w[0].path_index < w[1].path_index);
+                prop_assert!(grid.clear_line(w[0].cell, w[1].cell), "{:?} → {:?}", w[0].cell, w[1].cell);
+            }
+            // Every change of formation along the path is a transition at a key point.
+            let changes = (1..along.len()).filter(|&k| along[k].0 != along[k - 1].0).count();
+            prop_assert_eq!(changes, transitions.len());
+            for t in &transitions {
+                prop_assert_eq!(keys[t.key_index].cell, t.cell);
+                prop_assert_eq!(keys[t.key_index].formation, t.to);
+            }
+        }
+    }
+
+    #[test]
+    fn open_ground_smooths_to_a_straight_line() {
+        let grid = CostGrid::open(30, 30, 1.0, Vec2::ZERO);
+        let f = [Formation::new(&Shape::Wedge, 5, 1.0).unwrap()];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let found = Planner::new()
+            .search(
+                &grid,
+                Cell::new(10, 10),
+                Cell::new(25, 17),
+                &team,
+                TaskClass::MayChangeRarely.weights(),
+            )
+            .unwrap();
+        let along = formation_along(&grid, &found.cells, &team, true);
+        let (keys, transitions) = smooth(&grid, &found.cells, &along, &team, true);
+        assert_eq!(keys.len(), 2);
+        assert!(transitions.is_empty());
+    }
+}
