@@ -5,6 +5,8 @@
 //! [`events`], driven by [`tick`].
 #![warn(missing_docs)]
 
+pub mod decision;
+pub mod diag;
 pub mod drives;
 pub mod events;
 pub mod formation;
