@@ -130,28 +130,52 @@
 
   // ---------------------------------------------------------------- renderer
 
+  // Agents are point sprites, one vertex each: the vertex shader projects the body axis to find the
+  // on-screen heading and foreshortening; the fragment shader cuts a fish silhouette (body + bent
+  // tail) out of the square. One draw call per frame whatever the agent count, and cheap even on
+  // software GL, where instancing is slow.
   const AGENT_VS = `
-attribute vec3 aLocal; attribute float aTail; attribute float aShade;
 attribute vec3 iPos; attribute vec3 iFwd; attribute vec3 iColor; attribute float iLen; attribute float iBend;
-uniform mat4 uViewProj; uniform float uPixelWorld; uniform float uMinPx;
-varying vec3 vColor;
+uniform mat4 uViewProj; uniform vec2 uViewport; uniform float uProjF; uniform float uMinPx; uniform float uMaxPx;
+varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
+vec2 toPx(vec4 c) { return c.xy / max(c.w, 1e-4) * 0.5 * uViewport; }
 void main() {
+  vec4 c = uViewProj * vec4(iPos, 1.0);
+  gl_Position = c;
   vec3 f = iFwd; float fl = length(f);
   f = fl > 1e-6 ? f / fl : vec3(1.0, 0.0, 0.0);
-  vec3 r = cross(f, vec3(0.0, 1.0, 0.0)); float rl = length(r);
-  r = rl > 1e-4 ? r / rl : vec3(0.0, 0.0, 1.0);
-  vec3 u = cross(r, f);
-  vec3 p = aLocal;
-  if (aTail > 0.0) {
-    float a = -iBend * aTail;
-    vec2 d = p.xz - vec2(-0.3, 0.0);
-    float c = cos(a); float s = sin(a);
-    p.xz = vec2(-0.3, 0.0) + vec2(c * d.x - s * d.y, s * d.x + c * d.y);
+  vec2 d = toPx(uViewProj * vec4(iPos + f * (0.5 * iLen), 1.0)) - toPx(uViewProj * vec4(iPos - f * (0.5 * iLen), 1.0));
+  float onScreen = length(d);
+  // side-on length in pixels at this depth
+  float full = iLen * uProjF * 0.5 * uViewport.y / max(c.w, 1e-4);
+  float size = clamp(full, uMinPx, uMaxPx);
+  gl_PointSize = size;
+  vDir = onScreen > 1e-3 ? d / onScreen : vec2(1.0, 0.0);
+  vAspect = clamp(onScreen / max(full, 1e-3), 0.3, 1.0);
+  vColor = iColor;
+  vBend = iBend;
+}`;
+  const AGENT_FS = `
+precision mediump float;
+varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
+void main() {
+  vec2 p = gl_PointCoord - 0.5;
+  p.y = -p.y;
+  // u along the body (nose +0.5), v to the fish's left on screen
+  float u = dot(p, vDir) / vAspect;
+  float v = dot(p, vec2(-vDir.y, vDir.x));
+  float w = mix(0.2, 0.13, vAspect);
+  float e = ((u - 0.08) * (u - 0.08)) / (0.38 * 0.38) + (v * v) / (w * w);
+  float shade;
+  if (e <= 1.0) {
+    shade = e > 0.72 ? 0.6 : 1.0 - 0.3 * e;
+  } else {
+    float back = -0.2 - u;
+    float vt = v + sin(vBend) * back;
+    if (back < 0.0 || u < -0.5 || abs(vt) > 0.02 + back * 0.5) discard;
+    shade = 0.75;
   }
-  vec4 cc = uViewProj * vec4(iPos, 1.0);
-  float sc = max(iLen, uMinPx * max(cc.w, 0.0) * uPixelWorld);
-  gl_Position = uViewProj * vec4(iPos + (p.x * f + p.y * u + p.z * r) * sc, 1.0);
-  vColor = iColor * aShade;
+  gl_FragColor = vec4(vColor * shade, 1.0);
 }`;
   const COLOR_FS = `
 precision mediump float; varying vec3 vColor;
@@ -174,54 +198,25 @@ void main() {
   gl_FragColor = vec4(vColor * (0.35 + 0.65 * l), 1.0);
 }`;
 
-  // A fish in local units: +x forward (nose at 0.5), +y up, +z right; tail root at x = -0.3.
-  // Per vertex: x, y, z, tail weight, shade.
-  const FISH = new Float32Array([
-    // horizontal body
-    0.5, 0, 0, 0, 1.0, 0.0, 0, -0.15, 0, 0.8, -0.3, 0, 0, 0, 0.9,
-    0.5, 0, 0, 0, 1.0, -0.3, 0, 0, 0, 0.9, 0.0, 0, 0.15, 0, 0.8,
-    // vertical body
-    0.5, 0, 0, 0, 1.15, 0.05, 0.13, 0, 0, 1.25, -0.3, 0, 0, 0, 0.9,
-    0.5, 0, 0, 0, 0.8, -0.3, 0, 0, 0, 0.75, 0.05, -0.1, 0, 0, 0.6,
-    // tail fin
-    -0.3, 0, 0, 0, 0.9, -0.52, 0.14, 0, 1, 1.05, -0.52, -0.14, 0, 1, 0.7,
-  ]);
-  const FISH_VERTS = FISH.length / 5;
-  const INSTANCE_FLOATS = 11; // pos 3, fwd 3, color 3, length 1, bend 1
+  const AGENT_FLOATS = 11; // pos 3, fwd 3, color 3, length 1, bend 1
 
   const renderer = {
-    gl: null, ok: false, inst: null, progs: {},
-    agentCount: 0, agentBuf: null, fishBuf: null,
+    gl: null, ok: false, progs: {}, maxPointPx: 64,
+    agentCount: 0, agentBuf: null,
     staticLines: null, staticPoints: null, foodPoints: null, selLines: null, terrain: null,
     init(canvas) {
-      const opts = { antialias: true, alpha: false, preserveDrawingBuffer: false };
+      const opts = { antialias: false, alpha: false, preserveDrawingBuffer: false };
       let gl = canvas.getContext('webgl2', opts);
-      let gl2 = !!gl;
+      const gl2 = !!gl;
       if (!gl) gl = canvas.getContext('webgl', opts) || canvas.getContext('experimental-webgl', opts);
       if (!gl) throw new Error('WebGL is not available in this browser');
       this.gl = gl;
-      if (gl2) {
-        this.inst = {
-          draw: (mode, first, count, n) => gl.drawArraysInstanced(mode, first, count, n),
-          divisor: (loc, d) => gl.vertexAttribDivisor(loc, d),
-        };
-        this.uintIndices = true;
-      } else {
-        const ext = gl.getExtension('ANGLE_instanced_arrays');
-        if (!ext) throw new Error('WebGL instancing (ANGLE_instanced_arrays) is not available');
-        this.inst = {
-          draw: (mode, first, count, n) => ext.drawArraysInstancedANGLE(mode, first, count, n),
-          divisor: (loc, d) => ext.vertexAttribDivisorANGLE(loc, d),
-        };
-        this.uintIndices = !!gl.getExtension('OES_element_index_uint');
-      }
-      this.progs.agent = this.program(AGENT_VS, COLOR_FS);
+      this.uintIndices = gl2 || !!gl.getExtension('OES_element_index_uint');
+      this.maxPointPx = Math.min(512, gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1] || 64);
+      this.progs.agent = this.program(AGENT_VS, AGENT_FS);
       this.progs.line = this.program(LINE_VS, COLOR_FS);
       this.progs.point = this.program(LINE_VS, POINT_FS);
       this.progs.mesh = this.program(MESH_VS, MESH_FS);
-      this.fishBuf = gl.createBuffer();
-      gl.bindBuffer(gl.ARRAY_BUFFER, this.fishBuf);
-      gl.bufferData(gl.ARRAY_BUFFER, FISH, gl.STATIC_DRAW);
       this.agentBuf = gl.createBuffer();
       this.staticLines = this.vertexSet();
       this.staticPoints = this.vertexSet();
@@ -316,19 +311,18 @@ void main() {
     setAgents(data, count) {
       const gl = this.gl;
       gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
-      gl.bufferData(gl.ARRAY_BUFFER, data.subarray(0, count * INSTANCE_FLOATS), gl.DYNAMIC_DRAW);
+      gl.bufferData(gl.ARRAY_BUFFER, data.subarray(0, count * AGENT_FLOATS), gl.DYNAMIC_DRAW);
       this.agentCount = count;
     },
-    attrib(prog, name, size, stride, offset, divisor) {
+    attrib(prog, name, size, stride, offset) {
       const gl = this.gl, loc = prog.a[name];
       if (loc === undefined || loc < 0) return;
       gl.enableVertexAttribArray(loc);
       gl.vertexAttribPointer(loc, size, gl.FLOAT, false, stride * 4, offset * 4);
-      this.inst.divisor(loc, divisor || 0);
       this.usedAttribs.push(loc);
     },
     releaseAttribs() {
-      for (const loc of this.usedAttribs) { this.inst.divisor(loc, 0); this.gl.disableVertexAttribArray(loc); }
+      for (const loc of this.usedAttribs) this.gl.disableVertexAttribArray(loc);
       this.usedAttribs = [];
     },
     usedAttribs: [],
@@ -368,23 +362,21 @@ void main() {
       this.drawSet(this.staticPoints, gl.POINTS, this.progs.point, vp, 5 * dpr);
       this.drawSet(this.foodPoints, gl.POINTS, this.progs.point, vp, 4 * dpr);
       if (this.agentCount) {
-        // One instanced draw call for every agent of the frame.
+        // One draw call for every agent of the frame.
         const p = this.progs.agent;
         gl.useProgram(p.p);
         gl.uniformMatrix4fv(p.u.uViewProj, false, vp);
-        gl.uniform1f(p.u.uPixelWorld, 2 / (heightPx * vp.projF));
-        gl.uniform1f(p.u.uMinPx, 7 * dpr);
-        gl.bindBuffer(gl.ARRAY_BUFFER, this.fishBuf);
-        this.attrib(p, 'aLocal', 3, 5, 0);
-        this.attrib(p, 'aTail', 1, 5, 3);
-        this.attrib(p, 'aShade', 1, 5, 4);
+        gl.uniform2f(p.u.uViewport, widthPx, heightPx);
+        gl.uniform1f(p.u.uProjF, vp.projF);
+        gl.uniform1f(p.u.uMinPx, 8 * dpr);
+        gl.uniform1f(p.u.uMaxPx, this.maxPointPx);
         gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
-        this.attrib(p, 'iPos', 3, INSTANCE_FLOATS, 0, 1);
-        this.attrib(p, 'iFwd', 3, INSTANCE_FLOATS, 3, 1);
-        this.attrib(p, 'iColor', 3, INSTANCE_FLOATS, 6, 1);
-        this.attrib(p, 'iLen', 1, INSTANCE_FLOATS, 9, 1);
-        this.attrib(p, 'iBend', 1, INSTANCE_FLOATS, 10, 1);
-        this.inst.draw(gl.TRIANGLES, 0, FISH_VERTS, this.agentCount);
+        this.attrib(p, 'iPos', 3, AGENT_FLOATS, 0);
+        this.attrib(p, 'iFwd', 3, AGENT_FLOATS, 3);
+        this.attrib(p, 'iColor', 3, AGENT_FLOATS, 6);
+        this.attrib(p, 'iLen', 1, AGENT_FLOATS, 9);
+        this.attrib(p, 'iBend', 1, AGENT_FLOATS, 10);
+        gl.drawArrays(gl.POINTS, 0, this.agentCount);
         this.releaseAttribs();
       }
       gl.disable(gl.DEPTH_TEST);
@@ -510,10 +502,10 @@ void main() {
     const f = state.frame;
     if (!f || !renderer.ok) return;
     const n = f.n;
-    if (state.instances.length < n * INSTANCE_FLOATS) state.instances = new Float32Array(Math.ceil(n * 1.25) * INSTANCE_FLOATS + INSTANCE_FLOATS);
+    if (state.instances.length < n * AGENT_FLOATS) state.instances = new Float32Array(Math.ceil(n * 1.25) * AGENT_FLOATS + AGENT_FLOATS);
     const d = state.instances, sp = state.species, bySpecies = state.colorMode === 'species';
     const grey = [0.7, 0.7, 0.7];
-    for (let i = 0, o = 0; i < n; i++, o += INSTANCE_FLOATS) {
+    for (let i = 0, o = 0; i < n; i++, o += AGENT_FLOATS) {
       const s = sp[f.species[i]];
       const c = bySpecies ? (s ? s.rgb : grey) : behaviorColor(f.behavior[i]);
       d[o] = f.pos[3 * i]; d[o + 1] = f.pos[3 * i + 1]; d[o + 2] = f.pos[3 * i + 2];
