@@ -48,20 +48,20 @@ fn browser_available(test: &str) -> bool {
     false
 }
 
-fn run_node(args: &[&Path], flags: &[&str]) {
-    let mut cmd = Command::new("node");
-    cmd.arg(repo().join("tests/browser/view.test.mjs"));
-    for (flag, path) in flags.iter().zip(args) {
-        cmd.arg(flag).arg(path);
-    }
-    let out = cmd.output().expect("run node");
+/// Runs `node tests/browser/<script> <args…>` and fails with its output when it fails.
+fn run_node(script: &str, args: &[&std::ffi::OsStr]) {
+    let out = Command::new("node")
+        .arg(repo().join("tests/browser").join(script))
+        .args(args)
+        .output()
+        .expect("run node");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     println!("{stdout}");
     eprintln!("{stderr}");
     assert!(
         out.status.success(),
-        "browser test failed ({}):\n{stdout}\n{stderr}",
+        "{script} failed ({}):\n{stdout}\n{stderr}",
         out.status
     );
 }
@@ -84,7 +84,26 @@ fn replay_page_renders_scrubs_and_inspects_in_chromium() {
         },
     );
     let smoke = shoal::view::write_html(&terrain).unwrap();
-    run_node(&[&page, &smoke], &["--page", "--smoke"]);
+    run_node(
+        "view.test.mjs",
+        &[
+            "--page".as_ref(),
+            page.as_os_str(),
+            "--smoke".as_ref(),
+            smoke.as_os_str(),
+        ],
+    );
+}
+
+#[test]
+fn live_page_speaks_the_watch_protocol_in_chromium() {
+    if !browser_available("live_page_speaks_the_watch_protocol_in_chromium") {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let page = tmp.path().join("live.html");
+    std::fs::write(&page, shoal::view::live_html()).unwrap();
+    run_node("live.test.mjs", &[page.as_os_str()]);
 }
 
 /// Page size and frame rate with 10,000 agents; run with `cargo test --test view_browser -- --ignored`.
@@ -104,5 +123,5 @@ fn replay_page_with_10k_agents_frame_rate() {
         },
     );
     let page = shoal::view::write_html(&run).unwrap();
-    run_node(&[&page], &["--perf"]);
+    run_node("view.test.mjs", &["--perf".as_ref(), page.as_os_str()]);
 }
