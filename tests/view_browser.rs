@@ -4,6 +4,7 @@
 
 mod fixtures;
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -29,7 +30,10 @@ fn missing_prerequisites() -> Vec<String> {
         .join("tests/browser/node_modules/playwright-core")
         .exists()
     {
-        missing.push("tests/browser/node_modules/playwright-core (npm ci --prefix tests/browser)".to_string());
+        missing.push(
+            "tests/browser/node_modules/playwright-core (npm ci --prefix tests/browser)"
+                .to_string(),
+        );
     }
     missing
 }
@@ -44,7 +48,11 @@ fn browser_available(test: &str) -> bool {
     if std::env::var_os("CI").is_some() {
         panic!("{test}: browser test prerequisites missing under CI: {what}; run `bash tests/browser/setup.sh`");
     }
-    eprintln!("SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it");
+    // Written to the process's stderr directly so the test harness does not capture it.
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it"
+    );
     false
 }
 

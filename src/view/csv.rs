@@ -209,7 +209,9 @@ pub(crate) fn scan_trajectories(
                         path,
                         line,
                         1,
-                        format!("tick {tick} after tick {t}: rows must be grouped by ascending tick"),
+                        format!(
+                            "tick {tick} after tick {t}: rows must be grouped by ascending tick"
+                        ),
                         text,
                     ))
                 }
@@ -388,7 +390,9 @@ pub(crate) fn read_food(path: &Path, allow_truncated_tail: bool) -> Result<FoodF
             if tick < prev {
                 return Err(f.error(
                     0,
-                    format!("tick {tick} after tick {prev}: rows must be grouped by ascending tick"),
+                    format!(
+                        "tick {tick} after tick {prev}: rows must be grouped by ascending tick"
+                    ),
                 ));
             }
         }

@@ -60,15 +60,8 @@ fn field<'v>(
     line: usize,
     text: &str,
 ) -> Result<&'v Value, ViewError> {
-    v.get(name).ok_or_else(|| {
-        located(
-            path,
-            line,
-            1,
-            format!("event has no `{name}` field"),
-            text,
-        )
-    })
+    v.get(name)
+        .ok_or_else(|| located(path, line, 1, format!("event has no `{name}` field"), text))
 }
 
 fn uint(v: &Value, name: &str, path: &Path, line: usize, text: &str) -> Result<u64, ViewError> {
@@ -144,7 +137,11 @@ impl Events {
                 let stack = match v.get("stack") {
                     Some(Value::Array(items)) => items
                         .iter()
-                        .map(|s| s.as_str().map(str::to_string).unwrap_or_else(|| s.to_string()))
+                        .map(|s| {
+                            s.as_str()
+                                .map(str::to_string)
+                                .unwrap_or_else(|| s.to_string())
+                        })
                         .collect::<Vec<_>>()
                         .join(" > "),
                     _ => String::new(),
@@ -165,30 +162,26 @@ impl Events {
                 self.deaths
                     .insert(agent as u32, (tick, string(&v, "cause")));
             }
-            "script_error" => {
-                if self.script_errors.len() < MAX_LISTED {
-                    let text = format!(
-                        "{}:{}:{}: {} (agent {}, {})",
-                        string(&v, "file"),
-                        string(&v, "line"),
-                        string(&v, "col"),
-                        string(&v, "message"),
-                        string(&v, "agent"),
-                        string(&v, "species"),
-                    );
-                    self.script_errors.push(ListedEvent { tick, text });
-                }
+            "script_error" if self.script_errors.len() < MAX_LISTED => {
+                let text = format!(
+                    "{}:{}:{}: {} (agent {}, {})",
+                    string(&v, "file"),
+                    string(&v, "line"),
+                    string(&v, "col"),
+                    string(&v, "message"),
+                    string(&v, "agent"),
+                    string(&v, "species"),
+                );
+                self.script_errors.push(ListedEvent { tick, text });
             }
-            "reload" => {
-                if self.reloads.len() < MAX_LISTED {
-                    let accepted = v.get("accepted").and_then(Value::as_bool).unwrap_or(false);
-                    let text = format!(
-                        "version {} {}",
-                        string(&v, "version"),
-                        if accepted { "accepted" } else { "rejected" }
-                    );
-                    self.reloads.push(ListedEvent { tick, text });
-                }
+            "reload" if self.reloads.len() < MAX_LISTED => {
+                let accepted = v.get("accepted").and_then(Value::as_bool).unwrap_or(false);
+                let text = format!(
+                    "version {} {}",
+                    string(&v, "version"),
+                    if accepted { "accepted" } else { "rejected" }
+                );
+                self.reloads.push(ListedEvent { tick, text });
             }
             _ => {}
         }

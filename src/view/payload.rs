@@ -230,7 +230,10 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
         u32s("h_from", &tr.iter().map(|t| t.from).collect::<Vec<_>>()),
         u32s("h_to", &tr.iter().map(|t| t.to).collect::<Vec<_>>()),
         u32s("h_cause", &tr.iter().map(|t| t.cause).collect::<Vec<_>>()),
-        u32s("h_cond", &tr.iter().map(|t| t.condition).collect::<Vec<_>>()),
+        u32s(
+            "h_cond",
+            &tr.iter().map(|t| t.condition).collect::<Vec<_>>(),
+        ),
         u32s("h_stack", &tr.iter().map(|t| t.stack).collect::<Vec<_>>()),
     ];
 

@@ -35,7 +35,13 @@ fn write_run(dir: &Path, status: &str) {
     let mut t = vec![HEADER.to_string()];
     for tick in [0u64, 2, 4] {
         t.push(row(tick, 1, "reef_fish", tick as f32, "wander"));
-        t.push(row(tick, 2, "shark", 0.0, if tick < 2 { "patrol" } else { "hunt" }));
+        t.push(row(
+            tick,
+            2,
+            "shark",
+            0.0,
+            if tick < 2 { "patrol" } else { "hunt" },
+        ));
         if tick < 4 {
             t.push(row(tick, 5, "crab", 0.0, "scuttle"));
         }
@@ -187,7 +193,10 @@ fn incomplete_run_sets_flag_and_skips_unfinished_line() {
     assert_eq!(p.meta["incomplete"], true);
     assert_eq!(p.meta["frames"]["count"], 3);
     let notes = p.meta["notes"].as_array().unwrap();
-    assert!(notes[0].as_str().unwrap().contains("trajectories.csv"), "{notes:?}");
+    assert!(
+        notes[0].as_str().unwrap().contains("trajectories.csv"),
+        "{notes:?}"
+    );
 
     write_run(tmp.path(), "complete");
     assert_eq!(build(tmp.path()).meta["incomplete"], false);
@@ -230,7 +239,9 @@ fn wrong_field_count_and_header_are_located() {
     fs::write(&path, "tick,id,x,y,z\n0,1,1,2\n").unwrap();
     let err = build_html(tmp.path()).unwrap_err();
     assert_eq!((err.file(), err.line()), (path.as_path(), Some(2)));
-    assert!(err.to_string().contains("expected 5 comma-separated fields"));
+    assert!(err
+        .to_string()
+        .contains("expected 5 comma-separated fields"));
 
     fs::write(&path, "tick,x,y,z\n").unwrap();
     let err = build_html(tmp.path()).unwrap_err();
@@ -295,7 +306,10 @@ fn terrain_size_is_checked() {
     );
     fs::write(tmp.path().join("world.json"), world).unwrap();
     let err = build_html(tmp.path()).unwrap_err();
-    assert!(err.to_string().contains("expected cols * rows = 4"), "{err}");
+    assert!(
+        err.to_string().contains("expected cols * rows = 4"),
+        "{err}"
+    );
 }
 
 #[test]
