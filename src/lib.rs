@@ -21,4 +21,5 @@ pub mod species;
 pub mod steering;
 pub mod terrain;
 pub mod tick;
+pub mod view;
 pub mod world;
