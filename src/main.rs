@@ -39,6 +39,20 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // Output piped into `head` and closed early is not an error worth a backtrace.
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if msg.contains("Broken pipe") {
+            std::process::exit(141);
+        }
+        default_hook(info);
+    }));
     let args = Args::parse();
     let command = args
         .command

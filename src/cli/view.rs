@@ -1,12 +1,38 @@
-//! `shoal view`.
+//! `shoal view DIR [--open]`: writes the self-contained replay page of a recorded run.
 
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Arguments of `shoal view`.
 #[derive(clap::Args, Debug, Default)]
-pub struct ViewArgs {}
+pub struct ViewArgs {
+    /// A run folder written by `shoal run`.
+    pub dir: PathBuf,
+    /// Open the page in the default browser afterwards.
+    #[arg(long)]
+    pub open: bool,
+}
 
 /// Runs `shoal view`.
-pub fn view(_args: ViewArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`shoal view` is not available in this build yet")
+pub fn view(args: ViewArgs) -> anyhow::Result<ExitCode> {
+    let page = match shoal::view::write_html(&args.dir) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("{e}");
+            return Ok(ExitCode::from(super::BAD_INPUT));
+        }
+    };
+    println!("viewer written to {}", page.display());
+    if args.open {
+        let opener = if cfg!(target_os = "macos") {
+            "open"
+        } else {
+            "xdg-open"
+        };
+        match std::process::Command::new(opener).arg(&page).spawn() {
+            Ok(_) => println!("opened with {opener}"),
+            Err(e) => eprintln!("could not open it with {opener}: {e}; open the file in a browser"),
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -222,7 +222,7 @@ impl Recorder {
             "scenario": run.scenario.name,
             "scenario_file": run.scenario.file.display().to_string(),
             "seed": run.world.seed,
-            "dt": run.world.dt,
+            "dt": format!("{}", run.world.dt).parse::<f64>().unwrap_or(run.world.dt as f64),
             "ticks": run.world.tick,
             "total_ticks": run.total_ticks,
             "record_interval": self.interval,
