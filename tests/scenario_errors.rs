@@ -1,0 +1,111 @@
+//! Malformed scenarios: each gives a `file:line:col` diagnostic and exit code 2.
+
+use std::path::Path;
+use std::process::Command;
+
+fn check(dir: &Path, name: &str, text: &str) -> (i32, String) {
+    let file = dir.join(name);
+    std::fs::write(&file, text).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .arg("run")
+        .arg(&file)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// A scenario folder beside a copy of the shipped species.
+fn setup() -> tempfile::TempDir {
+    let t = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(t.path().join("scenarios")).unwrap();
+    std::fs::create_dir_all(t.path().join("behaviors")).unwrap();
+    for f in ["reef_fish.ron", "reef_fish.rhai", "shark.ron"] {
+        std::fs::copy(Path::new("behaviors").join(f), t.path().join("behaviors").join(f)).unwrap();
+    }
+    t
+}
+
+const GOOD: &str = r#"Scenario(
+    duration: 1.0,
+    bounds: (min: (-10.0, 0.0, -10.0), max: (10.0, 10.0, 10.0)),
+    species: ["reef_fish"],
+    groups: [
+        (species: "reef_fish", count: 5, region: (min: (-5.0, 1.0, -5.0), max: (5.0, 5.0, 5.0))),
+    ],
+)
+"#;
+
+#[test]
+fn a_good_scenario_runs() {
+    let t = setup();
+    let (code, err) = check(&t.path().join("scenarios"), "good.ron", GOOD);
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn syntax_error_is_located() {
+    let t = setup();
+    let text = GOOD.replace("duration: 1.0,", "duration: 1.0");
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.ron:3:5: "), "{err}");
+    assert!(err.contains("3 |     bounds:"), "{err}");
+}
+
+#[test]
+fn unknown_species_is_located() {
+    let t = setup();
+    let text = GOOD.replace("(species: \"reef_fish\", count", "(species: \"reef_fsh\", count");
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("bad.ron:6:19: unknown species \"reef_fsh\": the scenario loads reef_fish"),
+        "{err}"
+    );
+}
+
+#[test]
+fn negative_count_is_located() {
+    let t = setup();
+    let text = GOOD.replace("count: 5", "count: -3");
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.ron:6:32: `count` must be ≥ 0, not -3"), "{err}");
+}
+
+#[test]
+fn region_outside_bounds_is_located() {
+    let t = setup();
+    let text = GOOD.replace("max: (5.0, 5.0, 5.0)", "max: (50.0, 5.0, 5.0)");
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("bad.ron:6:42: group of \"reef_fish\": spawn region [-5.0, 1.0, -5.0]..[50.0, 5.0, 5.0] is outside the world bounds"),
+        "{err}"
+    );
+}
+
+#[test]
+fn missing_species_file_is_located() {
+    let t = setup();
+    let text = GOOD.replace("species: [\"reef_fish\"]", "species: [\"reef_fish\", \"octopus\"]");
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.ron:4:28: species file \""), "{err}");
+    assert!(err.contains("octopus.ron\" not found"), "{err}");
+}
+
+#[test]
+fn missing_scenario_file_is_reported() {
+    let t = setup();
+    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "no/such/scenario.ron"])
+        .current_dir(t.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no/such/scenario.ron: cannot read scenario: No such file"), "{err}");
+}
