@@ -13,7 +13,10 @@ fn check(dir: &Path, name: &str, text: &str) -> (i32, String) {
         .arg(dir.join("out"))
         .output()
         .unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 /// A scenario folder beside a copy of the shipped species.
@@ -22,7 +25,11 @@ fn setup() -> tempfile::TempDir {
     std::fs::create_dir_all(t.path().join("scenarios")).unwrap();
     std::fs::create_dir_all(t.path().join("behaviors")).unwrap();
     for f in ["reef_fish.ron", "reef_fish.rhai", "shark.ron"] {
-        std::fs::copy(Path::new("behaviors").join(f), t.path().join("behaviors").join(f)).unwrap();
+        std::fs::copy(
+            Path::new("behaviors").join(f),
+            t.path().join("behaviors").join(f),
+        )
+        .unwrap();
     }
     t
 }
@@ -57,7 +64,10 @@ fn syntax_error_is_located() {
 #[test]
 fn unknown_species_is_located() {
     let t = setup();
-    let text = GOOD.replace("(species: \"reef_fish\", count", "(species: \"reef_fsh\", count");
+    let text = GOOD.replace(
+        "(species: \"reef_fish\", count",
+        "(species: \"reef_fsh\", count",
+    );
     let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
     assert_eq!(code, 2);
     assert!(
@@ -72,7 +82,10 @@ fn negative_count_is_located() {
     let text = GOOD.replace("count: 5", "count: -3");
     let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
     assert_eq!(code, 2);
-    assert!(err.contains("bad.ron:6:32: `count` must be ≥ 0, not -3"), "{err}");
+    assert!(
+        err.contains("bad.ron:6:32: `count` must be ≥ 0, not -3"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -90,7 +103,10 @@ fn region_outside_bounds_is_located() {
 #[test]
 fn missing_species_file_is_located() {
     let t = setup();
-    let text = GOOD.replace("species: [\"reef_fish\"]", "species: [\"reef_fish\", \"octopus\"]");
+    let text = GOOD.replace(
+        "species: [\"reef_fish\"]",
+        "species: [\"reef_fish\", \"octopus\"]",
+    );
     let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
     assert_eq!(code, 2);
     assert!(err.contains("bad.ron:4:28: species file \""), "{err}");
@@ -107,5 +123,8 @@ fn missing_scenario_file_is_reported() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("no/such/scenario.ron: cannot read scenario: No such file"), "{err}");
+    assert!(
+        err.contains("no/such/scenario.ron: cannot read scenario: No such file"),
+        "{err}"
+    );
 }

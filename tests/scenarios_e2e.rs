@@ -5,7 +5,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn shoal(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_shoal")).args(args).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(args)
+        .output()
+        .unwrap();
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -29,7 +32,10 @@ fn read_rows(dir: &Path) -> Vec<Row> {
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
             assert_eq!(f.len(), 18, "row {l}");
-            let n = |i: usize| f[i].parse::<f64>().unwrap_or_else(|_| panic!("field {i} of {l}"));
+            let n = |i: usize| {
+                f[i].parse::<f64>()
+                    .unwrap_or_else(|_| panic!("field {i} of {l}"))
+            };
             for i in [1, 4, 5, 6, 7, 8, 9, 10, 13, 14, 15, 16, 17] {
                 assert!(n(i).is_finite(), "{l}");
             }
@@ -56,7 +62,10 @@ fn events(dir: &Path) -> Vec<serde_json::Value> {
         .lines()
         .map(|l| {
             let v: serde_json::Value = serde_json::from_str(l).unwrap();
-            assert!(v["tick"].is_u64() && v["kind"].is_string() && v["time"].is_number(), "{l}");
+            assert!(
+                v["tick"].is_u64() && v["kind"].is_string() && v["time"].is_number(),
+                "{l}"
+            );
             v
         })
         .collect()
@@ -72,19 +81,33 @@ fn run_checked(scenario: &str, extra: &[&str]) -> (tempfile::TempDir, PathBuf) {
     let (code, out, err) = shoal(&args);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("output written to"), "{out}");
-    let manifest: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["status"], "complete");
     assert!(!dir.join("INCOMPLETE").exists());
-    assert!(manifest["files"].as_object().unwrap().values().all(|h| h.as_str().unwrap().len() == 64));
-    let world: serde_json::Value = serde_json::from_slice(&std::fs::read(dir.join("world.json")).unwrap()).unwrap();
-    assert!(world["species"].as_array().unwrap().iter().all(|s| s["behaviors"].as_array().is_some_and(|b| !b.is_empty())));
+    assert!(manifest["files"]
+        .as_object()
+        .unwrap()
+        .values()
+        .all(|h| h.as_str().unwrap().len() == 64));
+    let world: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("world.json")).unwrap()).unwrap();
+    assert!(world["species"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|s| s["behaviors"].as_array().is_some_and(|b| !b.is_empty())));
     let food = std::fs::read_to_string(dir.join("food.csv")).unwrap();
     assert!(food.starts_with("tick,id,x,y,z\n"));
     // Re-run from the stored inputs: identical bytes.
     let (code, out, err) = shoal(&["rerun", d]);
     assert_eq!(code, 0, "rerun differs:\n{out}{err}");
     for f in ["trajectories.csv", "events.jsonl", "food.csv"] {
-        assert_eq!(std::fs::read(dir.join(f)).unwrap(), std::fs::read(dir.join("rerun").join(f)).unwrap(), "{f}");
+        assert_eq!(
+            std::fs::read(dir.join(f)).unwrap(),
+            std::fs::read(dir.join("rerun").join(f)).unwrap(),
+            "{f}"
+        );
     }
     (t, dir)
 }
@@ -93,7 +116,10 @@ fn run_checked(scenario: &str, extra: &[&str]) -> (tempfile::TempDir, PathBuf) {
 fn polarization(rows: &[Row], tick: u64, species: &str) -> f64 {
     let mut s = [0.0; 3];
     let mut n = 0.0;
-    for r in rows.iter().filter(|r| r.tick == tick && r.species == species) {
+    for r in rows
+        .iter()
+        .filter(|r| r.tick == tick && r.species == species)
+    {
         for k in 0..3 {
             s[k] += r.fwd[k];
         }
@@ -104,9 +130,15 @@ fn polarization(rows: &[Row], tick: u64, species: &str) -> f64 {
 
 /// Mean distance from the species' centroid at a tick.
 fn spread(rows: &[Row], tick: u64, species: &str) -> f64 {
-    let pts: Vec<[f64; 3]> = rows.iter().filter(|r| r.tick == tick && r.species == species).map(|r| r.pos).collect();
+    let pts: Vec<[f64; 3]> = rows
+        .iter()
+        .filter(|r| r.tick == tick && r.species == species)
+        .map(|r| r.pos)
+        .collect();
     let n = pts.len() as f64;
-    let c: Vec<f64> = (0..3).map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n).collect();
+    let c: Vec<f64> = (0..3)
+        .map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n)
+        .collect();
     pts.iter()
         .map(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt())
         .sum::<f64>()
@@ -117,10 +149,16 @@ fn spread(rows: &[Row], tick: u64, species: &str) -> f64 {
 fn reef_runs_records_and_reruns_identically() {
     let (_t, dir) = run_checked("scenarios/reef.ron", &["--duration", "8"]);
     let rows = read_rows(&dir);
-    let species: std::collections::BTreeSet<&str> = rows.iter().map(|r| r.species.as_str()).collect();
-    assert_eq!(species.into_iter().collect::<Vec<_>>(), vec!["reef_fish", "sardine", "shark"]);
+    let species: std::collections::BTreeSet<&str> =
+        rows.iter().map(|r| r.species.as_str()).collect();
+    assert_eq!(
+        species.into_iter().collect::<Vec<_>>(),
+        vec!["reef_fish", "sardine", "shark"]
+    );
     let ev = events(&dir);
-    assert!(ev.iter().any(|e| e["kind"] == "transition" && e["cause"].is_string() && e["condition"].is_string()));
+    assert!(ev.iter().any(|e| e["kind"] == "transition"
+        && e["cause"].is_string()
+        && e["condition"].is_string()));
     assert!(ev.iter().filter(|e| e["kind"] == "spawn").count() >= 501);
 }
 
@@ -135,7 +173,10 @@ fn predator_attack_sharks_catch_fish() {
     assert_eq!(catches, deaths);
     // Sharks arrive at t = 5 s: sardines escape.
     let rows = read_rows(&dir);
-    let escaping = rows.iter().filter(|r| r.species == "sardine" && r.behavior == "escape" && r.tick > 100).count();
+    let escaping = rows
+        .iter()
+        .filter(|r| r.species == "sardine" && r.behavior == "escape" && r.tick > 100)
+        .count();
     assert!(escaping > 0, "no sardine ever escaped");
 }
 
@@ -144,7 +185,10 @@ fn school_formation_sardines_form_one_school() {
     let (_t, dir) = run_checked("scenarios/school_formation.ron", &[]);
     let rows = read_rows(&dir);
     let last = rows.iter().map(|r| r.tick).max().unwrap();
-    let (p0, p1) = (polarization(&rows, 0, "sardine"), polarization(&rows, last, "sardine"));
+    let (p0, p1) = (
+        polarization(&rows, 0, "sardine"),
+        polarization(&rows, last, "sardine"),
+    );
     let (s0, s1) = (spread(&rows, 0, "sardine"), spread(&rows, last, "sardine"));
     eprintln!("polarization {p0:.3} -> {p1:.3}, spread {s0:.2} -> {s1:.2}");
     assert!(p0 < 0.5, "starts unordered: {p0}");

@@ -133,3 +133,35 @@ fn replay_page_with_10k_agents_frame_rate() {
     let page = shoal::view::write_html(&run).unwrap();
     run_node("view.test.mjs", &["--perf".as_ref(), page.as_os_str()]);
 }
+
+/// The page of a real recording (`shoal run scenarios/tiny.ron`, then `shoal view`).
+#[test]
+fn replay_page_of_a_recorded_run_in_chromium() {
+    if !browser_available("replay_page_of_a_recorded_run_in_chromium") {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tiny");
+    let run = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(["run", "scenarios/tiny.ron", "--quiet", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let view = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .arg("view")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        view.status.success(),
+        "{}",
+        String::from_utf8_lossy(&view.stderr)
+    );
+    let page = dir.join("view.html");
+    run_node("view.test.mjs", &["--page".as_ref(), page.as_os_str()]);
+}

@@ -1086,6 +1086,7 @@ void main() {
       return screenPosOfRow(i, computeViewProj(), canvas.getBoundingClientRect());
     },
     ids: () => (state.frame ? Array.from(state.frame.ids) : []),
+    speciesCount: () => (state.world && state.world.species ? state.world.species.length : 0),
     stats: () => ({ renders: state.renders, frames: state.applied }),
     play: (speed) => { if (speed) source.setSpeed(speed); source.setPlaying(true); },
   };
