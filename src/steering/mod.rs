@@ -19,6 +19,9 @@ pub mod group;
 pub mod recipe;
 pub mod wander;
 
+#[cfg(test)]
+mod props;
+
 use crate::frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
