@@ -186,6 +186,9 @@ impl Pipeline {
         };
         // Start digestion where the initial hunger says: n_e·r(Δt)/n_a = 1 − H.
         drives.eaten = (1.0 - drives.hunger).max(0.0) * d.drives.params.appetite;
+        // Likewise the mating clock: l(Δt_L)·(1 − H) = L.
+        drives.since_mating =
+            drives::since_mating_for(drives.libido, drives.hunger, &d.drives.params);
         let mut mind = Mind::new(sp.initial, sp.behaviors.len(), sp.slots.len());
         mind.script_steer = vec![Vec::new(); sp.steer_slots];
         mind.entered_tick = world.tick;
@@ -436,7 +439,9 @@ impl Pipeline {
                         agent: world.agents[i].id,
                         mate: world.agents[j].id,
                     });
+                    // Both partners hear of it (each may note it, e.g. to leave the other).
                     self.on_event(world, i, "mating", tick);
+                    self.on_event(world, j, "mating", tick);
                 }
             }
             _ => {}

@@ -83,6 +83,18 @@ pub fn libido(since_mating: f32, hunger: f32, stimulus: f32, p: &DriveParams) ->
     clamp01(p.p1 * since_mating * (1.0 - hunger) + p.a_l * stimulus)
 }
 
+/// The time since the last mating Δt_L at which [`libido`] gives `libido` for this hunger (no mate
+/// stimulus): `Δt_L = L/(p1·(1 − H))`, 0 when that has no solution. Used to start an agent with a
+/// given libido, as its hunger starts from `n_e`.
+pub fn since_mating_for(libido: f32, hunger: f32, p: &DriveParams) -> f32 {
+    let room = p.p1 * (1.0 - hunger);
+    if libido > 0.0 && room > 0.0 && (libido / room).is_finite() {
+        libido / room
+    } else {
+        0.0
+    }
+}
+
 /// Fear term of one predator: `F_i = min(D0/d_i, 1)` (1 when d_i is 0).
 pub fn fear_term(dist: f32, d0: f32) -> f32 {
     if dist <= 0.0 {
@@ -141,6 +153,10 @@ mod tests {
         assert!((libido(200.0, 0.2, 0.0, &p) - 0.4).abs() < 1e-6);
         assert_eq!(libido(200.0, 1.0, 0.0, &p), 0.0);
         assert_eq!(libido(1e6, 0.0, 0.0, &p), 1.0);
+        // Starting libido 0.4 at H = 0.2 needs Δt_L = 0.4/(0.0025·0.8) = 200 s.
+        assert!((since_mating_for(0.4, 0.2, &p) - 200.0).abs() < 1e-3);
+        assert_eq!(since_mating_for(0.4, 1.0, &p), 0.0);
+        assert_eq!(since_mating_for(0.0, 0.2, &p), 0.0);
     }
 
     #[test]

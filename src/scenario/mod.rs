@@ -379,10 +379,14 @@ impl Run {
             set(d.libido, &mut a.drives.libido);
             set(d.fear, &mut a.drives.fear);
             set(d.fatigue, &mut a.drives.fatigue);
+            let params = &self.scenario.species.species[s].def.drives.params;
             if d.hunger.is_some() {
-                let appetite = self.scenario.species.species[s].def.drives.params.appetite;
-                a.drives.eaten = (1.0 - a.drives.hunger).max(0.0) * appetite;
+                a.drives.eaten = (1.0 - a.drives.hunger).max(0.0) * params.appetite;
                 a.drives.since_meal = 0.0;
+            }
+            if d.hunger.is_some() || d.libido.is_some() {
+                a.drives.since_mating =
+                    crate::drives::since_mating_for(a.drives.libido, a.drives.hunger, params);
             }
         }
     }
