@@ -324,6 +324,19 @@ fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
         }
         std::fs::copy(&f, &dest)?;
     }
+    // Species named only in relations (a shark's prey that is not in this world) must still
+    // resolve when the copy is loaded again.
+    for sp in &run.scenario.species.species {
+        let r = &sp.def.relations;
+        for name in r.prey.iter().chain(&r.predators).chain(&r.kin) {
+            let src = run.scenario.behaviors_dir.join(format!("{name}.ron"));
+            let dest = inputs.join("behaviors").join(format!("{name}.ron"));
+            if !dest.exists() && src.is_file() {
+                std::fs::create_dir_all(inputs.join("behaviors"))?;
+                std::fs::copy(&src, &dest)?;
+            }
+        }
+    }
     let mut def = run.scenario.def.clone();
     def.seed = run.world.seed;
     def.duration = run.total_ticks as f32 * run.world.dt;

@@ -50,6 +50,10 @@ pub fn ron_diag(file: &Path, text: &str, e: &ron::error::SpannedError) -> Diagno
                     .join(", ")
             )
         }
+        ron::Error::ExpectedIdentifier => "expected a field name (`name: value`); a struct inside `Variant(…)` or `Some(…)` \
+             is written without its own parentheses: `Spawn(species: \"shark\", …)`, `Some(min: …, max: …)`"
+            .to_string(),
+        ron::Error::ExpectedOption => "expected an optional value: `Some(…)` or `None`".to_string(),
         other => other.to_string(),
     };
     Diagnostic::new(file, e.span.start.line, e.span.start.col, msg, Some(text))
