@@ -43,7 +43,7 @@ fn edit_distance(a: &str, b: &str) -> usize {
         let mut diag = row[0];
         row[0] = i + 1;
         for (j, &cb) in b.iter().enumerate() {
-            let next = (diag + usize::from(ca.to_ascii_lowercase() != cb.to_ascii_lowercase()))
+            let next = (diag + usize::from(!ca.eq_ignore_ascii_case(&cb)))
                 .min(row[j] + 1)
                 .min(row[j + 1] + 1);
             diag = row[j + 1];
@@ -266,6 +266,12 @@ impl Builder<'_> {
     }
 
     fn check_category(&mut self, c: Category, what: &str) {
+        self.check_category_at(c, what, &format!("{c:?}"));
+    }
+
+    /// Like `check_category`, pointing at `needle` (e.g. the primitive, when the category is
+    /// its default and not written).
+    fn check_category_at(&mut self, c: Category, what: &str, needle: &str) {
         let r = &self.def.relations;
         let ok = match c {
             Category::Food => r.eats_items || !r.prey.is_empty(),
@@ -280,7 +286,7 @@ impl Builder<'_> {
                 _ => "`relations: (mates: true)`",
             };
             self.error_at(
-                &format!("{c:?}"),
+                needle,
                 format!(
                     "{what} refers to `{c:?}`, but the species has no such relation: add {need}"
                 ),
@@ -389,11 +395,12 @@ impl Builder<'_> {
             Recipe::Script(name) => RecipeNode::Script(self.slot(name, SlotKind::Steer)),
             leaf => {
                 match leaf {
-                    Recipe::Chase(c) => self.check_category(c.target, "`Chase`"),
-                    Recipe::Escape(e) | Recipe::EscapeMirror(e) => {
-                        self.check_category(e.from, "`Escape`")
+                    Recipe::Chase(c) => self.check_category_at(c.target, "`Chase`", "Chase("),
+                    Recipe::Escape(e) => self.check_category_at(e.from, "`Escape`", "Escape("),
+                    Recipe::EscapeMirror(e) => {
+                        self.check_category_at(e.from, "`EscapeMirror`", "EscapeMirror(")
                     }
-                    Recipe::Pursue(p) => self.check_category(p.target, "`Pursue`"),
+                    Recipe::Pursue(p) => self.check_category_at(p.target, "`Pursue`", "Pursue("),
                     Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => {
                         if let Target::Nearest(c) | Target::Centroid(c) = s.target {
                             self.check_category(c, "the target")
@@ -479,9 +486,11 @@ impl Builder<'_> {
                 );
             }
             match b.contact {
-                Some(Contact::Eat { .. }) => self.check_category(Category::Food, "`contact: Eat`"),
+                Some(Contact::Eat { .. }) => {
+                    self.check_category_at(Category::Food, "`contact: Eat`", "Eat(")
+                }
                 Some(Contact::Mate { .. }) => {
-                    self.check_category(Category::Mate, "`contact: Mate`")
+                    self.check_category_at(Category::Mate, "`contact: Mate`", "Mate(")
                 }
                 None => {}
             }
