@@ -81,6 +81,7 @@ pub struct Pipeline {
     dead: Vec<bool>,
     mated: Vec<bool>,
     next_inbox: Vec<Option<MessageKind>>,
+    contacts: Vec<(usize, Contact, Source)>,
     /// Events of the last tick, in order.
     pub events: Vec<Event>,
     /// Running counters.
@@ -112,6 +113,7 @@ impl Pipeline {
             dead: Vec::new(),
             mated: Vec::new(),
             next_inbox: Vec::new(),
+            contacts: Vec::new(),
             events: Vec::new(),
             stats: Stats::default(),
             plan_targets: Vec::new(),
@@ -220,8 +222,9 @@ impl Pipeline {
         id
     }
 
-    /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
-    /// (cleared at the start of each tick, after spawns made between ticks).
+    /// Advances `world` by one tick. Events of the tick are appended to [`Pipeline::events`];
+    /// the caller clears it between ticks (`scenario::Run::step` clears it before the spawns
+    /// of its timed events, so those stay with the tick that follows).
     pub fn step(&mut self, world: &mut World) {
         let n = world.agents.len();
         let set = self.species.clone();
@@ -350,12 +353,20 @@ impl Pipeline {
                 });
             }
             if let Some((contact, source)) = out.contact {
-                if self.dead[i] {
-                    continue;
-                }
+                self.contacts.push((i, contact, source));
+            }
+        }
+        // Contacts once every agent's own outcome is in place, still in agent order, so that
+        // what a contact does to a later agent (a mating partner's reset, its `on_event`) is
+        // not overwritten by that agent's outcome.
+        let contacts = std::mem::take(&mut self.contacts);
+        for &(i, contact, source) in &contacts {
+            if !self.dead[i] {
                 self.contact(world, &set, i, contact, source, tick);
             }
         }
+        self.contacts = contacts;
+        self.contacts.clear();
         for (a, m) in world.agents.iter_mut().zip(self.next_inbox.iter()) {
             a.inbox = *m;
         }

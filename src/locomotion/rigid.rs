@@ -68,6 +68,11 @@ pub(super) fn step(
         0.0
     };
     m.speed += (thrust + drag + brake) / mass * dt;
+    // Braking decays geometrically and would never quite reach a stop: snap the last millimetre
+    // per second to zero when the command is to stop.
+    if target <= 0.0 && m.speed.abs() < 1e-3 {
+        m.speed = 0.0;
+    }
     let yaw_torque = (p.turn_gain * dyaw - p.angular_damping * m.yaw_rate)
         .clamp(-p.max_yaw_torque, p.max_yaw_torque);
     let pitch_torque = (p.turn_gain * dpitch - p.angular_damping * m.pitch_rate)
@@ -127,6 +132,27 @@ mod tests {
         }
         // Equilibrium below the target: thrust 6·(2−v) = drag 0.5·v² → v² + 12v − 24 = 0 → v ≈ 1.7460.
         assert!((m.speed - 1.7460).abs() < 0.01, "{}", m.speed);
+    }
+
+    #[test]
+    fn braking_to_a_stop_reaches_zero() {
+        let mut m = Motion {
+            speed: 0.8,
+            ..Default::default()
+        };
+        let mode = Mode::RigidBody(RigidParams::default());
+        let stop = Steer::Turn {
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: 0.0,
+        };
+        let mut ticks = 0;
+        while m.speed > 0.0 && ticks < 200 {
+            loco_step(&mut m, stop, &Limits::default(), &mode, Vec3::ZERO, 0.05);
+            ticks += 1;
+        }
+        assert_eq!(m.speed, 0.0, "stopped after {ticks} ticks");
+        assert!(ticks < 60, "{ticks}");
     }
 
     #[test]

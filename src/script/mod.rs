@@ -228,8 +228,20 @@ impl Script {
             .bind_this_ptr(this);
         self.engine
             .call_fn_with_options::<T>(options, scope, &self.ast, name, args)
-            .map_err(|e| CallError {
-                diagnostic: self.locate_error(&e),
+            .map_err(|e| {
+                let mut diagnostic = self.locate_error(&e);
+                // Some errors (the operation limit) carry no position: point at the function.
+                if diagnostic.line == 0 && diagnostic.file == self.file {
+                    let (line, col) = self.fn_position(name);
+                    diagnostic = Diagnostic::new(
+                        &self.file,
+                        line,
+                        col,
+                        diagnostic.message,
+                        Some(&self.text),
+                    );
+                }
+                CallError { diagnostic }
             })
     }
 

@@ -17,22 +17,76 @@ pub fn ron_options() -> ron::Options {
         .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
 }
 
+/// What designers call the types of the file format, for messages.
+fn designer_name(type_name: &str) -> &str {
+    match type_name {
+        "Recipe" => "steering recipe",
+        "Cond" => "condition",
+        "Value" => "value",
+        "Category" => "category",
+        "DriveKind" => "drive",
+        "AttrKind" => "attribute",
+        "MessageKind" => "message kind",
+        "Action" => "action",
+        "Contact" => "contact",
+        "Draw" => "draw",
+        "Target" => "target",
+        other => other,
+    }
+}
+
+/// Edit distance between two short names (for "did you mean" hints).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diag = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (diag + usize::from(!ca.eq_ignore_ascii_case(&cb)))
+                .min(row[j] + 1)
+                .min(row[j + 1] + 1);
+            diag = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+/// ` (did you mean `x`?)` when one of `known` is close to `found`, else nothing.
+pub fn did_you_mean<'a>(found: &str, known: impl IntoIterator<Item = &'a str>) -> String {
+    let best = known
+        .into_iter()
+        .map(|k| (edit_distance(found, k), k))
+        .min_by_key(|(d, _)| *d);
+    match best {
+        Some((d, k)) if d > 0 && d <= 2.max(found.chars().count() / 3) => {
+            format!(" (did you mean `{k}`?)")
+        }
+        _ => String::new(),
+    }
+}
+
 /// Turns a RON error into a located diagnostic.
 pub fn ron_diag(file: &Path, text: &str, e: &ron::error::SpannedError) -> Diagnostic {
+    let (mut line, mut col) = (e.span.start.line, e.span.start.col);
+    let list = |v: &[&str]| {
+        v.iter()
+            .map(|x| format!("`{x}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let msg = match &e.code {
         ron::Error::NoSuchEnumVariant {
             expected,
             found,
             outer,
         } => {
-            let what = outer.as_deref().unwrap_or("value");
+            let what = outer.as_deref().map_or("value", designer_name);
             format!(
-                "unknown {what} `{found}`: expected one of {}",
-                expected
-                    .iter()
-                    .map(|x| format!("`{x}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "unknown {what} `{found}`{}: expected one of {}",
+                did_you_mean(found, expected.iter().copied()),
+                list(expected)
             )
         }
         ron::Error::NoSuchStructField {
@@ -42,21 +96,51 @@ pub fn ron_diag(file: &Path, text: &str, e: &ron::error::SpannedError) -> Diagno
         } => {
             let what = outer.as_deref().unwrap_or("struct");
             format!(
-                "unknown field `{found}` in {what}: expected one of {}",
-                expected
-                    .iter()
-                    .map(|x| format!("`{x}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "unknown field `{found}` in {what}{}: expected one of {}",
+                did_you_mean(found, expected.iter().copied()),
+                list(expected)
             )
         }
         ron::Error::ExpectedIdentifier => "expected a field name (`name: value`); a struct inside `Variant(…)` or `Some(…)` \
              is written without its own parentheses: `Spawn(species: \"shark\", …)`, `Some(min: …, max: …)`"
             .to_string(),
         ron::Error::ExpectedOption => "expected an optional value: `Some(…)` or `None`".to_string(),
+        ron::Error::MissingStructField { field, outer } => match outer {
+            Some(o) => format!("`{o}` is missing its required field `{field}`"),
+            None => format!("missing required field `{field}`"),
+        },
+        ron::Error::ExpectedComma => {
+            // RON notices a missing comma at the next token; point just after the previous one,
+            // where the comma belongs.
+            if let Some((l, c)) = end_of_previous_token(text, line, col) {
+                (line, col) = (l, c);
+            }
+            "expected a `,` here, between two fields or list entries".to_string()
+        }
         other => other.to_string(),
     };
-    Diagnostic::new(file, e.span.start.line, e.span.start.col, msg, Some(text))
+    Diagnostic::new(file, line, col, msg, Some(text))
+}
+
+/// Line and column just after the last non-blank, non-comment character before `line:col`.
+fn end_of_previous_token(text: &str, line: usize, col: usize) -> Option<(usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut l = line.checked_sub(1)?;
+    let mut upto = col.saturating_sub(1);
+    loop {
+        let full = lines.get(l)?;
+        let chars: Vec<char> = full.chars().collect();
+        let mut head: String = chars[..upto.min(chars.len())].iter().collect();
+        if let Some(i) = head.find("//") {
+            head.truncate(i);
+        }
+        let trimmed = head.trim_end();
+        if !trimmed.is_empty() {
+            return Some((l + 1, trimmed.chars().count() + 1));
+        }
+        l = l.checked_sub(1)?;
+        upto = usize::MAX;
+    }
 }
 
 /// Line and column (1-based) of the first occurrence of `needle` at or after byte `from`.
@@ -186,6 +270,12 @@ impl Builder<'_> {
     }
 
     fn check_category(&mut self, c: Category, what: &str) {
+        self.check_category_at(c, what, &format!("{c:?}"));
+    }
+
+    /// Like `check_category`, pointing at `needle` (e.g. the primitive, when the category is
+    /// its default and not written).
+    fn check_category_at(&mut self, c: Category, what: &str, needle: &str) {
         let r = &self.def.relations;
         let ok = match c {
             Category::Food => r.eats_items || !r.prey.is_empty(),
@@ -200,7 +290,7 @@ impl Builder<'_> {
                 _ => "`relations: (mates: true)`",
             };
             self.error_at(
-                &format!("{c:?}"),
+                needle,
                 format!(
                     "{what} refers to `{c:?}`, but the species has no such relation: add {need}"
                 ),
@@ -309,11 +399,12 @@ impl Builder<'_> {
             Recipe::Script(name) => RecipeNode::Script(self.slot(name, SlotKind::Steer)),
             leaf => {
                 match leaf {
-                    Recipe::Chase(c) => self.check_category(c.target, "`Chase`"),
-                    Recipe::Escape(e) | Recipe::EscapeMirror(e) => {
-                        self.check_category(e.from, "`Escape`")
+                    Recipe::Chase(c) => self.check_category_at(c.target, "`Chase`", "Chase("),
+                    Recipe::Escape(e) => self.check_category_at(e.from, "`Escape`", "Escape("),
+                    Recipe::EscapeMirror(e) => {
+                        self.check_category_at(e.from, "`EscapeMirror`", "EscapeMirror(")
                     }
-                    Recipe::Pursue(p) => self.check_category(p.target, "`Pursue`"),
+                    Recipe::Pursue(p) => self.check_category_at(p.target, "`Pursue`", "Pursue("),
                     Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => {
                         if let Target::Nearest(c) | Target::Centroid(c) = s.target {
                             self.check_category(c, "the target")
@@ -375,7 +466,8 @@ impl Builder<'_> {
                     ),
                 );
             }
-            if b.when == Cond::Never && b.name != def.initial {
+            let initial_defined = def.behaviors.iter().any(|x| x.name == def.initial);
+            if b.when == Cond::Never && b.name != def.initial && initial_defined {
                 self.error_at(
                     &needle,
                     format!(
@@ -398,9 +490,11 @@ impl Builder<'_> {
                 );
             }
             match b.contact {
-                Some(Contact::Eat { .. }) => self.check_category(Category::Food, "`contact: Eat`"),
+                Some(Contact::Eat { .. }) => {
+                    self.check_category_at(Category::Food, "`contact: Eat`", "Eat(")
+                }
                 Some(Contact::Mate { .. }) => {
-                    self.check_category(Category::Mate, "`contact: Mate`")
+                    self.check_category_at(Category::Mate, "`contact: Mate`", "Mate(")
                 }
                 None => {}
             }
@@ -461,14 +555,22 @@ impl Builder<'_> {
             Some(i) => i as u16,
             None => {
                 let names: Vec<&str> = def.behaviors.iter().map(|b| b.name.as_str()).collect();
+                // Point at the name after `initial:`, not at the first mention of it.
+                self.cursor = locate(self.text, "initial", 0).map_or(0, |x| x.2);
                 self.error_at(
-                    "initial",
+                    &format!("\"{}\"", def.initial),
                     format!(
-                        "undefined behavior \"{}\": expected one of {}",
+                        "`initial` names an undefined behavior \"{}\"{}: the species defines {}",
                         def.initial,
-                        names.join(", ")
+                        did_you_mean(&def.initial, names.iter().copied()),
+                        names
+                            .iter()
+                            .map(|n| format!("\"{n}\""))
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 );
+                self.cursor = 0;
                 0
             }
         };

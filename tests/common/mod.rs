@@ -1,0 +1,229 @@
+//! Helpers shared by the species tests: small worlds built with the library API.
+#![allow(dead_code)]
+
+use glam::Vec3;
+use shoal::events::{Cause, Event};
+use shoal::scenario::script_limits;
+use shoal::species::{load_species, Species, SpeciesSet};
+use shoal::tick::Pipeline;
+use shoal::world::{Aabb, Agent, AgentId, World};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The shipped behaviors folder.
+pub fn behaviors() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("behaviors")
+}
+
+/// Loads one species file; panics with the diagnostics on failure.
+pub fn load(file: &Path, root: &Path) -> Species {
+    load_species(file, root, &script_limits()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A transition as names, for readable assertions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Change {
+    /// Tick of the step it happened in.
+    pub tick: u64,
+    /// Agent.
+    pub agent: AgentId,
+    /// From behavior.
+    pub from: String,
+    /// To behavior.
+    pub to: String,
+    /// Cause.
+    pub cause: Cause,
+    /// Condition text.
+    pub condition: Option<String>,
+    /// Stack after the change, bottom first.
+    pub stack: Vec<String>,
+}
+
+/// A world, a pipeline and the events of every tick run so far.
+pub struct Sim {
+    pub world: World,
+    pub pipe: Pipeline,
+    /// Every event with the tick it happened in.
+    pub log: Vec<(u64, Event)>,
+}
+
+impl Sim {
+    /// A world of `bounds` with these species (relations may name species not loaded).
+    pub fn new(species: Vec<Species>, bounds: Aabb) -> Sim {
+        let set = SpeciesSet::with_library(species.into_iter().map(Arc::new).collect(), |_| true)
+            .unwrap_or_else(|e| panic!("{e}"));
+        Sim {
+            world: World::new(bounds, 0.05, 11),
+            pipe: Pipeline::new(Arc::new(set)),
+            log: Vec::new(),
+        }
+    }
+
+    /// The shipped species named, in a box of ±50 (height 0..40).
+    pub fn shipped(names: &[&str]) -> Sim {
+        let root = behaviors();
+        let species = names
+            .iter()
+            .map(|n| load(&root.join(format!("{n}.ron")), &root))
+            .collect();
+        Sim::new(
+            species,
+            Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 40.0, 50.0)),
+        )
+    }
+
+    /// Spawns an agent of `species` at `pos` heading `yaw` (level).
+    pub fn spawn(&mut self, species: &str, pos: Vec3, yaw: f32) -> AgentId {
+        let s = self
+            .pipe
+            .species
+            .index_of(species)
+            .unwrap_or_else(|| panic!("no species {species}"));
+        self.pipe.spawn(&mut self.world, s, pos, yaw, 0.0)
+    }
+
+    /// One tick; its events are appended to the log.
+    pub fn step(&mut self) {
+        let tick = self.world.tick;
+        self.pipe.events.clear();
+        self.pipe.step(&mut self.world);
+        self.log
+            .extend(self.pipe.events.iter().cloned().map(|e| (tick, e)));
+    }
+
+    /// Steps until `done` holds (checked after each tick) or `max` ticks pass; returns the number
+    /// of ticks run when it held.
+    pub fn run_until(&mut self, max: u64, mut done: impl FnMut(&Sim) -> bool) -> Option<u64> {
+        for k in 1..=max {
+            self.step();
+            if done(self) {
+                return Some(k);
+            }
+        }
+        None
+    }
+
+    /// Steps `n` ticks.
+    pub fn run(&mut self, n: u64) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    /// The agent (panics when it is gone).
+    pub fn agent(&self, id: AgentId) -> &Agent {
+        self.world.agent(id).expect("agent alive")
+    }
+
+    /// The agent, mutable.
+    pub fn agent_mut(&mut self, id: AgentId) -> &mut Agent {
+        let i = self.world.agent_index(id).expect("agent alive");
+        &mut self.world.agents[i]
+    }
+
+    /// Whether the agent is alive.
+    pub fn alive(&self, id: AgentId) -> bool {
+        self.world.agent(id).is_some()
+    }
+
+    /// Name of the agent's current behavior.
+    pub fn behavior(&self, id: AgentId) -> String {
+        let a = self.agent(id);
+        self.pipe.species.species[a.species.0 as usize]
+            .behavior_name(a.mind.current)
+            .to_string()
+    }
+
+    /// Names of the agent's stacked behaviors, bottom first.
+    pub fn stack(&self, id: AgentId) -> Vec<String> {
+        let a = self.agent(id);
+        let sp = &self.pipe.species.species[a.species.0 as usize];
+        a.mind
+            .stack()
+            .iter()
+            .map(|&b| sp.behavior_name(b).to_string())
+            .collect()
+    }
+
+    /// Every transition of `id` so far, as names.
+    pub fn changes(&self, id: AgentId) -> Vec<Change> {
+        self.log
+            .iter()
+            .filter_map(|(tick, e)| match e {
+                Event::Transition {
+                    agent,
+                    species,
+                    from,
+                    to,
+                    cause,
+                    condition,
+                    stack,
+                } if *agent == id => {
+                    let sp = &self.pipe.species.species[*species as usize];
+                    Some(Change {
+                        tick: *tick,
+                        agent: *agent,
+                        from: sp.behavior_name(*from).to_string(),
+                        to: sp.behavior_name(*to).to_string(),
+                        cause: *cause,
+                        condition: condition.as_deref().map(str::to_string),
+                        stack: stack
+                            .iter()
+                            .map(|&b| sp.behavior_name(b).to_string())
+                            .collect(),
+                    })
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// The last transition of `id`.
+    pub fn last_change(&self, id: AgentId) -> Change {
+        self.changes(id)
+            .pop()
+            .unwrap_or_else(|| panic!("agent {id:?} made no transition"))
+    }
+
+    /// Moves an agent somewhere (its previous position too, so nothing predicts a jump).
+    pub fn teleport(&mut self, id: AgentId, pos: Vec3) {
+        let a = self.agent_mut(id);
+        a.pos = pos;
+        a.prev_pos = pos;
+    }
+
+    /// Sets hunger through the seed 000 §2 state (meal eaten just now), so native drives keep it.
+    pub fn set_hunger(&mut self, id: AgentId, hunger: f32) {
+        let i = self.world.agent_index(id).expect("agent alive");
+        let s = self.world.agents[i].species.0 as usize;
+        let appetite = self.pipe.species.species[s].def.drives.params.appetite;
+        let a = &mut self.world.agents[i];
+        a.drives.eaten = (1.0 - hunger) * appetite;
+        a.drives.since_meal = 0.0;
+        a.drives.hunger = hunger;
+    }
+
+    /// Script errors reported so far.
+    pub fn script_errors(&self) -> Vec<String> {
+        self.log
+            .iter()
+            .filter_map(|(_, e)| match e {
+                Event::ScriptError { message, .. } => Some(message.clone()),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// A temporary behaviors folder with the given files (path relative to the folder, text).
+pub fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (rel, text) in files {
+        let p = dir.path().join(rel);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent).expect("mkdir");
+        }
+        std::fs::write(&p, text).expect("write");
+    }
+    dir
+}

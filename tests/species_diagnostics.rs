@@ -1,0 +1,380 @@
+//! Bad species and script files: every problem is reported with its file, line, column and a
+//! message that says what is wrong; scripts that fail at run time are reported once per agent
+//! while the run goes on.
+
+mod common;
+
+use common::{folder, load, Sim};
+use glam::Vec3;
+use shoal::diag::Diagnostic;
+use shoal::scenario::script_limits;
+use shoal::species::load_species;
+use shoal::world::Aabb;
+use std::path::Path;
+
+/// A small valid species; tests break one thing in it.
+const MINNOW: &str = r#"Species(
+    name: "minnow",
+    script: Some("minnow.rhai"),
+    initial: "idle",
+    behaviors: [
+        Behavior(
+            name: "idle",
+            priority: 2,
+            steer: Wander(),
+        ),
+        Behavior(
+            name: "dart",
+            priority: 1,
+            when: Script("startled"),
+            done: TimeIn(1.0),
+            steer: Cruise(speed: 1.0),
+        ),
+    ],
+)
+"#;
+
+const MINNOW_RHAI: &str =
+    "// Darts when it swims fast.\nfn startled() {\n    this.speed > 1.0\n}\n";
+
+/// Loads `minnow.ron` from a folder with these files and returns its diagnostics, with paths
+/// relative to the folder.
+fn diagnostics(
+    ron: &str,
+    rhai: &str,
+    extra: &[(&str, &str)],
+) -> Vec<(String, usize, usize, String)> {
+    let mut files = vec![("minnow.ron", ron), ("minnow.rhai", rhai)];
+    files.extend_from_slice(extra);
+    let dir = folder(&files);
+    let err = load_species(&dir.path().join("minnow.ron"), dir.path(), &script_limits())
+        .expect_err("the file is bad");
+    err.0
+        .iter()
+        .map(|d: &Diagnostic| {
+            (
+                d.file
+                    .strip_prefix(dir.path())
+                    .unwrap_or(&d.file)
+                    .display()
+                    .to_string(),
+                d.line,
+                d.col,
+                d.message.clone(),
+            )
+        })
+        .collect()
+}
+
+fn one(file: &str, line: usize, col: usize, msg: &str) -> Vec<(String, usize, usize, String)> {
+    vec![(file.to_string(), line, col, msg.to_string())]
+}
+
+#[test]
+fn the_base_species_is_valid() {
+    let dir = folder(&[("minnow.ron", MINNOW), ("minnow.rhai", MINNOW_RHAI)]);
+    let sp = load(&dir.path().join("minnow.ron"), dir.path());
+    assert_eq!(sp.behaviors.len(), 2);
+}
+
+#[test]
+fn ron_syntax_error_points_where_the_comma_is_missing() {
+    let bad = MINNOW.replace("initial: \"idle\",\n", "initial: \"idle\"\n");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            4,
+            20,
+            "expected a `,` here, between two fields or list entries"
+        )
+    );
+    // The rendered diagnostic shows the line and a caret under the spot.
+    let dir = folder(&[("minnow.ron", &bad), ("minnow.rhai", MINNOW_RHAI)]);
+    let e = load_species(&dir.path().join("minnow.ron"), dir.path(), &script_limits())
+        .expect_err("bad");
+    let shown = e.to_string();
+    let tail = shown.split_once(": ").expect("headline").1;
+    assert_eq!(
+        tail,
+        "expected a `,` here, between two fields or list entries\n4 |     initial: \"idle\"\n  |                    ^"
+    );
+}
+
+#[test]
+fn unknown_field_is_located_and_the_near_miss_suggested() {
+    let bad = MINNOW.replace(
+        "name: \"minnow\",",
+        "name: \"minnow\",\n    colour: \"#ffffff\",",
+    );
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            3,
+            5,
+            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `initial`, `behaviors`, `recipes`"
+        )
+    );
+    let bad = MINNOW.replace("Cruise(speed: 1.0)", "Cruise(sped: 1.0)");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            16,
+            27,
+            "unknown field `sped` in Cruise (did you mean `speed`?): expected one of `speed`"
+        )
+    );
+}
+
+#[test]
+fn misspelt_steering_primitive_lists_the_known_ones() {
+    let bad = MINNOW.replace("Wander()", "Wandr()");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            9,
+            20,
+            "unknown steering recipe `Wandr` (did you mean `Wander`?): expected one of `Priority`, `Blend`, `Script`, `AvoidStatic`, `AvoidDynamic`, `PredictCollision`, `Contain`, `Chase`, `Escape`, `EscapeMirror`, `Pursue`, `Seek`, `Flee`, `Arrive`, `Separation`, `Alignment`, `Cohesion`, `Zones`, `Vicsek`, `Disperse`, `Wander`, `Cruise`, `Stop`, `FollowPlan`"
+        )
+    );
+    let bad = MINNOW.replace("when: Script(\"startled\")", "when: Sees(Predatr)");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            14,
+            24,
+            "unknown category `Predatr` (did you mean `Predator`?): expected one of `Food`, `Predator`, `Kin`, `Mate`, `Obstacle`, `Other`"
+        )
+    );
+}
+
+#[test]
+fn undefined_initial_behavior_names_the_defined_ones() {
+    let bad = MINNOW.replace("initial: \"idle\"", "initial: \"idel\"");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            4,
+            14,
+            "`initial` names an undefined behavior \"idel\" (did you mean `idle`?): the species defines \"idle\", \"dart\""
+        )
+    );
+}
+
+#[test]
+fn semantic_errors_are_located_in_the_species_file() {
+    // A relation the species does not have.
+    let bad = MINNOW.replace("when: Script(\"startled\")", "when: Sees(Predator)");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            14,
+            24,
+            "`Sees` refers to `Predator`, but the species has no such relation: add a `predators` list in `relations`"
+        )
+    );
+    // A missing required field.
+    let bad = MINNOW.replace("            priority: 2,\n", "");
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            9,
+            9,
+            "`Behavior` is missing its required field `priority`"
+        )
+    );
+    // A script function that does not exist.
+    let bad = MINNOW.replace("Script(\"startled\")", "Script(\"startle\")");
+    let d = diagnostics(&bad, MINNOW_RHAI, &[]);
+    assert_eq!((d[0].1, d[0].2), (14, 26));
+    assert!(
+        d[0].3
+            .starts_with("script function `startle()` is not defined in ")
+            && d[0]
+                .3
+                .ends_with("minnow.rhai (functions without parameters: startled)"),
+        "{}",
+        d[0].3
+    );
+}
+
+#[test]
+fn rhai_syntax_errors_name_the_script_or_module_file() {
+    let bad = "fn startled() {\n    let x = ;\n    x\n}\n";
+    assert_eq!(
+        diagnostics(MINNOW, bad, &[]),
+        one("minnow.rhai", 2, 13, "Unexpected ';'")
+    );
+    // Strict variables: a typo is a compile error, not a silent ().
+    assert_eq!(
+        diagnostics(MINNOW, "fn startled() {\n    this.speed > limit\n}\n", &[]),
+        one("minnow.rhai", 2, 18, "Undefined variable: limit")
+    );
+    // In an imported module: the module file is named.
+    let script = "import \"common/moves\" as moves;\nfn startled() { moves::fast(this.speed) }\n";
+    assert_eq!(
+        diagnostics(
+            MINNOW,
+            script,
+            &[("common/moves.rhai", "fn fast(v) {\n    v >\n}\n")]
+        ),
+        one("common/moves.rhai", 3, 1, "Unexpected '}'")
+    );
+    // A module that is not there.
+    let d = diagnostics(
+        MINNOW,
+        "import \"common/nope\" as nope;\nfn startled() { true }\n",
+        &[],
+    );
+    assert_eq!((d[0].0.as_str(), d[0].1, d[0].2), ("minnow.rhai", 1, 1));
+    assert!(
+        d[0].3
+            .starts_with("cannot find imported module \"common/nope\" (looked for "),
+        "{}",
+        d[0].3
+    );
+}
+
+/// A world with `n` minnows whose behaviors and script are given; runs scripts every tick.
+fn world_with(
+    ron: &str,
+    rhai: &str,
+    n: usize,
+) -> (Sim, Vec<shoal::world::AgentId>, tempfile::TempDir) {
+    let dir = folder(&[("minnow.ron", ron), ("minnow.rhai", rhai)]);
+    let sp = load(&dir.path().join("minnow.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let ids = (0..n)
+        .map(|k| sim.spawn("minnow", Vec3::new(k as f32 * 30.0, 0.0, 0.0), 0.0))
+        .collect();
+    (sim, ids, dir)
+}
+
+const RUNTIME: &str = r#"Species(
+    name: "minnow",
+    script: Some("minnow.rhai"),
+    decision_interval: 1,
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "idle", priority: 2, steer: STEER),
+        Behavior(name: "dart", priority: 1, when: Script("startled"), done: TimeIn(1.0), steer: Cruise(speed: 1.0)),
+    ],
+)
+"#;
+
+#[test]
+fn runtime_error_is_reported_once_per_agent_and_the_agent_keeps_its_last_steering() {
+    // From t = 0.5 s on, `startled()` divides by zero.
+    let rhai =
+        "fn startled() {\n    let n = if this.time < 0.5 { 1 } else { 0 };\n    10 / n > 100\n}\n";
+    let (mut sim, ids, dir) = world_with(&RUNTIME.replace("STEER", "Wander()"), rhai, 2);
+    sim.run(9);
+    let at_8: Vec<_> = ids
+        .iter()
+        .map(|&id| sim.agent(id).mind.last_steer)
+        .collect();
+    sim.step();
+    assert!(sim.script_errors().is_empty());
+    // The last valid steering, of tick 9 (Wander draws a new turn every tick).
+    let at_9: Vec<_> = ids
+        .iter()
+        .map(|&id| sim.agent(id).mind.last_steer)
+        .collect();
+    assert_ne!(at_8, at_9);
+    sim.run(30); // t = 0.5 … 2.0: every call fails
+    let errors = sim.script_errors();
+    assert_eq!(errors.len(), 2, "once per agent: {errors:?}");
+    let file = dir.path().join("minnow.rhai");
+    assert_eq!(
+        errors[0],
+        format!(
+            "{}:3:8: Division by zero: 10 / 0\n3 |     10 / n > 100\n  |        ^",
+            file.display()
+        )
+    );
+    // Every failed call is counted (scripts run every tick here).
+    assert_eq!(sim.pipe.stats.script_errors, 2 * 30);
+    for (k, &id) in ids.iter().enumerate() {
+        let a = sim.agent(id);
+        assert_eq!(sim.behavior(id), "idle");
+        assert!(a.pos.is_finite());
+        assert_eq!(a.mind.last_steer, at_9[k], "kept the steering of tick 9");
+    }
+    assert_eq!(sim.world.tick, 40, "the run goes on");
+}
+
+#[test]
+fn endless_loop_is_stopped_by_the_operation_limit_and_reported() {
+    let rhai = "fn startled() {\n    loop {\n    }\n}\n";
+    // The limit carries no position in the script: the function is named.
+    let (mut sim, ids, dir) = world_with(&RUNTIME.replace("STEER", "Cruise(speed: 0.5)"), rhai, 1);
+    sim.run(3);
+    let errors = sim.script_errors();
+    assert_eq!(errors.len(), 1);
+    assert_eq!(
+        errors[0].lines().next().unwrap(),
+        format!(
+            "{}:1:1: script exceeded its operation limit (an endless loop?); the agent keeps its last valid steering",
+            dir.path().join("minnow.rhai").display()
+        )
+    );
+    assert_eq!(sim.pipe.stats.script_errors, 3);
+    assert_eq!(sim.world.tick, 3);
+    assert!(sim.agent(ids[0]).pos.is_finite());
+}
+
+#[test]
+fn nan_steering_from_a_script_is_rejected_and_the_last_valid_one_kept() {
+    // The steering script turns NaN after 0.5 s.
+    let ron = RUNTIME.replace("STEER", "Script(\"heading\")");
+    let rhai = "fn startled() { false }\n\nfn heading() {\n    let k = if this.time < 0.5 { 1.0 } else { 0.0 };\n    this.velocity(vec3(1.0, 0.0, 1.0) * (k / k))\n}\n";
+    let (mut sim, ids, dir) = world_with(&ron, rhai, 1);
+    let id = ids[0];
+    sim.run(10);
+    let good = sim.agent(id).mind.last_steer;
+    assert_eq!(
+        good,
+        shoal::steering::Steer::Velocity(Vec3::new(1.0, 0.0, 1.0))
+    );
+    sim.run(40);
+    let errors = sim.script_errors();
+    assert_eq!(errors.len(), 1);
+    assert_eq!(
+        errors[0].lines().next().unwrap(),
+        format!(
+            "{}:3:1: `heading()` returned a steering value that is not finite (NaN or infinity)",
+            dir.path().join("minnow.rhai").display()
+        )
+    );
+    let a = sim.agent(id);
+    assert_eq!(a.mind.last_steer, good);
+    assert!(a.pos.is_finite() && a.yaw.is_finite() && a.speed.is_finite());
+    // It kept heading along (1, 0, 1): yaw −45° (left of +Z is +X).
+    assert!(
+        (a.yaw + std::f32::consts::FRAC_PI_4).abs() < 1e-4,
+        "{}",
+        a.yaw
+    );
+    assert_eq!(sim.pipe.stats.script_errors, 40);
+}
+
+#[test]
+fn a_species_file_that_cannot_be_read_is_a_whole_file_diagnostic() {
+    let e = load_species(
+        Path::new("behaviors/no_such_species.ron"),
+        Path::new("behaviors"),
+        &script_limits(),
+    )
+    .expect_err("missing");
+    assert_eq!(e.0[0].line, 0);
+    assert!(e
+        .to_string()
+        .starts_with("behaviors/no_such_species.ron: cannot read species file: "));
+}

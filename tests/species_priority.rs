@@ -1,0 +1,386 @@
+//! The arbitration rules of seed 000 §3, each in a world built for it: a probe species whose
+//! drives only change when the test sets them (`native: false`), so every trigger is explicit.
+//! Levels: flee 1; feed, court 2; rest 3; idle 4 (initial).
+
+mod common;
+
+use common::{folder, load, Change, Sim};
+use glam::Vec3;
+use shoal::events::{Cause, Event};
+use shoal::world::{Aabb, AgentId};
+
+const PROBE: &str = r#"
+Species(
+    name: "probe",
+    drives: (native: false, hunger: Fixed(0.0)),
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "flee", priority: 1, when: Above(Drive(Fear), 0.5), done: Below(Drive(Fear), 0.5), steer: Cruise(speed: 1.0)),
+        Behavior(name: "feed", priority: 2, when: Above(Drive(Hunger), 0.5), done: Below(Drive(Hunger), 0.5), steer: Cruise(speed: 0.6)EXTRA_FEED),
+        Behavior(name: "court", priority: 2, when: Above(Drive(Libido), 0.5), done: Below(Drive(Libido), 0.5), steer: Cruise(speed: 0.4)),
+        Behavior(name: "rest", priority: 3, when: Above(Drive(Fatigue), 0.5), done: Below(Drive(Fatigue), 0.5), steer: StopEXTRA_REST),
+        Behavior(name: "idle", priority: 4, steer: Wander()),
+    ],
+)
+"#;
+
+/// A probe world; `feed` and `rest` get the extra fields given.
+fn probe(extra_feed: &str, extra_rest: &str) -> (Sim, AgentId, tempfile::TempDir) {
+    let text = PROBE
+        .replace("EXTRA_FEED", extra_feed)
+        .replace("EXTRA_REST", extra_rest);
+    let dir = folder(&[("probe.ron", &text)]);
+    let sp = load(&dir.path().join("probe.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("probe", Vec3::ZERO, 0.0);
+    (sim, id, dir)
+}
+
+fn set(sim: &mut Sim, id: AgentId, hunger: f32, libido: f32, fear: f32, fatigue: f32) {
+    let d = &mut sim.agent_mut(id).drives;
+    d.hunger = hunger;
+    d.libido = libido;
+    d.fear = fear;
+    d.fatigue = fatigue;
+}
+
+fn change(
+    from: &str,
+    to: &str,
+    cause: Cause,
+    condition: &str,
+    stack: &[&str],
+) -> (String, String, Cause, Option<String>, Vec<String>) {
+    (
+        from.into(),
+        to.into(),
+        cause,
+        Some(condition.into()),
+        stack.iter().map(|s| s.to_string()).collect(),
+    )
+}
+
+fn key(c: &Change) -> (String, String, Cause, Option<String>, Vec<String>) {
+    (
+        c.from.clone(),
+        c.to.clone(),
+        c.cause,
+        c.condition.clone(),
+        c.stack.clone(),
+    )
+}
+
+#[test]
+fn higher_interrupts_lower_and_the_lower_goes_on_the_stack() {
+    let (mut sim, id, _dir) = probe("", "");
+    sim.run(5);
+    assert_eq!(sim.behavior(id), "idle");
+    assert!(sim.changes(id).is_empty(), "nothing fired yet");
+
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change(
+            "idle",
+            "feed",
+            Cause::Interrupted,
+            "hunger > 0.5",
+            &["idle"]
+        )
+    );
+
+    set(&mut sim, id, 0.9, 0.0, 0.9, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change(
+            "feed",
+            "flee",
+            Cause::Interrupted,
+            "fear > 0.5",
+            &["idle", "feed"]
+        )
+    );
+    assert_eq!(sim.stack(id), ["idle", "feed"]);
+    assert_eq!(sim.agent(id).mind.depth, 2);
+}
+
+#[test]
+fn a_lower_level_never_interrupts_a_higher_one() {
+    let (mut sim, id, _dir) = probe("", "");
+    set(&mut sim, id, 0.0, 0.0, 0.9, 0.0);
+    sim.step();
+    assert_eq!(sim.behavior(id), "flee");
+    // Every lower level fires at once, for a while: flee stays.
+    set(&mut sim, id, 0.9, 0.9, 0.9, 0.9);
+    let before = sim.changes(id).len();
+    sim.run(40);
+    assert_eq!(sim.behavior(id), "flee");
+    assert_eq!(sim.changes(id).len(), before, "{:?}", sim.changes(id));
+    assert_eq!(sim.stack(id), ["idle"]);
+}
+
+#[test]
+fn equal_levels_may_interrupt_each_other_unless_the_behavior_forbids_it() {
+    let (mut sim, id, _dir) = probe("", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    set(&mut sim, id, 0.9, 0.9, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change(
+            "feed",
+            "court",
+            Cause::Interrupted,
+            "libido > 0.5",
+            &["idle", "feed"]
+        )
+    );
+    // The interrupted one cannot interrupt back while it waits on the stack.
+    sim.run(10);
+    assert_eq!(sim.behavior(id), "court");
+
+    let (mut sim, id, _dir) = probe(", equal_may_interrupt: false", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    set(&mut sim, id, 0.9, 0.9, 0.0, 0.0);
+    sim.run(10);
+    assert_eq!(
+        sim.behavior(id),
+        "feed",
+        "feed forbids equal-level interrupts"
+    );
+    // A higher level still interrupts it.
+    set(&mut sim, id, 0.9, 0.9, 0.9, 0.0);
+    sim.step();
+    assert_eq!(sim.behavior(id), "flee");
+}
+
+#[test]
+fn the_stacked_behavior_resumes_when_it_outranks_the_newly_triggered_one() {
+    let (mut sim, id, _dir) = probe("", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step(); // idle → feed
+    set(&mut sim, id, 0.9, 0.0, 0.9, 0.0);
+    sim.step(); // feed → flee, stack [idle, feed]
+                // Flee completes while rest (level 3) fires: feed (level 2) outranks it and resumes.
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.9);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("flee", "feed", Cause::Resumed, "fear < 0.5", &["idle"])
+    );
+    // Feed completes while rest fires: rest (3) outranks idle (4) on the stack, so rest starts
+    // and idle stays stacked.
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.9);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("feed", "rest", Cause::Completed, "hunger < 0.5", &["idle"])
+    );
+    // Rest completes with nothing new: idle resumes from the stack.
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("rest", "idle", Cause::Resumed, "fatigue < 0.5", &[])
+    );
+}
+
+#[test]
+fn an_equal_new_behavior_starts_and_the_stacked_one_keeps_waiting() {
+    let (mut sim, id, _dir) = probe("", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step(); // idle → feed
+    set(&mut sim, id, 0.9, 0.0, 0.9, 0.0);
+    sim.step(); // feed → flee
+                // Flee completes while court (level 2, like feed) fires: the stacked feed does not outrank
+                // it, so court starts and feed stays on the stack.
+    set(&mut sim, id, 0.9, 0.9, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change(
+            "flee",
+            "court",
+            Cause::Completed,
+            "fear < 0.5",
+            &["idle", "feed"]
+        )
+    );
+    // Court completes: feed resumes, then idle when feed completes.
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("court", "feed", Cause::Resumed, "libido < 0.5", &["idle"])
+    );
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("feed", "idle", Cause::Resumed, "hunger < 0.5", &[])
+    );
+}
+
+#[test]
+fn stacked_behaviors_already_done_are_dropped_on_resume() {
+    let (mut sim, id, _dir) = probe("", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step(); // idle → feed
+    set(&mut sim, id, 0.9, 0.0, 0.9, 0.0);
+    sim.step(); // feed → flee
+                // Both flee's and feed's completions hold: feed is dropped, idle resumes.
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.0);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("flee", "idle", Cause::Resumed, "fear < 0.5", &[])
+    );
+}
+
+#[test]
+fn transitions_are_recorded_as_events_with_cause_condition_and_stack() {
+    let (mut sim, id, _dir) = probe("", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    let sp = &sim.pipe.species.species[0];
+    let (feed, idle) = (
+        sp.behavior_index("feed").unwrap(),
+        sp.behavior_index("idle").unwrap(),
+    );
+    let transitions: Vec<&Event> = sim
+        .pipe
+        .events
+        .iter()
+        .filter(|e| matches!(e, Event::Transition { .. }))
+        .collect();
+    assert_eq!(
+        transitions,
+        [&Event::Transition {
+            agent: id,
+            species: 0,
+            from: idle,
+            to: feed,
+            cause: Cause::Interrupted,
+            condition: Some("hunger > 0.5".into()),
+            stack: vec![idle],
+        }]
+    );
+    assert_eq!(sim.pipe.stats.transitions, 1);
+    assert_eq!(Cause::Interrupted.name(), "interrupted");
+}
+
+#[test]
+fn min_time_delays_completion_and_equal_interrupts_but_not_higher_ones() {
+    // feed must run 1 s (20 ticks) before it may complete or be interrupted by court.
+    let (mut sim, id, _dir) = probe(", min_time: 1.0", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    let entered = sim.world.tick - 1;
+    set(&mut sim, id, 0.0, 0.9, 0.0, 0.0); // done holds and court fires
+    let t = sim
+        .run_until(40, |s| s.behavior(id) != "feed")
+        .expect("feed ends");
+    let ended = sim.last_change(id);
+    assert_eq!(ended.tick - entered, 20, "{ended:?}");
+    assert_eq!(
+        (ended.to.as_str(), ended.cause),
+        ("court", Cause::Completed)
+    );
+    assert!(t > 1);
+
+    // A higher level interrupts at once.
+    let (mut sim, id, _dir) = probe(", min_time: 1.0", "");
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    set(&mut sim, id, 0.9, 0.0, 0.9, 0.0);
+    sim.step();
+    assert_eq!(sim.behavior(id), "flee");
+}
+
+#[test]
+fn cooldown_keeps_a_completed_behavior_from_restarting() {
+    // rest may not restart for 2 s (40 ticks) after it completes.
+    let (mut sim, id, _dir) = probe("", ", cooldown: 2.0");
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.9);
+    sim.step();
+    assert_eq!(sim.behavior(id), "rest");
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.0);
+    sim.step();
+    assert_eq!(sim.behavior(id), "idle");
+    let completed = sim.world.tick - 1;
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.9);
+    sim.run_until(100, |s| s.behavior(id) == "rest")
+        .expect("rest restarts after the cooldown");
+    let restarted = sim.last_change(id).tick;
+    assert_eq!(restarted - completed, 40);
+}
+
+#[test]
+fn latch_gives_hysteresis_between_its_on_and_off_conditions() {
+    let text = r#"
+Species(
+    name: "latch_probe",
+    drives: (native: false),
+    initial: "idle",
+    behaviors: [
+        Behavior(
+            name: "graze",
+            priority: 1,
+            when: Latch(on: Above(Drive(Hunger), 0.8), off: Below(Drive(Hunger), 0.3)),
+            done: TimeIn(0.25),
+            steer: Cruise(speed: 0.2),
+        ),
+        Behavior(name: "idle", priority: 2, steer: Wander()),
+    ],
+)
+"#;
+    let dir = folder(&[("latch_probe.ron", text)]);
+    let sp = load(&dir.path().join("latch_probe.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("latch_probe", Vec3::ZERO, 0.0);
+    let hunger = |sim: &mut Sim, h: f32| sim.agent_mut(id).drives.hunger = h;
+
+    // 0.6 is below the on threshold: nothing.
+    hunger(&mut sim, 0.6);
+    sim.run(10);
+    assert_eq!(sim.behavior(id), "idle");
+    // 0.9 latches it on.
+    hunger(&mut sim, 0.9);
+    sim.step();
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change(
+            "idle",
+            "graze",
+            Cause::Interrupted,
+            "latched on (hunger > 0.8) until (hunger < 0.3)",
+            &["idle"]
+        )
+    );
+    sim.run_until(10, |s| s.behavior(id) == "idle")
+        .expect("graze completes");
+    assert_eq!(
+        key(&sim.last_change(id)),
+        change("graze", "idle", Cause::Resumed, "0.25 s in behavior", &[])
+    );
+    // Back at 0.6 it is still latched: graze starts again (a plain `hunger > 0.8` would not).
+    hunger(&mut sim, 0.6);
+    sim.step();
+    assert_eq!(sim.behavior(id), "graze");
+    sim.run_until(10, |s| s.behavior(id) == "idle")
+        .expect("graze completes");
+    // Below the off threshold the latch releases; 0.6 no longer starts it.
+    hunger(&mut sim, 0.2);
+    sim.step();
+    hunger(&mut sim, 0.6);
+    sim.run(20);
+    assert_eq!(sim.behavior(id), "idle");
+    assert_eq!(
+        sim.changes(id).iter().filter(|c| c.to == "graze").count(),
+        2
+    );
+}
