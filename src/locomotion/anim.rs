@@ -53,7 +53,6 @@ pub fn tween(s: f32, max_bend: f32) -> f32 {
     poses[i] * (1.0 - t) + poses[i + 1] * t
 }
 
-#[allow(clippy::too_many_arguments)]
 /// Advances the channel by one step: `speed` over a body of `length`, `accel` the speed change
 /// per second, `dyaw` the turn applied this step (right positive) against `max_turn`.
 #[allow(clippy::too_many_arguments)]
