@@ -9,7 +9,7 @@ fn ctrl_c_leaves_an_incomplete_folder() {
     let t = tempfile::tempdir().unwrap();
     let dir = t.path().join("run");
     // Long enough that it is still running when interrupted.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_shoal"))
+    let child = Command::new(env!("CARGO_BIN_EXE_shoal"))
         .args([
             "run",
             "scenarios/reef.ron",

@@ -120,8 +120,8 @@ fn polarization(rows: &[Row], tick: u64, species: &str) -> f64 {
         .iter()
         .filter(|r| r.tick == tick && r.species == species)
     {
-        for k in 0..3 {
-            s[k] += r.fwd[k];
+        for (acc, f) in s.iter_mut().zip(r.fwd) {
+            *acc += f;
         }
         n += 1.0;
     }
