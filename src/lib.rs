@@ -17,5 +17,6 @@ pub mod scenario;
 pub mod script;
 pub mod species;
 pub mod steering;
+pub mod testing;
 pub mod tick;
 pub mod world;

@@ -192,6 +192,47 @@ impl Perception {
     }
 }
 
+impl Perception {
+    /// Replaces what agent `i` (at `pos`) perceived this tick by `percepts` (the nearest
+    /// [`MAX_PERCEPTS`] kept) and rebuilds its summaries from them, as the stage would have.
+    /// Agent percepts carry no heading or velocity, so their means are zero.
+    pub fn inject(&mut self, i: usize, pos: Vec3, percepts: &[Percept]) {
+        if i >= self.counts.len() {
+            return;
+        }
+        let slots = &mut self.percepts[i * MAX_PERCEPTS..(i + 1) * MAX_PERCEPTS];
+        let summary = &mut self.summaries[i];
+        *summary = [Summary::default(); Category::COUNT];
+        let mut len = 0;
+        for p in percepts {
+            note(summary, p, pos + p.offset, Vec3::ZERO, Vec3::ZERO);
+            if p.category == Category::Mate {
+                let kin = Percept {
+                    category: Category::Kin,
+                    ..*p
+                };
+                note(summary, &kin, pos + p.offset, Vec3::ZERO, Vec3::ZERO);
+            }
+            keep(slots, &mut len, *p);
+        }
+        for (c, sm) in summary.iter_mut().enumerate() {
+            if sm.count > 0 {
+                sm.centroid /= sm.count as f32;
+            }
+            let mut best: Option<(u16, f32)> = None;
+            for (k, p) in slots[..len].iter().enumerate() {
+                let matches = p.category as usize == c
+                    || (c == Category::Kin as usize && p.category == Category::Mate);
+                if matches && best.is_none_or(|(_, d)| p.dist < d) {
+                    best = Some((k as u16, p.dist));
+                }
+            }
+            sm.nearest = best.map(|b| b.0);
+        }
+        self.counts[i] = len as u16;
+    }
+}
+
 /// Keeps the nearest `MAX_PERCEPTS` percepts: appends while there is room, else replaces the
 /// farthest when nearer.
 #[inline]

@@ -1,0 +1,194 @@
+//! Coverage for designers (`shoal test --coverage`): per species, which behaviors no test ever
+//! ran and which transitions (from → to, cause) the arbitration rules of seed 000 §3 allow but no
+//! test ever made.
+
+use super::world::lock;
+use crate::events::Cause;
+use crate::species::{load_species, CondNode, Species};
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+#[derive(Debug, Default)]
+struct Seen {
+    roots: BTreeSet<PathBuf>,
+    behaviors: BTreeSet<(String, String)>,
+    transitions: BTreeSet<(String, String, String, &'static str)>,
+}
+
+/// What the tests of a run exercised (shared by every test; sets, so the result does not depend
+/// on the order tests run in).
+#[derive(Debug, Default)]
+pub struct Coverage {
+    seen: Mutex<Seen>,
+}
+
+/// A transition the rules allow: `(from, to, cause)`.
+pub type Possible = (u16, u16, Cause);
+
+/// Every transition seed 000 §3's arbitration allows for a species:
+/// - interrupted: to a behavior that can trigger and whose level is higher, or equal when the
+///   current one lets equal levels interrupt it;
+/// - completed: from a behavior that can complete, to one that can trigger or to the initial one
+///   (the fallback);
+/// - resumed: from a behavior that can complete, to one that can be interrupted (so stacked) at
+///   the same level or below (the top of the stack never outranks the current behavior).
+pub fn possible(sp: &Species) -> Vec<Possible> {
+    let bs = &sp.behaviors;
+    let triggers = |i: usize| bs[i].when != CondNode::Never;
+    let interrupts = |from: usize, to: usize| {
+        triggers(to)
+            && (bs[to].priority < bs[from].priority
+                || (bs[to].priority == bs[from].priority && bs[from].equal_may_interrupt))
+    };
+    let stackable = |i: usize| (0..bs.len()).any(|x| x != i && interrupts(i, x));
+    let mut out = Vec::new();
+    for from in 0..bs.len() {
+        for to in 0..bs.len() {
+            if from == to {
+                continue;
+            }
+            if interrupts(from, to) {
+                out.push((from as u16, to as u16, Cause::Interrupted));
+            }
+            let completes = bs[from].done != CondNode::Never;
+            if completes && (triggers(to) || to == sp.initial as usize) {
+                out.push((from as u16, to as u16, Cause::Completed));
+            }
+            if completes && stackable(to) && bs[to].priority >= bs[from].priority {
+                out.push((from as u16, to as u16, Cause::Resumed));
+            }
+        }
+    }
+    out
+}
+
+impl Coverage {
+    /// Notes a behaviors folder whose species the report covers.
+    pub fn add_root(&self, root: &Path) {
+        let mut s = lock(&self.seen);
+        if !s.roots.contains(root) {
+            s.roots.insert(root.to_path_buf());
+        }
+    }
+
+    /// Notes that an agent of `species` ran `behavior` for a tick.
+    pub fn behavior(&self, species: &str, behavior: &str) {
+        let mut s = lock(&self.seen);
+        let key = (species.to_string(), behavior.to_string());
+        if !s.behaviors.contains(&key) {
+            s.behaviors.insert(key);
+        }
+    }
+
+    /// Notes a transition.
+    pub fn transition(&self, species: &str, from: &str, to: &str, cause: Cause) {
+        let mut s = lock(&self.seen);
+        s.transitions.insert((
+            species.to_string(),
+            from.to_string(),
+            to.to_string(),
+            cause.name(),
+        ));
+        let key = (species.to_string(), to.to_string());
+        if !s.behaviors.contains(&key) {
+            s.behaviors.insert(key);
+        }
+    }
+
+    /// The report: for every species of every behaviors folder the tests used, what was never
+    /// exercised.
+    pub fn report(&self) -> String {
+        let s = lock(&self.seen);
+        let mut out = String::new();
+        for root in &s.roots {
+            let _ = writeln!(out, "coverage of {}:", root.display());
+            let mut files: Vec<PathBuf> = std::fs::read_dir(root)
+                .map(|r| {
+                    r.flatten()
+                        .map(|e| e.path())
+                        .filter(|p| p.extension().is_some_and(|x| x == "ron"))
+                        .collect()
+                })
+                .unwrap_or_default();
+            files.sort();
+            for f in files {
+                match load_species(&f, root, &crate::scenario::script_limits()) {
+                    Ok(sp) => out.push_str(&species_report(&sp, &s)),
+                    Err(d) => {
+                        let _ = writeln!(out, "{}: does not load: {}", f.display(), d);
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+fn species_report(sp: &Species, s: &Seen) -> String {
+    let mut out = String::new();
+    let name = &sp.name;
+    let missing_b: Vec<&str> = sp
+        .behaviors
+        .iter()
+        .map(|b| &*b.name)
+        .filter(|b| !s.behaviors.contains(&(name.clone(), b.to_string())))
+        .collect();
+    let all = possible(sp);
+    let mut missing_t: BTreeMap<&str, Vec<String>> = BTreeMap::new();
+    let mut missing = 0;
+    // Observed transitions the rule set did not predict still count as exercised.
+    for &(from, to, cause) in &all {
+        let (f, t) = (sp.behavior_name(from), sp.behavior_name(to));
+        let key = (name.clone(), f.to_string(), t.to_string(), cause.name());
+        if !s.transitions.contains(&key) {
+            missing += 1;
+            missing_t
+                .entry(f)
+                .or_default()
+                .push(format!("{t} ({})", cause.name()));
+        }
+    }
+    let nb = sp.behaviors.len();
+    let _ = writeln!(
+        out,
+        "{name}: {} of {nb} behaviors, {} of {} transitions exercised",
+        nb - missing_b.len(),
+        all.len() - missing,
+        all.len()
+    );
+    if missing_b.is_empty() {
+        let _ = writeln!(out, "  every behavior was exercised");
+    } else {
+        let _ = writeln!(out, "  behaviors never exercised: {}", missing_b.join(", "));
+    }
+    if !missing_t.is_empty() {
+        let _ = writeln!(out, "  transitions never exercised:");
+        // In declaration order of the `from` behavior.
+        for b in &sp.behaviors {
+            if let Some(v) = missing_t.get(&*b.name) {
+                let mut line = format!("    {} → ", b.name);
+                let indent = " ".repeat(line.chars().count());
+                let mut width = line.chars().count();
+                for (k, item) in v.iter().enumerate() {
+                    let piece = if k + 1 < v.len() {
+                        format!("{item}, ")
+                    } else {
+                        item.clone()
+                    };
+                    if width + piece.len() > 100 && width > indent.len() {
+                        line = line.trim_end().to_string();
+                        line.push('\n');
+                        line.push_str(&indent);
+                        width = indent.len();
+                    }
+                    width += piece.chars().count();
+                    line.push_str(&piece);
+                }
+                let _ = writeln!(out, "{line}");
+            }
+        }
+    }
+    out
+}
