@@ -55,6 +55,10 @@ pub struct Tracker {
     last_time: f32,
 }
 
+fn counted(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 fn pct(x: f32) -> String {
     format!("{:.0}%", x * 100.0)
 }
@@ -161,10 +165,14 @@ impl Tracker {
                         },
                     )
                 }
-                Expectation::MinCatches(n) => {
-                    (format!("at least {n} catches"), Check::MinCatches(*n))
-                }
-                Expectation::MinMeals(n) => (format!("at least {n} meals"), Check::MinMeals(*n)),
+                Expectation::MinCatches(n) => (
+                    format!("at least {}", counted(*n, "catch", "catches")),
+                    Check::MinCatches(*n),
+                ),
+                Expectation::MinMeals(n) => (
+                    format!("at least {}", counted(*n, "meal", "meals")),
+                    Check::MinMeals(*n),
+                ),
                 Expectation::MinAlive(sp, n) => {
                     let Some(s) = species_of(sp, cursor, &mut error) else {
                         continue;
@@ -285,7 +293,7 @@ impl Tracker {
                     } => match best {
                         Some((b, t)) => (
                             *b >= *fraction,
-                            format!("at most {} (at {t:.2} s)", pct(*b)),
+                            format!("highest share {} (at {t:.2} s)", pct(*b)),
                         ),
                         None if self.last_time + 1e-6 < *from => (
                             false,
@@ -299,10 +307,13 @@ impl Tracker {
                             format!("no {} alive during the window", self.species[*species]),
                         ),
                     },
-                    Check::MinCatches(n) => {
-                        (stats.catches >= *n, format!("{} catches", stats.catches))
+                    Check::MinCatches(n) => (
+                        stats.catches >= *n,
+                        counted(stats.catches, "catch", "catches"),
+                    ),
+                    Check::MinMeals(n) => {
+                        (stats.meals >= *n, counted(stats.meals, "meal", "meals"))
                     }
-                    Check::MinMeals(n) => (stats.meals >= *n, format!("{} meals", stats.meals)),
                     Check::MinAlive(s, n) => {
                         let a = alive(*s);
                         (a >= *n, format!("{a} alive"))

@@ -27,24 +27,62 @@ pub struct Coverage {
 /// A transition the rules allow: `(from, to, cause)`.
 pub type Possible = (u16, u16, Cause);
 
-/// Every transition seed 000 §3's arbitration allows for a species:
+/// The conjuncts of a condition (`All([a, b])` → a, b).
+fn conjuncts(c: &CondNode) -> Vec<&CondNode> {
+    match c {
+        CondNode::All(v) => v.iter().flat_map(conjuncts).collect(),
+        c => vec![c],
+    }
+}
+
+/// The disjuncts of a condition (`Any([a, b])` → a, b).
+fn disjuncts(c: &CondNode) -> Vec<&CondNode> {
+    match c {
+        CondNode::Any(v) => v.iter().flat_map(disjuncts).collect(),
+        c => vec![c],
+    }
+}
+
+/// Whether `a` and `b` cannot both hold (one is the negation of the other).
+fn contradicts(a: &CondNode, b: &CondNode) -> bool {
+    matches!(a, CondNode::Not(x) if **x == *b) || matches!(b, CondNode::Not(x) if **x == *a)
+}
+
+/// Every transition seed 000 §3's arbitration allows for a species, as far as the conditions
+/// show it:
 /// - interrupted: to a behavior that can trigger and whose level is higher, or equal when the
-///   current one lets equal levels interrupt it;
-/// - completed: from a behavior that can complete, to one that can trigger or to the initial one
-///   (the fallback);
+///   current one lets equal levels interrupt it — unless the new one's activation implies the
+///   current one's completion (a shared term), which then completes instead;
+/// - completed: from a behavior that can complete, to one that can trigger and whose activation
+///   does not contradict that completion, or to the initial behavior when it can leave the stack
+///   (the fallback; an initial behavior that never completes stays at the bottom of the stack
+///   and resumes instead);
 /// - resumed: from a behavior that can complete, to one that can be interrupted (so stacked) at
 ///   the same level or below (the top of the stack never outranks the current behavior).
 pub fn possible(sp: &Species) -> Vec<Possible> {
     let bs = &sp.behaviors;
+    let initial = sp.initial as usize;
     let triggers = |i: usize| bs[i].when != CondNode::Never;
+    let level_allows = |from: usize, to: usize| {
+        bs[to].priority < bs[from].priority
+            || (bs[to].priority == bs[from].priority && bs[from].equal_may_interrupt)
+    };
     let interrupts = |from: usize, to: usize| {
-        triggers(to)
-            && (bs[to].priority < bs[from].priority
-                || (bs[to].priority == bs[from].priority && bs[from].equal_may_interrupt))
+        if !triggers(to) || !level_allows(from, to) {
+            return false;
+        }
+        // Completion is checked first; it is only held back by min_time, which also holds back
+        // equal levels (not higher ones).
+        let completes_first = bs[to].priority == bs[from].priority || bs[from].min_time <= 0.0;
+        let shared = conjuncts(&bs[to].when)
+            .iter()
+            .any(|c| disjuncts(&bs[from].done).contains(c));
+        !(completes_first && shared)
     };
     let stackable = |i: usize| (0..bs.len()).any(|x| x != i && interrupts(i, x));
     let mut out = Vec::new();
     for from in 0..bs.len() {
+        let completes = bs[from].done != CondNode::Never;
         for to in 0..bs.len() {
             if from == to {
                 continue;
@@ -52,8 +90,12 @@ pub fn possible(sp: &Species) -> Vec<Possible> {
             if interrupts(from, to) {
                 out.push((from as u16, to as u16, Cause::Interrupted));
             }
-            let completes = bs[from].done != CondNode::Never;
-            if completes && (triggers(to) || to == sp.initial as usize) {
+            let compatible = !disjuncts(&bs[from].done)
+                .iter()
+                .all(|d| conjuncts(&bs[to].when).iter().any(|c| contradicts(c, d)));
+            let starts = (triggers(to) && compatible)
+                || (to == initial && bs[initial].done != CondNode::Never);
+            if completes && starts {
                 out.push((from as u16, to as u16, Cause::Completed));
             }
             if completes && stackable(to) && bs[to].priority >= bs[from].priority {

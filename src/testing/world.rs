@@ -349,10 +349,11 @@ impl TestWorld {
                     "{label} now ({now}): in `{}` [stack: {}], hunger {:.2}, libido {:.2}, fear {:.2}, speed {:.2}",
                     sp.behavior_name(a.mind.current),
                     if stack.is_empty() { "empty".to_string() } else { stack.join(", ") },
-                    a.drives.hunger,
-                    a.drives.libido,
-                    a.drives.fear,
-                    a.speed
+                    // `+ 0.0` turns a negative zero into 0.
+                    a.drives.hunger + 0.0,
+                    a.drives.libido + 0.0,
+                    a.drives.fear + 0.0,
+                    a.speed + 0.0
                 );
             }
             None => {
