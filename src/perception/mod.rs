@@ -632,6 +632,48 @@ mod tests {
     }
 
     #[test]
+    fn injected_percepts_replace_an_agents_and_rebuild_its_summaries() {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        w.add_food(Vec3::new(0.0, 0.0, 3.0));
+        let mut p = run(&w, &rel(), SenseParams::default());
+        assert_eq!(p.summaries(0)[Category::Food as usize].count, 1);
+        let fed = |category, sense, offset: Vec3| Percept {
+            source: Source::Injected,
+            category,
+            sense,
+            offset,
+            dist: offset.length(),
+            bearing: 0.0,
+            elevation: 0.0,
+            size: 1.0,
+        };
+        p.inject(
+            0,
+            Vec3::new(1.0, 0.0, 0.0),
+            &[
+                fed(Category::Predator, Sense::Smell, Vec3::new(0.0, 0.0, 12.0)),
+                fed(Category::Mate, Sense::Vision, Vec3::new(0.0, 0.0, 2.0)),
+                fed(Category::Kin, Sense::Vision, Vec3::new(0.0, 0.0, 4.0)),
+            ],
+        );
+        let sm = p.summaries(0);
+        assert_eq!(p.percepts(0).len(), 3);
+        assert_eq!(
+            sm[Category::Food as usize].count,
+            0,
+            "the real food is gone"
+        );
+        let pred = sm[Category::Predator as usize];
+        assert_eq!((pred.count, pred.seen, pred.nearest_dist), (1, 0, 12.0));
+        // A mate also counts as kin, as perception does it.
+        let kin = sm[Category::Kin as usize];
+        assert_eq!((kin.count, kin.seen, kin.nearest_dist), (2, 2, 2.0));
+        assert_eq!(kin.nearest, Some(1));
+        assert_eq!(kin.centroid, Vec3::new(1.0, 0.0, 3.0));
+    }
+
+    #[test]
     fn keeps_the_nearest_when_crowded_but_counts_all() {
         let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
         w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));

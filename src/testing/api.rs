@@ -741,7 +741,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
     e.register_fn(
         "add_rock",
         |w: &mut WorldRef, center: Vec3, radius: FLOAT| -> R<INT> {
-            if !(radius > 0.0) {
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(error("a rock's radius must be positive"));
             }
             Ok(w.get()

@@ -234,3 +234,79 @@ fn species_report(sp: &Species, s: &Seen) -> String {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::species::load_species_str;
+
+    fn species(behaviors: &str) -> Species {
+        let text = format!(
+            "Species(name: \"t\", relations: (eats_items: true), initial: \"idle\", behaviors: [{behaviors}])"
+        );
+        load_species_str(
+            Path::new("t.ron"),
+            &text,
+            Path::new("."),
+            &crate::script::Limits::default(),
+        )
+        .unwrap_or_else(|d| panic!("{d}"))
+    }
+
+    const THREE: &str = r#"
+        Behavior(name: "flee", priority: 1, when: Sees(Other), done: Not(Sees(Other)), steer: Stop),
+        Behavior(name: "eat", priority: 2, when: Sees(Food), done: Not(Sees(Food)), steer: Stop),
+        Behavior(name: "idle", priority: 3, steer: Stop),
+    "#;
+
+    #[test]
+    fn the_transitions_the_rules_allow() {
+        use Cause::*;
+        // flee 0 (level 1), eat 1 (level 2), idle 2 (level 3, initial, never completes).
+        assert_eq!(
+            possible(&species(THREE)),
+            vec![
+                (0, 1, Completed),
+                (0, 1, Resumed),
+                (0, 2, Resumed),
+                (1, 0, Interrupted),
+                (1, 0, Completed),
+                (1, 2, Resumed),
+                (2, 0, Interrupted),
+                (2, 1, Interrupted),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_shared_term_means_completion_not_interruption() {
+        use Cause::*;
+        // seek (3) and eat (1) share level 2; each one's activation is the other's completion.
+        let sp = species(&format!(
+            "{THREE} Behavior(name: \"seek\", priority: 2, when: All([Smells(Food), Not(Sees(Food))]), done: Any([Sees(Food), Not(Perceives(Food))]), steer: Stop)"
+        ));
+        let p = possible(&sp);
+        assert!(!p.contains(&(1, 3, Interrupted)));
+        assert!(!p.contains(&(3, 1, Interrupted)));
+        assert!(p.contains(&(1, 3, Completed)));
+        assert!(p.contains(&(3, 1, Completed)));
+        assert!(p.contains(&(3, 0, Interrupted)));
+    }
+
+    #[test]
+    fn the_report_lists_what_was_not_seen() {
+        let c = Coverage::default();
+        c.behavior("t", "idle");
+        c.transition("t", "idle", "flee", Cause::Interrupted);
+        let s = lock(&c.seen);
+        assert_eq!(
+            species_report(&species(THREE), &s),
+            "t: 2 of 3 behaviors, 1 of 8 transitions exercised\n\
+             \x20 behaviors never exercised: eat\n\
+             \x20 transitions never exercised:\n\
+             \x20   flee → eat (completed), eat (resumed), idle (resumed)\n\
+             \x20   eat → flee (interrupted), flee (completed), idle (resumed)\n\
+             \x20   idle → eat (interrupted)\n"
+        );
+    }
+}
