@@ -7,7 +7,7 @@
 //! except a larger operation budget, since a whole test is one call). Angles are in degrees.
 
 use super::coverage::Coverage;
-use super::failure::{self, error, raise, Kind};
+use super::failure::{error, raise, Kind};
 use super::world::{lock, Feed, Library, Logged, TestWorld};
 use crate::events::{Cause, Event};
 use crate::frame;
@@ -20,7 +20,6 @@ use rhai::{
     INT,
 };
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 type R<T> = Result<T, Box<EvalAltResult>>;
@@ -31,8 +30,6 @@ pub const DEFAULT_BOUNDS: (Vec3, Vec3) =
 
 /// What one running test shares with the functions it calls.
 pub struct TestCtx {
-    /// The test file.
-    pub file: PathBuf,
     /// Species of its behaviors folder.
     pub library: Arc<Library>,
     /// Coverage of the whole run.
@@ -550,11 +547,8 @@ fn feed(d: &Dynamic) -> R<Feed> {
 }
 
 fn perceive(a: &AgentRef, feeds: Vec<Feed>) -> R<()> {
-    a.with_mut(|tw, i| {
-        let ag = &tw.world.agents[i];
-        let (yaw, pitch) = (ag.yaw, ag.pitch);
-        let percepts = feeds.iter().map(|f| f.percept(yaw, pitch)).collect();
-        tw.pipeline.injected.insert(a.id, percepts);
+    a.with_mut(|tw, _| {
+        tw.feeds.insert(a.id, feeds);
     })
 }
 
@@ -1075,7 +1069,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         perceive(a, vec![feed(&Dynamic::from(one))?])
     });
     e.register_fn("perceive_world", |a: &mut AgentRef| {
-        a.world.get().pipeline.injected.remove(&a.id);
+        a.world.get().feeds.remove(&a.id);
     });
     e.register_fn("to_string", |a: &mut AgentRef| a.label());
 
@@ -1307,6 +1301,3 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         }
     });
 }
-
-/// The located stop of a test, for the runner.
-pub use failure::Located;

@@ -168,8 +168,12 @@ fn walk(dir: &Path, out: &mut Vec<Found>) {
     entries.sort();
     for e in entries {
         if e.is_dir() {
-            // Fixtures (deliberately failing tests) run only when named.
-            if e.file_name().is_some_and(|n| n != "fixtures") {
+            // Fixtures (deliberately failing tests) run only when named; build outputs, recorded
+            // runs (with copies of their inputs) and hidden folders never.
+            let name = e.file_name().map(|n| n.to_string_lossy().into_owned());
+            if name.is_some_and(|n| {
+                !matches!(n.as_str(), "fixtures" | "target" | "runs") && !n.starts_with('.')
+            }) {
                 walk(&e, out);
             }
         } else if e.extension().is_some_and(|x| x == "rhai") {
@@ -297,7 +301,6 @@ fn compile(
 fn run_script(file: &TestFile, name: &str, opts: &Options, coverage: &Arc<Coverage>) -> TestResult {
     let id = format!("{}::{name}", file.path.display());
     let ctx = Arc::new(TestCtx {
-        file: file.path.clone(),
         library: file.library.clone(),
         coverage: coverage.clone(),
         max_ticks: opts.max_ticks,

@@ -113,6 +113,8 @@ pub struct TestWorld {
     pub log: Vec<Logged>,
     /// Most ticks the world may run.
     pub max_ticks: u64,
+    /// Percepts fed to agents instead of what they perceive, by agent.
+    pub feeds: BTreeMap<AgentId, Vec<Feed>>,
     coverage: Arc<Coverage>,
 }
 
@@ -136,6 +138,7 @@ impl TestWorld {
             names: BTreeMap::new(),
             log: Vec::new(),
             max_ticks,
+            feeds: BTreeMap::new(),
             coverage,
         }
     }
@@ -196,6 +199,14 @@ impl TestWorld {
             ));
         }
         self.drain_events();
+        // Fed percepts keep their bearing relative to the agent's heading as it turns.
+        self.pipeline.injected.clear();
+        for (id, feeds) in &self.feeds {
+            if let Some(a) = self.world.agent(*id) {
+                let percepts = feeds.iter().map(|f| f.percept(a.yaw, a.pitch)).collect();
+                self.pipeline.injected.insert(*id, percepts);
+            }
+        }
         self.pipeline.step(&mut self.world);
         self.drain_events();
         for a in &self.world.agents {
