@@ -20,6 +20,7 @@ pub mod script;
 pub mod species;
 pub mod steering;
 pub mod terrain;
+pub mod testing;
 pub mod tick;
 pub mod view;
 pub mod world;

@@ -88,6 +88,8 @@ pub struct Pipeline {
     pub stats: Stats,
     /// Per-agent targets of planned paths (set by the planning layer), by agent index.
     pub plan_targets: Vec<Option<Vec3>>,
+    /// Percepts fed to agents instead of what they perceive (script tests), by agent id.
+    pub injected: std::collections::BTreeMap<AgentId, Vec<crate::perception::Percept>>,
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -117,6 +119,7 @@ impl Pipeline {
             events: Vec::new(),
             stats: Stats::default(),
             plan_targets: Vec::new(),
+            injected: Default::default(),
         };
         p.set_species(species);
         p
@@ -246,6 +249,11 @@ impl Pipeline {
             &set.senses,
             &set.relations,
         );
+        for (id, percepts) in &self.injected {
+            if let Some(i) = world.agent_index(*id) {
+                self.perception.inject(i, world.agents[i].pos, percepts);
+            }
+        }
         // 3–6. Per agent: drives, decision, steering, locomotion.
         self.brains.resize_with(n, Brain::default);
         for (a, b) in world.agents.iter_mut().zip(self.brains.iter_mut()) {

@@ -192,6 +192,47 @@ impl Perception {
     }
 }
 
+impl Perception {
+    /// Replaces what agent `i` (at `pos`) perceived this tick by `percepts` (the nearest
+    /// [`MAX_PERCEPTS`] kept) and rebuilds its summaries from them, as the stage would have.
+    /// Agent percepts carry no heading or velocity, so their means are zero.
+    pub fn inject(&mut self, i: usize, pos: Vec3, percepts: &[Percept]) {
+        if i >= self.counts.len() {
+            return;
+        }
+        let slots = &mut self.percepts[i * MAX_PERCEPTS..(i + 1) * MAX_PERCEPTS];
+        let summary = &mut self.summaries[i];
+        *summary = [Summary::default(); Category::COUNT];
+        let mut len = 0;
+        for p in percepts {
+            note(summary, p, pos + p.offset, Vec3::ZERO, Vec3::ZERO);
+            if p.category == Category::Mate {
+                let kin = Percept {
+                    category: Category::Kin,
+                    ..*p
+                };
+                note(summary, &kin, pos + p.offset, Vec3::ZERO, Vec3::ZERO);
+            }
+            keep(slots, &mut len, *p);
+        }
+        for (c, sm) in summary.iter_mut().enumerate() {
+            if sm.count > 0 {
+                sm.centroid /= sm.count as f32;
+            }
+            let mut best: Option<(u16, f32)> = None;
+            for (k, p) in slots[..len].iter().enumerate() {
+                let matches = p.category as usize == c
+                    || (c == Category::Kin as usize && p.category == Category::Mate);
+                if matches && best.is_none_or(|(_, d)| p.dist < d) {
+                    best = Some((k as u16, p.dist));
+                }
+            }
+            sm.nearest = best.map(|b| b.0);
+        }
+        self.counts[i] = len as u16;
+    }
+}
+
 /// Keeps the nearest `MAX_PERCEPTS` percepts: appends while there is room, else replaces the
 /// farthest when nearer.
 #[inline]
@@ -588,6 +629,48 @@ mod tests {
         let p = run(&w, &rel(), sense);
         let sm = p.summaries(0)[Category::Kin as usize];
         assert_eq!((sm.count, sm.seen), (1, 1));
+    }
+
+    #[test]
+    fn injected_percepts_replace_an_agents_and_rebuild_its_summaries() {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        w.add_food(Vec3::new(0.0, 0.0, 3.0));
+        let mut p = run(&w, &rel(), SenseParams::default());
+        assert_eq!(p.summaries(0)[Category::Food as usize].count, 1);
+        let fed = |category, sense, offset: Vec3| Percept {
+            source: Source::Injected,
+            category,
+            sense,
+            offset,
+            dist: offset.length(),
+            bearing: 0.0,
+            elevation: 0.0,
+            size: 1.0,
+        };
+        p.inject(
+            0,
+            Vec3::new(1.0, 0.0, 0.0),
+            &[
+                fed(Category::Predator, Sense::Smell, Vec3::new(0.0, 0.0, 12.0)),
+                fed(Category::Mate, Sense::Vision, Vec3::new(0.0, 0.0, 2.0)),
+                fed(Category::Kin, Sense::Vision, Vec3::new(0.0, 0.0, 4.0)),
+            ],
+        );
+        let sm = p.summaries(0);
+        assert_eq!(p.percepts(0).len(), 3);
+        assert_eq!(
+            sm[Category::Food as usize].count,
+            0,
+            "the real food is gone"
+        );
+        let pred = sm[Category::Predator as usize];
+        assert_eq!((pred.count, pred.seen, pred.nearest_dist), (1, 0, 12.0));
+        // A mate also counts as kin, as perception does it.
+        let kin = sm[Category::Kin as usize];
+        assert_eq!((kin.count, kin.seen, kin.nearest_dist), (2, 2, 2.0));
+        assert_eq!(kin.nearest, Some(1));
+        assert_eq!(kin.centroid, Vec3::new(1.0, 0.0, 3.0));
     }
 
     #[test]

@@ -128,6 +128,9 @@ pub enum Source {
     Food(u32),
     /// A static obstacle, by index in `World::obstacles`.
     Obstacle(u32),
+    /// Fed to the agent directly (script tests): no object of the world stands behind it, so
+    /// contacts, pursuit prediction and neighbor lists ignore it.
+    Injected,
 }
 
 /// One perceived thing, relative to the perceiving agent.

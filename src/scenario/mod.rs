@@ -3,6 +3,7 @@
 //! files; the core below it does not.
 
 pub mod def;
+pub mod expect;
 
 pub use def::*;
 
