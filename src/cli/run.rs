@@ -85,6 +85,8 @@ pub fn execute(
     let stop = interrupted();
     let mut rec = Recorder::start(dir, &run, interval, n_threads)?;
     rec.states(&run)?;
+    // Expectations the scenario declares are judged along the way and reported in the summary.
+    let mut tracker = shoal::scenario::expect::Tracker::new(&run.scenario).ok();
     let progress = !quiet && std::io::stderr().is_terminal();
     let start = Instant::now();
     let mut last_draw = Instant::now();
@@ -96,6 +98,9 @@ pub fn execute(
             }
             run.step();
             rec.record_tick(&run)?;
+            if let Some(t) = tracker.as_mut() {
+                t.observe(&run.world, &run.pipeline);
+            }
             if progress && last_draw.elapsed().as_millis() >= 100 {
                 last_draw = Instant::now();
                 let done = run.world.tick;
@@ -122,9 +127,23 @@ pub fn execute(
     let elapsed = start.elapsed().as_secs_f64();
     match result {
         Ok(()) => {
-            let summary = summary(&run, elapsed);
+            let mut summary = summary(&run, elapsed);
+            let verdicts = tracker
+                .filter(|t| !t.is_empty())
+                .map(|t| t.finish(&run.world, &run.pipeline))
+                .unwrap_or_default();
+            summary["expectations"] = serde_json::Value::Array(
+                verdicts
+                    .iter()
+                    .map(|v| serde_json::json!({"expected": v.expected, "passed": v.passed, "observed": v.observed}))
+                    .collect(),
+            );
             if !quiet {
                 print_summary(&run, &summary);
+                for v in &verdicts {
+                    let mark = if v.passed { "met" } else { "NOT MET" };
+                    println!("  expectation {mark}: {} ({})", v.expected, v.observed);
+                }
             }
             let dir = rec.finish(&run, n_threads, summary)?;
             Ok(Outcome {
