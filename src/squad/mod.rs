@@ -27,6 +27,7 @@
 //!   most once per [`REPLAN_COOLDOWN`] seconds).
 
 pub mod ground;
+pub mod record;
 pub mod route;
 pub mod script;
 pub mod setup;

@@ -247,31 +247,3 @@ fn plan_path(
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use rhai::Scope;
-
-    #[test]
-    fn probe() {
-        let e = crate::script::new_engine(&crate::script::Limits::default());
-        let ast = e.compile("fn f() { let a = this.transitions; a.len() } fn g() { this.transitions.len() } fn h() { this.key_points.len() } fn k() { this.pos.length() } fn m() { this.kin.centroid.length() }").unwrap();
-        for name in ["f", "g", "h", "k", "m"] {
-            let mut this = Dynamic::from(AgentView::default());
-            let r: Result<Dynamic, _> = e.call_fn_with_options(
-                rhai::CallFnOptions::new()
-                    .eval_ast(false)
-                    .bind_this_ptr(&mut this),
-                &mut Scope::new(),
-                &ast,
-                name,
-                (),
-            );
-            eprintln!(
-                "{name}: {r:?} {:?}",
-                this.try_cast::<AgentView>().unwrap().memory
-            );
-        }
-    }
-}
