@@ -172,6 +172,9 @@ fn on_tick() {
         this["keys"] = this.key_points.len();
         this["first_key"] = this.key_points[0];
         this["formation"] = this.formation;
+        this["goal"] = this.squad_goal;
+        this["in_squad"] = this.in_squad && !this.at_goal;
+        this["slot_dist"] = this.slot_dist;
         this["bad"] = this.plan_path(vec3(-50.0, 0.0, 0.0), "", "");
         this["err"] = this.plan_error;
         this["ok"] = this.plan_path(vec3(11.0, 0.0, 71.0), "column", "ShortestFirst");
@@ -236,6 +239,15 @@ fn a_script_plans_a_new_path_and_reads_the_tables() {
         Some(MemValue::Vec3(glam::Vec3::new(k0.x, 1.0, k0.y)))
     );
     assert_eq!(mem("formation"), Some(MemValue::Str("line".into())));
+    assert_eq!(
+        mem("goal"),
+        Some(MemValue::Vec3(glam::Vec3::new(101.0, 5.2, 11.0)))
+    );
+    assert_eq!(mem("in_squad"), Some(MemValue::Bool(true)));
+    let Some(MemValue::Float(d)) = mem("slot_dist") else {
+        panic!()
+    };
+    assert!(d < 0.1, "the leader is on its path: {d}");
     assert_eq!(mem("bad"), Some(MemValue::Bool(false)));
     assert_eq!(
         mem("err"),

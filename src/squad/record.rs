@@ -10,7 +10,13 @@ use serde_json::{json, Value};
 /// Terrains with more cells than this are downsampled for the viewer.
 pub const MAX_TERRAIN_CELLS: usize = 512 * 512;
 
-/// `{"origin":[x0,z0],"cell","cols","rows","heights":[…],"blocked":[0|1…]}`, row-major, row 0
+/// `x` rounded to the millimetre, so the JSON holds `11.18` rather than `11.180000305175781`.
+fn mm(x: f32) -> f64 {
+    (f64::from(x) * 1000.0).round() / 1000.0
+}
+
+/// `{"origin":[x0,z0],"cell","cols","rows","heights":[…],"blocked":[0|1…]}` (metres to
+/// the millimetre), row-major, row 0
 /// at the smallest z; `blocked` is the first squad's grid (else the first walking species'),
 /// empty when no species walks. Larger terrains are sampled every `k` cells (a blocked flag set
 /// when any cell of the block is blocked). `null` without terrain.
@@ -35,11 +41,11 @@ pub fn terrain_json(squads: &Squads) -> Value {
     for r in 0..rows {
         for c in 0..cols {
             let centre = t.origin + Vec2::new(c as f32 + 0.5, r as f32 + 0.5) * cell;
-            heights.push(if k == 1 {
+            heights.push(mm(if k == 1 {
                 t.heights[r * t.cols + c]
             } else {
                 t.height_at(centre.x, centre.y)
-            });
+            }));
             if let Some(gr) = &grid {
                 let any = (r * k..((r + 1) * k).min(t.rows)).any(|rr| {
                     (c * k..((c + 1) * k).min(t.cols)).any(|cc| gr.blocked[rr * t.cols + cc])
@@ -49,7 +55,7 @@ pub fn terrain_json(squads: &Squads) -> Value {
         }
     }
     json!({
-        "origin": [t.origin.x, t.origin.y],
+        "origin": [mm(t.origin.x), mm(t.origin.y)],
         "cell": cell,
         "cols": cols,
         "rows": rows,
@@ -67,7 +73,7 @@ pub fn plans_json(squads: &Squads) -> Value {
         return json!([]);
     };
     let t = &g.terrain;
-    let p3 = |p: Vec2| [p.x, t.height_at(p.x, p.y) + DRAW_LIFT, p.y];
+    let p3 = |p: Vec2| [mm(p.x), mm(t.height_at(p.x, p.y) + DRAW_LIFT), mm(p.y)];
     let plans: Vec<Value> = squads
         .squads
         .iter()

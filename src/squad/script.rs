@@ -11,7 +11,7 @@
 //! | `in_squad`, `is_leader` | bools |
 //! | `slot` | Vec3: the member's slot now, on the ground (the leader's: its point on the path; own position outside a squad) |
 //! | `slot_dist` | horizontal distance to the slot |
-//! | `leader_pos`, `goal` | Vec3 |
+//! | `leader_pos`, `squad_goal` | Vec3 |
 //! | `at_goal` | the leader has reached the end of the path |
 //! | `formation` | name of the formation held now ("" outside a squad) |
 //! | `key_points` | array of Vec3: the key-point table, on the ground |
@@ -126,7 +126,7 @@ pub fn register(e: &mut Engine) {
     );
     read_only(
         e,
-        "goal",
+        "squad_goal",
         |v| v.squad.as_ref().map_or(v.pos, |s| s.shared.goal),
         eq,
     );
