@@ -18,6 +18,7 @@ pub mod record;
 pub mod scenario;
 pub mod script;
 pub mod species;
+pub mod squad;
 pub mod steering;
 pub mod terrain;
 pub mod testing;

@@ -80,6 +80,9 @@ pub fn view_of(
         outbox: Vec::new(),
         recipes: ctx.species.recipe_names.clone(),
         drives_written: false,
+        terrain: ctx.world.terrain.clone(),
+        eye_height: ctx.species.def.body.size.y,
+        squad: ctx.world.squads.as_ref().and_then(|b| b.view(a.id)),
     }
 }
 

@@ -75,7 +75,7 @@ pub fn event_json(e: &Event, tick: u64, dt: f32, set: &SpeciesSet) -> Value {
 }
 
 /// The world description of `world.json`: bounds, obstacles (with the tick each was removed at),
-/// species with colors and behavior names.
+/// species with colors and behavior names, terrain and the squads' plans.
 pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
     let w = &run.world;
     let obstacles: Vec<Value> = w
@@ -112,7 +112,7 @@ pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
         "bounds": {"min": w.bounds.min.to_array(), "max": w.bounds.max.to_array()},
         "obstacles": obstacles,
         "species": species,
-        "terrain": Value::Null,
-        "plans": [],
+        "terrain": crate::squad::record::terrain_json(&run.squads),
+        "plans": crate::squad::record::plans_json(&run.squads),
     })
 }

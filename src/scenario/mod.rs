@@ -31,6 +31,10 @@ pub struct Scenario {
     pub behaviors_dir: PathBuf,
     /// The species, in the order the scenario lists them.
     pub species: Arc<SpeciesSet>,
+    /// The terrain and each walking species' cost grid, when the scenario has terrain.
+    pub ground: Option<Arc<crate::squad::Ground>>,
+    /// The squads, checked and planned.
+    pub squads: Vec<crate::squad::SquadSetup>,
 }
 
 /// Removes `.` and `a/..` components without touching the file system, so that diagnostics
@@ -250,6 +254,7 @@ impl Scenario {
         let species = Arc::new(SpeciesSet::with_library(loaded, |n| {
             lib.join(format!("{n}.ron")).is_file()
         })?);
+        let (ground, squads) = crate::squad::setup::load(file, text, &def, &species)?;
         Ok(Scenario {
             name: def.name.clone().unwrap_or_else(|| {
                 file.file_stem()
@@ -261,6 +266,8 @@ impl Scenario {
             def,
             behaviors_dir,
             species,
+            ground,
+            squads,
         })
     }
 
@@ -298,6 +305,8 @@ pub struct Run {
     food_debt: f32,
     /// Agents alive per species at the last tick.
     pub scenario_events: Vec<crate::events::Event>,
+    /// The terrain and squads at run time (walking agents, plans, formation measures).
+    pub squads: crate::squad::Squads,
 }
 
 fn uniform_in(r: &Aabb, rng: &mut Rng) -> Vec3 {
@@ -340,11 +349,18 @@ impl Run {
             food_rng,
             food_debt: 0.0,
             scenario_events: Vec::new(),
+            squads: crate::squad::Squads::default(),
         };
         std::mem::swap(&mut run.pipeline, &mut pipeline);
         for (k, g) in groups.iter().enumerate() {
             run.spawn_group(g, k as u64);
         }
+        run.squads = crate::squad::Squads::start(
+            run.scenario.ground.clone(),
+            &run.scenario.squads,
+            &mut run.world,
+            &mut run.pipeline,
+        );
         run
     }
 
@@ -437,7 +453,10 @@ impl Run {
                 }
             }
         }
+        self.squads.before_tick(&mut self.world, &mut self.pipeline);
         self.pipeline.step(&mut self.world);
+        let set = self.pipeline.species.clone();
+        self.squads.after_tick(&mut self.world, &set);
     }
 
     /// Agents alive per species, in species order.

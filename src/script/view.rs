@@ -101,6 +101,12 @@ pub struct AgentView {
     pub recipes: Arc<[String]>,
     /// Whether a script wrote a drive.
     pub drives_written: bool,
+    /// The ground, for line-of-sight queries (`this.can_see(p)`).
+    pub terrain: Option<Arc<crate::terrain::Terrain>>,
+    /// Eye height above the agent's position (its body height).
+    pub eye_height: FLOAT,
+    /// The agent's squad and plan, when it is a squad member.
+    pub squad: Option<crate::squad::SquadView>,
 }
 
 fn err(msg: impl Into<String>) -> Box<EvalAltResult> {
@@ -154,6 +160,7 @@ pub fn register_api(e: &mut Engine) {
     register_category(e);
     register_steer(e);
     register_agent(e);
+    crate::squad::script::register(e);
 }
 
 fn register_vec3(e: &mut Engine) {

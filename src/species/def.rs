@@ -12,6 +12,7 @@ use crate::steering::avoid::AvoidParams;
 use crate::steering::goal::Prediction;
 use crate::steering::group::Zones;
 use crate::steering::wander::WanderParams;
+use crate::terrain::Mobility;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -80,6 +81,9 @@ pub struct BodyDef {
     pub anim: AnimParams,
     /// Whether the body walks on the terrain surface (2.5D) instead of swimming in 3D.
     pub on_ground: bool,
+    /// How a walking body moves over terrain (slope limit, what blocks and slows it): builds the
+    /// species' cost grid for path planning and the cells it may never stand on.
+    pub mobility: Mobility,
 }
 
 impl Default for BodyDef {
@@ -90,6 +94,7 @@ impl Default for BodyDef {
             locomotion: Mode::Kinematic,
             anim: AnimParams::default(),
             on_ground: false,
+            mobility: Mobility::default(),
         }
     }
 }

@@ -14,6 +14,7 @@ pub use rng::Rng;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// An axis-aligned box: world bounds, obstacle boxes, spawn regions.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -150,6 +151,11 @@ pub struct World {
     pub next_agent_id: u32,
     /// Next food id to hand out.
     pub next_food_id: u32,
+    /// The ground, when the scenario has terrain: walking species stand on it and scripts test
+    /// line of sight over it.
+    pub terrain: Option<Arc<crate::terrain::Terrain>>,
+    /// The squads' plans as scripts see them, published by the scenario layer before each tick.
+    pub squads: Option<Arc<crate::squad::Board>>,
 }
 
 impl World {
@@ -166,6 +172,8 @@ impl World {
             seed,
             next_agent_id: 0,
             next_food_id: 0,
+            terrain: None,
+            squads: None,
         }
     }
 

@@ -1,0 +1,278 @@
+//! Loading a scenario's terrain and squads: the DEM and feature files, each walking species' cost
+//! grid, and every squad checked and planned once, with located diagnostics (seed 004).
+//!
+//! Not a tick stage: part of `Scenario::load`.
+
+use super::Ground;
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::formation::Plan;
+use crate::formation::{
+    Formation, FormationDef, PlanError, PlanRequest, Planner, Shape, TaskClass,
+};
+use crate::scenario::{normalize, ScenarioDef};
+use crate::species::validate::locate;
+use crate::species::SpeciesSet;
+use crate::terrain::{load_asc, Features};
+use glam::Vec2;
+use std::path::Path;
+use std::sync::Arc;
+
+/// A squad checked at load time, with its first plan.
+#[derive(Debug, Clone)]
+pub struct SquadSetup {
+    /// Species index of the members.
+    pub species: usize,
+    /// Formations in the order the scenario lists them (preferred first), one slot per member.
+    pub formations: Vec<Formation>,
+    /// The leader's member index (slot 0).
+    pub leader: usize,
+    /// Task class.
+    pub task: TaskClass,
+    /// Leader start, world `(x, z)`.
+    pub start: Vec2,
+    /// Goal, world `(x, z)`.
+    pub goal: Vec2,
+    /// The plan from start to goal.
+    pub plan: Plan,
+}
+
+/// The formation shapes a squad may name, lower case.
+pub const SHAPE_NAMES: [&str; 5] = ["line", "column", "wedge", "triangle", "diamond"];
+
+/// The shape called `name` (any case), one of [`SHAPE_NAMES`].
+pub fn shape_named(name: &str) -> Option<Shape> {
+    match name.to_ascii_lowercase().as_str() {
+        "line" => Some(Shape::Line),
+        "column" => Some(Shape::Column),
+        "wedge" => Some(Shape::Wedge),
+        "triangle" => Some(Shape::Triangle),
+        "diamond" => Some(Shape::Diamond),
+        _ => None,
+    }
+}
+
+/// The task class written `text`: `MustKeep`, `MayChangeRarely`, `ShortestFirst` or
+/// `Custom(k1: …, k2: …, may_change: …)`.
+pub fn task_named(text: &str) -> Option<TaskClass> {
+    let t: TaskClass = ron::from_str(text.trim()).ok()?;
+    t.weights().validate().ok()?;
+    Some(t)
+}
+
+/// Loads the scenario's terrain (paths relative to `file`) and builds each walking species'
+/// cost grid, then checks and plans every squad. `Ok((None, []))` when the scenario has neither.
+pub fn load(
+    file: &Path,
+    text: &str,
+    def: &ScenarioDef,
+    species: &SpeciesSet,
+) -> Result<(Option<Arc<Ground>>, Vec<SquadSetup>), Diagnostics> {
+    let at = |needle: &str, from: usize| locate(text, needle, from).unwrap_or((0, 0, 0));
+    let diag = |(l, c, _): (usize, usize, usize), msg: String| {
+        Diagnostic::new(file, l, c, msg, Some(text))
+    };
+    let dir = file.parent().unwrap_or(Path::new("."));
+    let ground = match &def.terrain {
+        None => None,
+        Some(t) => {
+            let dem = normalize(&dir.join(&t.dem));
+            if !dem.is_file() {
+                return Err(diag(
+                    at(&format!("\"{}\"", t.dem), 0),
+                    format!("terrain file \"{}\" not found", dem.display()),
+                )
+                .into());
+            }
+            let ext = dem.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if !ext.eq_ignore_ascii_case("asc") {
+                return Err(diag(
+                    at(&format!("\"{}\"", t.dem), 0),
+                    format!(
+                        "terrain file \"{}\": expected an ESRI ASCII grid (.asc)",
+                        dem.display()
+                    ),
+                )
+                .into());
+            }
+            let mut terrain = load_asc(&dem)?;
+            if let Some(f) = &t.features {
+                let path = normalize(&dir.join(f));
+                if !path.is_file() {
+                    return Err(diag(
+                        at(&format!("\"{f}\""), 0),
+                        format!("feature file \"{}\" not found", path.display()),
+                    )
+                    .into());
+                }
+                terrain.apply_features(&Features::load(&path)?);
+            }
+            let grids = species
+                .species
+                .iter()
+                .map(|s| {
+                    s.def
+                        .body
+                        .on_ground
+                        .then(|| Arc::new(terrain.cost_grid(&s.def.body.mobility)))
+                })
+                .collect();
+            let (lo, hi) = terrain
+                .heights
+                .iter()
+                .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &h| {
+                    (a.min(h), b.max(h))
+                });
+            let b = def.bounds;
+            if lo < b.min.y || hi > b.max.y {
+                return Err(diag(
+                    at("bounds", 0),
+                    format!(
+                        "`bounds` must hold the terrain: its heights run from {lo} to {hi}, the bounds' y from {} to {}",
+                        b.min.y, b.max.y
+                    ),
+                )
+                .into());
+            }
+            Some(Arc::new(Ground {
+                terrain: Arc::new(terrain),
+                grids,
+            }))
+        }
+    };
+    let mut diags = Vec::new();
+    let mut setups = Vec::new();
+    let mut from = locate(text, "squads", 0).map_or(0, |x| x.2);
+    let mut planner = Planner::new();
+    for sq in &def.squads {
+        let here = locate(text, &format!("\"{}\"", sq.species), from).map_or(from, |x| x.2);
+        from = here + 1;
+        let Some(g) = &ground else {
+            diags.push(diag(
+                at("squads", 0),
+                "squads need a `terrain: (dem: \"…\")` to plan over".into(),
+            ));
+            break;
+        };
+        let Some(s) = species.index_of(&sq.species) else {
+            diags.push(diag(
+                at(&format!("\"{}\"", sq.species), here),
+                format!(
+                    "unknown species \"{}\": the scenario loads {}",
+                    sq.species,
+                    def.species.join(", ")
+                ),
+            ));
+            continue;
+        };
+        let Some(grid) = g.grids[s].clone() else {
+            diags.push(diag(
+                at(&format!("\"{}\"", sq.species), here),
+                format!(
+                    "squad species \"{}\" must walk: give it `body: (on_ground: true)`",
+                    sq.species
+                ),
+            ));
+            continue;
+        };
+        let mut ok = true;
+        let members = sq.count as usize;
+        if members == 0 {
+            diags.push(diag(at("count", here), "`count` must be at least 1".into()));
+            ok = false;
+        }
+        if !(sq.spacing.is_finite() && sq.spacing > 0.0) {
+            diags.push(diag(
+                at("spacing", here),
+                format!("`spacing` must be a positive number, not {}", sq.spacing),
+            ));
+            ok = false;
+        }
+        if sq.formations.is_empty() {
+            diags.push(diag(
+                at("formations", here),
+                "a squad needs at least one formation".into(),
+            ));
+            ok = false;
+        }
+        let mut formations = Vec::new();
+        for (i, name) in sq.formations.iter().enumerate() {
+            match shape_named(name) {
+                Some(shape) => {
+                    if members > 0 && sq.spacing > 0.0 {
+                        if let Ok(f) = (FormationDef {
+                            name: Some(name.to_ascii_lowercase()),
+                            shape,
+                            spacing: sq.spacing,
+                        })
+                        .validate(members, i + 1)
+                        {
+                            formations.push(f);
+                        }
+                    }
+                }
+                None => {
+                    diags.push(diag(
+                        at(&format!("\"{name}\""), here),
+                        format!(
+                            "unknown formation \"{name}\": expected one of {}",
+                            SHAPE_NAMES.join(", ")
+                        ),
+                    ));
+                    ok = false;
+                }
+            }
+        }
+        let task = task_named(&sq.task);
+        if task.is_none() {
+            diags.push(diag(
+                at("task", here),
+                format!(
+                    "unknown task class \"{}\": expected MustKeep, MayChangeRarely, ShortestFirst or Custom(k1: …, k2: …, may_change: …)",
+                    sq.task
+                ),
+            ));
+            ok = false;
+        }
+        if !ok {
+            continue;
+        }
+        let task = task.expect("checked");
+        let (start, goal) = (
+            Vec2::new(sq.start.0, sq.start.1),
+            Vec2::new(sq.goal.0, sq.goal.1),
+        );
+        match planner.plan(&PlanRequest {
+            grid: &grid,
+            start,
+            goal,
+            formations: &formations,
+            leader: 0,
+            weights: task.weights(),
+        }) {
+            Ok(plan) => setups.push(SquadSetup {
+                species: s,
+                formations,
+                leader: 0,
+                task,
+                start,
+                goal,
+                plan,
+            }),
+            Err(e) => {
+                let key = match &e {
+                    PlanError::Outside { which, .. } | PlanError::Blocked { which, .. } => which,
+                    _ => &"goal",
+                };
+                diags.push(diag(
+                    at(key, here),
+                    format!("squad of \"{}\": {e}", sq.species),
+                ));
+            }
+        }
+    }
+    if diags.is_empty() {
+        Ok((ground, setups))
+    } else {
+        Err(Diagnostics(diags))
+    }
+}
