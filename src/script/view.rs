@@ -148,6 +148,28 @@ fn from_mem(v: &MemValue) -> Dynamic {
     }
 }
 
+/// Registers a read-only property of the agent view. Rhai writes a property back after calling a
+/// method on it (`this.pos.length()`); without a setter that write would fall through to the
+/// blackboard indexer and store a copy there. The setter accepts the unchanged value and refuses
+/// any other.
+pub fn read_only<T: Clone + PartialEq + Send + Sync + 'static>(
+    e: &mut Engine,
+    name: &'static str,
+    get: fn(&AgentView) -> T,
+) {
+    e.register_get(name, move |v: &mut AgentView| get(v));
+    e.register_set(
+        name,
+        move |v: &mut AgentView, x: T| -> Result<(), Box<EvalAltResult>> {
+            if get(v) == x {
+                Ok(())
+            } else {
+                Err(err(format!("`this.{name}` is read-only")))
+            }
+        },
+    );
+}
+
 fn single(term: SteerTerm) -> ScriptSteer {
     ScriptSteer {
         terms: vec![(1.0, term)],
@@ -223,24 +245,24 @@ fn register_steer(e: &mut Engine) {
 
 fn register_agent(e: &mut Engine) {
     e.register_type_with_name::<AgentView>("Agent");
-    e.register_get("id", |v: &mut AgentView| v.id)
-        .register_get("species", |v: &mut AgentView| v.species.clone())
-        .register_get("tick", |v: &mut AgentView| v.tick)
-        .register_get("time", |v: &mut AgentView| v.time)
-        .register_get("dt", |v: &mut AgentView| v.dt)
-        .register_get("pos", |v: &mut AgentView| v.pos)
-        .register_get("vel", |v: &mut AgentView| v.vel)
-        .register_get("fwd", |v: &mut AgentView| v.fwd)
-        .register_get("speed", |v: &mut AgentView| v.speed)
-        .register_get("max_speed", |v: &mut AgentView| v.max_speed)
-        .register_get("behavior", |v: &mut AgentView| v.behavior.clone())
-        .register_get("time_in_behavior", |v: &mut AgentView| v.time_in_behavior)
-        .register_get("stack_depth", |v: &mut AgentView| v.stack_depth)
-        .register_get("sex", |v: &mut AgentView| v.sex.clone())
-        .register_get("age", |v: &mut AgentView| v.age)
-        .register_get("mass", |v: &mut AgentView| v.mass)
-        .register_get("kind", |v: &mut AgentView| v.kind)
-        .register_get("heard", |v: &mut AgentView| v.heard.clone());
+    read_only(e, "id", |v| v.id);
+    read_only(e, "species", |v| v.species.clone());
+    read_only(e, "tick", |v| v.tick);
+    read_only(e, "time", |v| v.time);
+    read_only(e, "dt", |v| v.dt);
+    read_only(e, "pos", |v| v.pos);
+    read_only(e, "vel", |v| v.vel);
+    read_only(e, "fwd", |v| v.fwd);
+    read_only(e, "speed", |v| v.speed);
+    read_only(e, "max_speed", |v| v.max_speed);
+    read_only(e, "behavior", |v| v.behavior.clone());
+    read_only(e, "time_in_behavior", |v| v.time_in_behavior);
+    read_only(e, "stack_depth", |v| v.stack_depth);
+    read_only(e, "sex", |v| v.sex.clone());
+    read_only(e, "age", |v| v.age);
+    read_only(e, "mass", |v| v.mass);
+    read_only(e, "kind", |v| v.kind);
+    read_only(e, "heard", |v| v.heard.clone());
     macro_rules! drive {
         ($name:literal, $field:ident) => {
             e.register_get_set(
@@ -259,7 +281,18 @@ fn register_agent(e: &mut Engine) {
     drive!("fatigue", fatigue);
     for c in Category::ALL {
         let i = c as usize;
-        e.register_get(c.name(), move |v: &mut AgentView| v.cats[i].clone());
+        let name = c.name();
+        e.register_get(name, move |v: &mut AgentView| v.cats[i].clone());
+        e.register_set(
+            name,
+            move |v: &mut AgentView, x: CategoryView| -> Result<(), Box<EvalAltResult>> {
+                if v.cats[i] == x {
+                    Ok(())
+                } else {
+                    Err(err(format!("`this.{name}` is read-only")))
+                }
+            },
+        );
     }
     // Blackboard: this["key"], this["key"] = value, this.has("key"), this.forget("key").
     e.register_indexer_get(|v: &mut AgentView, key: &str| -> Dynamic {
@@ -360,4 +393,44 @@ fn register_agent(e: &mut Engine) {
     e.register_fn("stop", |_: &mut AgentView| {
         single(SteerTerm::Turn(0.0, 0.0, 0.0))
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::script::{Limits, Script};
+    use rhai::Scope;
+    use std::path::Path;
+
+    #[test]
+    fn methods_on_read_only_properties_leave_the_blackboard_alone() {
+        let text = "fn probe() { this.pos.length() + this.kin.centroid.length() }\nfn poke() { this.pos = vec3(1.0, 2.0, 3.0); }";
+        let s = Script::compile(
+            Path::new("probe.rhai"),
+            text,
+            Path::new("."),
+            &Limits::default(),
+        )
+        .unwrap();
+        let mut view = AgentView {
+            pos: Vec3::new(3.0, 4.0, 0.0),
+            ..Default::default()
+        };
+        view.cats[Category::Kin as usize].centroid = Vec3::new(0.0, 0.0, 2.0);
+        let mut this = Dynamic::from(view);
+        let mut scope = Scope::new();
+        let r: FLOAT = s.call(&mut scope, &mut this, "probe").unwrap();
+        assert_eq!(r, 7.0);
+        let v = this.clone().cast::<AgentView>();
+        assert!(v.memory.is_empty(), "{:?}", v.memory);
+        let e = s
+            .call::<Dynamic>(&mut scope, &mut this, "poke")
+            .unwrap_err();
+        assert!(
+            e.diagnostic.message.contains("`this.pos` is read-only"),
+            "{}",
+            e.diagnostic
+        );
+        assert_eq!(e.diagnostic.line, 2);
+    }
 }
