@@ -18,4 +18,5 @@ pub mod script;
 pub mod species;
 pub mod steering;
 pub mod tick;
+pub mod view;
 pub mod world;
