@@ -11,6 +11,7 @@ pub mod drives;
 pub mod events;
 pub mod frame;
 pub mod index;
+pub mod live;
 pub mod locomotion;
 pub mod perception;
 pub mod scenario;

@@ -23,6 +23,9 @@ use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
 use std::sync::Arc;
 
+mod remap;
+pub use remap::Remap;
+
 /// The parts of an agent the decision stage mutates, moved out of the world during the pass.
 #[derive(Debug, Default)]
 struct Brain {

@@ -3,8 +3,10 @@
 //! files; the core below it does not.
 
 pub mod def;
+mod reload;
 
 pub use def::*;
+pub use reload::ScenarioReload;
 
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::species::validate::{locate, ron_diag, ron_options};
