@@ -300,10 +300,10 @@ impl Sim {
                         });
                     }
                 }
-                self.hub.set_diagnostics(&[]);
-                self.hub.push_reload(&accepted.summary());
                 self.publish_world();
                 self.publish_frame();
+                self.hub.set_diagnostics(&[]);
+                self.hub.push_reload(&accepted.summary());
                 self.publish_status();
                 self.first_tick_of = Some(s.version);
                 self.reported.clear();
