@@ -35,7 +35,11 @@ impl Stream {
     fn open(addr: SocketAddr) -> Stream {
         let mut s = TcpStream::connect(addr).unwrap();
         s.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
-        write!(s, "GET /stream HTTP/1.1\r\nHost: {addr}\r\nAccept: text/event-stream\r\n\r\n").unwrap();
+        write!(
+            s,
+            "GET /stream HTTP/1.1\r\nHost: {addr}\r\nAccept: text/event-stream\r\n\r\n"
+        )
+        .unwrap();
         let mut r = BufReader::new(s);
         let mut line = String::new();
         r.read_line(&mut line).unwrap();
@@ -47,7 +51,9 @@ impl Stream {
             if line.trim().is_empty() {
                 break;
             }
-            ct |= line.to_ascii_lowercase().starts_with("content-type: text/event-stream");
+            ct |= line
+                .to_ascii_lowercase()
+                .starts_with("content-type: text/event-stream");
         }
         assert!(ct, "not an event stream");
         Stream { r }
@@ -102,8 +108,14 @@ fn the_live_protocol_streams_controls_and_inspects() {
     let world = st.until("world", |n, _| n == "world");
     assert_eq!(world["species"][0]["name"], "fish");
     assert_eq!(world["species"][0]["color"], "#f0a030");
-    assert_eq!(world["species"][0]["behaviors"], serde_json::json!(["graze", "wander"]));
-    assert_eq!(world["bounds"]["min"], serde_json::json!([-20.0, 0.0, -20.0]));
+    assert_eq!(
+        world["species"][0]["behaviors"],
+        serde_json::json!(["graze", "wander"])
+    );
+    assert_eq!(
+        world["bounds"]["min"],
+        serde_json::json!([-20.0, 0.0, -20.0])
+    );
     assert!(world["terrain"].is_null() && world["plans"] == serde_json::json!([]));
     let f1 = st.until("frame", |n, _| n == "frame");
     for (k, per) in [
@@ -121,16 +133,23 @@ fn the_live_protocol_streams_controls_and_inspects() {
         assert_eq!(f1[k].as_array().unwrap().len(), 24 * per, "{k}");
     }
     let t1 = f1["tick"].as_u64().unwrap();
-    let f2 = st.until("a later frame", |n, v| n == "frame" && v["tick"].as_u64().unwrap() >= t1 + 5);
+    let f2 = st.until("a later frame", |n, v| {
+        n == "frame" && v["tick"].as_u64().unwrap() >= t1 + 5
+    });
     assert!((f2["time"].as_f64().unwrap() - f2["tick"].as_f64().unwrap() * 0.05).abs() < 1e-6);
     assert_ne!(f1["pos"], f2["pos"], "agents do not move");
 
     // A broken edit shows up as diagnostics, the fix clears them and announces a reload.
     let broken = FISH.replace("Above(Drive(Hunger), 0.95)", "Abov(Drive(Hunger), 0.95)");
     p.write("behaviors/fish.ron", &broken);
-    let d = st.until("diagnostics", |n, v| n == "diagnostics" && !v.as_array().unwrap().is_empty());
+    let d = st.until("diagnostics", |n, v| {
+        n == "diagnostics" && !v.as_array().unwrap().is_empty()
+    });
     let text = d[0].as_str().unwrap();
-    assert!(text.contains("fish.ron:14:19: unknown Cond `Abov`"), "{text}");
+    assert!(
+        text.contains("fish.ron:14:19: unknown Cond `Abov`"),
+        "{text}"
+    );
     let (_, status) = request(addr, "GET", "/status", "");
     let status: Value = serde_json::from_str(&status).unwrap();
     assert_eq!(status["diagnostics"][0], d[0]);
@@ -158,9 +177,13 @@ fn the_live_protocol_streams_controls_and_inspects() {
         st.paused.then_some(st.tick)
     });
     request(addr, "POST", "/control", r#"{"cmd":"step"}"#);
-    poll(Duration::from_secs(5), "a step", || (s.status().tick == paused + 1).then_some(()));
+    poll(Duration::from_secs(5), "a step", || {
+        (s.status().tick == paused + 1).then_some(())
+    });
     request(addr, "POST", "/control", r#"{"cmd":"speed","value":2}"#);
-    poll(Duration::from_secs(5), "speed", || (s.status().speed == 2.0).then_some(()));
+    poll(Duration::from_secs(5), "speed", || {
+        (s.status().speed == 2.0).then_some(())
+    });
     let (code, body) = request(addr, "POST", "/control", r#"{"cmd":"fly"}"#);
     assert_eq!(code, 400);
     assert!(body.contains("unknown cmd"));
