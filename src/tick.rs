@@ -90,6 +90,9 @@ pub struct Pipeline {
     pub stats: Stats,
     /// Per-agent targets of planned paths (set by the planning layer), by agent index.
     pub plan_targets: Vec<Option<Vec3>>,
+    /// Run every agent's scripts every tick, whatever the species' decision interval (a dry
+    /// run of a new version exercises every agent in one tick).
+    pub scripts_every_tick: bool,
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -118,6 +121,7 @@ impl Pipeline {
             events: Vec::new(),
             stats: Stats::default(),
             plan_targets: Vec::new(),
+            scripts_every_tick: false,
         };
         p.set_species(species);
         p
@@ -256,6 +260,7 @@ impl Pipeline {
         let perception = &self.perception;
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
+        let every_tick = self.scripts_every_tick;
         self.brains
             .par_iter_mut()
             .zip(self.outcomes.par_iter_mut())
@@ -268,6 +273,7 @@ impl Pipeline {
                     scratch.plan_target = plan_targets[i];
                     agent_pass(
                         i, world_ref, &set, perception, names, brain, out, scope, scratch,
+                        every_tick,
                     );
                 },
             );
@@ -521,6 +527,7 @@ fn agent_pass(
     out: &mut Outcome,
     scope: &mut Scope,
     scratch: &mut Scratch,
+    scripts_every_tick: bool,
 ) {
     let base = &world.agents[i];
     let s = base.species.0 as usize;
@@ -566,7 +573,7 @@ fn agent_pass(
         .as_deref()
         .filter(|_| !sp.slots.is_empty() || sp.has_on_tick);
     if let Some(script) = script {
-        if scripts::due(tick, me.id.0, def.decision_interval) {
+        if scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval) {
             let ctx = Ctx {
                 world,
                 species: sp,

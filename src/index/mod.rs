@@ -118,7 +118,7 @@ impl Grid {
         radius: f32,
         mut visit: impl FnMut(u32, Vec3, f32),
     ) {
-        if self.entries.is_empty() || !(radius >= 0.0) {
+        if self.entries.is_empty() || radius.is_nan() || radius < 0.0 {
             return;
         }
         let r2 = radius * radius;

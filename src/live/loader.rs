@@ -22,10 +22,6 @@ use std::time::{Duration, Instant, SystemTime};
 /// Most diagnostics of one rejected edit shown.
 const MAX_DIAGNOSTICS: usize = 8;
 
-/// Most ticks a dry run takes (enough for every agent to run its scripts once at the usual
-/// decision intervals).
-const MAX_DRY_RUN_TICKS: u32 = 16;
-
 /// What the loader thread receives.
 pub(crate) enum LoaderMsg {
     Fs(DebounceEventResult),
@@ -73,32 +69,19 @@ pub(crate) fn debouncer(
     })
 }
 
-/// Runs `new` for a few ticks on `run` (a copy of the live run): returns the diagnostics of the
-/// first script failures, or of the swap itself.
+/// Runs `new` for one tick on `run` (a copy of the live run) with every agent's scripts due:
+/// returns the diagnostics of the first script failures, or of the swap itself.
 pub(crate) fn dry_run(mut run: Run, new: Scenario) -> Result<(), Vec<String>> {
     let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || {
         run.reload(new).map_err(|d| vec![d.to_string()])?;
-        let ticks = run
-            .pipeline
-            .species
-            .species
-            .iter()
-            .map(|s| s.def.decision_interval)
-            .max()
-            .unwrap_or(1)
-            .clamp(1, MAX_DRY_RUN_TICKS);
+        run.pipeline.scripts_every_tick = true;
+        run.step();
         let mut errors: Vec<String> = Vec::new();
-        for _ in 0..ticks {
-            run.step();
-            for e in &run.pipeline.events {
-                if let Event::ScriptError { message, .. } = e {
-                    if !errors.contains(message) && errors.len() < MAX_DIAGNOSTICS {
-                        errors.push(message.clone());
-                    }
+        for e in &run.pipeline.events {
+            if let Event::ScriptError { message, .. } = e {
+                if !errors.contains(message) && errors.len() < MAX_DIAGNOSTICS {
+                    errors.push(message.clone());
                 }
-            }
-            if !errors.is_empty() {
-                break;
             }
         }
         if errors.is_empty() {
@@ -271,6 +254,7 @@ impl Loader {
             Some(f) => f.clone(),
             None => self.good.iter().map(|f| f.path.clone()).collect(),
         };
+        let t0 = Instant::now();
         let loaded = match files::load(&self.scenario_file, &known) {
             Attempt::Failed { diagnostics, watch } => {
                 let lines = diagnostics
@@ -284,6 +268,7 @@ impl Loader {
             }
             Attempt::Loaded(l) => *l,
         };
+        let load_duration = t0.elapsed();
         if files::same_contents(&loaded.files, &self.good) {
             // Put back as it was (e.g. a broken edit undone): nothing to swap.
             if self.failed.take().is_some() {
@@ -301,10 +286,12 @@ impl Loader {
         };
         let scenario = loaded.scenario.clone();
         let watch: Vec<PathBuf> = loaded.files.iter().map(|f| f.path.clone()).collect();
+        let t1 = Instant::now();
         if let Err(lines) = self.pool.install(|| dry_run(fork, scenario)) {
             self.reject(changed, lines, watch);
             return;
         }
+        let dry_run_duration = t1.elapsed();
         self.version += 1;
         self.failed = None;
         self.behaviors_dir = loaded.scenario.behaviors_dir.clone();
@@ -316,6 +303,8 @@ impl Loader {
             library: loaded.library,
             changed,
             detected_at,
+            load_duration,
+            dry_run_duration,
         };
         if self.sim.send(Command::Swap(Box::new(swap))).is_err() {
             return;

@@ -104,6 +104,10 @@ pub struct Accepted {
     pub spawned: Vec<(String, usize)>,
     /// When the watcher reported the change.
     pub detected_at: Instant,
+    /// Time reading, parsing, validating and compiling the new version took (loader thread).
+    pub load_duration: Duration,
+    /// Time its dry run on a copy of the live world took (loader thread).
+    pub dry_run_duration: Duration,
     /// Time the swap itself took on the simulation thread.
     pub swap_duration: Duration,
 }
@@ -201,6 +205,8 @@ pub enum LiveEvent {
 pub struct TickTime {
     /// The tick.
     pub tick: u64,
+    /// When it started.
+    pub started: Instant,
     /// Time `Run::step` took.
     pub step: Duration,
     /// Time spent swapping versions in just before it (zero if none).

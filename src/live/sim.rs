@@ -29,6 +29,8 @@ pub(crate) struct Swap {
     pub library: Vec<PathBuf>,
     pub changed: Vec<PathBuf>,
     pub detected_at: Instant,
+    pub load_duration: Duration,
+    pub dry_run_duration: Duration,
 }
 
 /// What the simulation thread is asked to do.
@@ -282,6 +284,8 @@ impl Sim {
                     removed: r.remap.removed,
                     spawned: r.spawned,
                     detected_at: s.detected_at,
+                    load_duration: s.load_duration,
+                    dry_run_duration: s.dry_run_duration,
                     swap_duration,
                 };
                 if let Some(rec) = &self.record {
@@ -335,6 +339,7 @@ impl Sim {
                 .unwrap_or_else(|e| e.into_inner())
                 .push(TickTime {
                     tick,
+                    started: t0,
                     step,
                     swap: std::mem::take(&mut self.swap_time),
                     version: self.version,
@@ -376,16 +381,15 @@ impl Sim {
                 Event::Death { agent, .. } => {
                     self.decisions.remove(&agent.0);
                 }
-                Event::ScriptError { message, .. } => {
+                Event::ScriptError { message, .. }
                     if self.reported.len() < MAX_REPORTED_ERRORS
-                        && self.reported.insert(message.clone())
-                    {
-                        let _ = self.events.send(LiveEvent::ScriptError {
-                            time: SystemTime::now(),
-                            tick,
-                            message: message.clone(),
-                        });
-                    }
+                        && self.reported.insert(message.clone()) =>
+                {
+                    let _ = self.events.send(LiveEvent::ScriptError {
+                        time: SystemTime::now(),
+                        tick,
+                        message: message.clone(),
+                    });
                 }
                 _ => {}
             }
