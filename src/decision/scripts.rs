@@ -114,8 +114,11 @@ pub fn run_slots(
         let r: Dynamic = script
             .call(scope, this, &slot.name)
             .map_err(|e| e.diagnostic)?;
-        let (line, col) = script.fn_position(&slot.name);
-        let bad = |what: String| Diagnostic::new(&script.file, line, col, what, Some(&script.text));
+        // Located only when the result is bad: finding the line scans the script text.
+        let bad = |what: String| {
+            let (line, col) = script.fn_position(&slot.name);
+            Diagnostic::new(&script.file, line, col, what, Some(&script.text))
+        };
         match slot.kind {
             SlotKind::Steer => {
                 let Some(s) = r.clone().try_cast::<ScriptSteer>() else {

@@ -219,17 +219,24 @@ impl Sim {
     fn swap(&mut self, s: Swap) {
         let t0 = Instant::now();
         let tick = self.run.world.tick;
-        // Names of the behaviors agents are in now, for the decision log of those who fall back.
-        let before: BTreeMap<u32, String> = self
+        // What agents are doing now, named only for those who fall back (the decision log).
+        let old = self.run.pipeline.species.clone();
+        let before: Vec<(u32, u16, u16)> = self
             .run
             .world
             .agents
             .iter()
-            .map(|a| {
-                let sp = &self.run.pipeline.species.species[a.species.0 as usize];
-                (a.id.0, sp.behavior_name(a.mind.current).to_string())
-            })
+            .map(|a| (a.id.0, a.species.0, a.mind.current))
             .collect();
+        let old_name = |id: u32| -> String {
+            let Ok(i) = before.binary_search_by_key(&id, |x| x.0) else {
+                return String::new();
+            };
+            let (_, sp, b) = before[i];
+            old.species
+                .get(sp as usize)
+                .map_or_else(String::new, |sp| sp.behavior_name(b).to_string())
+        };
         let scenario_file = s.scenario.file.clone();
         match self.run.reload(s.scenario) {
             Ok(r) => {
@@ -255,7 +262,7 @@ impl Sim {
                                 log,
                                 Decision {
                                     tick,
-                                    from: before.get(&agent.0).cloned().unwrap_or_default(),
+                                    from: old_name(agent.0),
                                     to: sp.behavior_name(*to).to_string(),
                                     cause: "fallback",
                                     condition: condition.as_deref().map(str::to_string),
