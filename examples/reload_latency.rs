@@ -3,9 +3,10 @@
 //! prepared and the tick a swap happens in, against normal ticks).
 //!
 //! A species with a 500-line Rhai script and a script condition, a few hundred agents, the
-//! default debounce; the species file and the script are edited in turn, once every 0.7 s. The
-//! edits change thresholds on whole-number counts (`> 8.003`), so every version behaves the same
-//! and the tick durations measure the reload itself, not a change of behavior.
+//! default debounce; the species file and the script are edited in turn, once every 0.70–0.75 s
+//! (spread over the tick period). The edits change thresholds on whole-number counts
+//! (`> 8.003`), so every version behaves the same and the tick durations measure the reload
+//! itself, not a change of behavior.
 //!
 //! ```text
 //! cargo run --release --example reload_latency [-- --agents 400 --reloads 20 --speed 1 --around]
@@ -164,7 +165,8 @@ fn main() {
             dry_run: a.dry_run_duration,
             file,
         });
-        std::thread::sleep(Duration::from_millis(700));
+        // Spread the saves over the tick period (a designer saves at any moment).
+        std::thread::sleep(Duration::from_millis(700 + (k as u64 * 37) % 50));
     }
     let ticks = s.tick_times();
     s.stop();

@@ -46,6 +46,8 @@ pub(crate) struct Loader {
     pub debouncer: Debouncer<notify::RecommendedWatcher, RecommendedCache>,
     pub watched: BTreeMap<PathBuf, RecursiveMode>,
     pub pool: rayon::ThreadPool,
+    /// How long the last dry run took (the next one is expected to take about as long).
+    pub last_dry_run: Duration,
 }
 
 /// Whether `p` can be a file of a scenario (not an editor's swap, backup or probe file).
@@ -244,7 +246,7 @@ impl Loader {
 
     fn fork(&self) -> Option<Run> {
         let (tx, rx) = std::sync::mpsc::channel();
-        self.sim.send(Command::Fork(tx)).ok()?;
+        self.sim.send(Command::Fork(tx, self.last_dry_run)).ok()?;
         rx.recv_timeout(Duration::from_secs(30)).ok().map(|b| *b)
     }
 
@@ -292,6 +294,7 @@ impl Loader {
             return;
         }
         let dry_run_duration = t1.elapsed();
+        self.last_dry_run = dry_run_duration;
         self.version += 1;
         self.failed = None;
         self.behaviors_dir = loaded.scenario.behaviors_dir.clone();

@@ -246,7 +246,7 @@ impl SessionHandle {
     /// A copy of the whole run: world, scenario version and clocks (at the next tick boundary).
     pub fn fork(&self) -> Option<Run> {
         let (tx, rx) = mpsc::channel();
-        self.sim.send(Command::Fork(tx)).ok()?;
+        self.sim.send(Command::Fork(tx, Duration::ZERO)).ok()?;
         rx.recv_timeout(Duration::from_secs(10)).ok().map(|r| *r)
     }
 
@@ -341,6 +341,7 @@ impl Session {
             debouncer,
             watched: Default::default(),
             pool,
+            last_dry_run: Duration::ZERO,
         };
         loader.update_watches();
         let spawn = |name: &str, f: Box<dyn FnOnce() + Send>| {

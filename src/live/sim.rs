@@ -37,7 +37,9 @@ pub(crate) struct Swap {
 pub(crate) enum Command {
     Control(Control),
     Inspect(u32, Sender<Option<AgentInfo>>),
-    Fork(Sender<Box<Run>>),
+    /// A copy of the run, for work expected to take about the given time on another thread
+    /// (answered when that fits before the next tick, else right after it).
+    Fork(Sender<Box<Run>>, Duration),
     World(Sender<Box<World>>),
     Swap(Box<Swap>),
     Stop,
@@ -60,6 +62,8 @@ pub(crate) struct Sim {
     swap_time: Duration,
     step_once: bool,
     next_due: Instant,
+    last_step: Duration,
+    pending_forks: Vec<Sender<Box<Run>>>,
     last_frame: Option<Instant>,
 }
 
@@ -87,6 +91,8 @@ impl Sim {
             swap_time: Duration::ZERO,
             step_once: false,
             next_due: Instant::now(),
+            last_step: Duration::ZERO,
+            pending_forks: Vec::new(),
             last_frame: None,
         }
     }
@@ -157,6 +163,9 @@ impl Sim {
                     self.publish_frame();
                 }
                 self.publish_status();
+                for reply in std::mem::take(&mut self.pending_forks) {
+                    let _ = reply.send(Box::new(self.run.fork()));
+                }
                 continue;
             }
             let wait = if self.paused {
@@ -177,7 +186,12 @@ impl Sim {
         match c {
             Command::Control(c) => {
                 match c {
-                    Control::Pause => self.paused = true,
+                    Control::Pause => {
+                        self.paused = true;
+                        for reply in std::mem::take(&mut self.pending_forks) {
+                            let _ = reply.send(Box::new(self.run.fork()));
+                        }
+                    }
                     Control::Resume => {
                         if self.paused {
                             self.paused = false;
@@ -205,8 +219,16 @@ impl Sim {
                     .map(|a| json::agent_info(&self.run, a, self.decisions.get(&id)));
                 let _ = reply.send(info);
             }
-            Command::Fork(reply) => {
-                let _ = reply.send(Box::new(self.run.fork()));
+            Command::Fork(reply, expected) => {
+                // A dry run on the loader thread competes with the tick for the cores: start it
+                // in the idle time between two ticks.
+                let needed = 2 * expected.max(self.last_step);
+                let gap = self.next_due.saturating_duration_since(Instant::now());
+                if self.paused || gap >= needed {
+                    let _ = reply.send(Box::new(self.run.fork()));
+                } else {
+                    self.pending_forks.push(reply);
+                }
             }
             Command::World(reply) => {
                 let _ = reply.send(Box::new(self.run.world.clone()));
@@ -339,6 +361,7 @@ impl Sim {
         let t0 = Instant::now();
         self.run.step();
         let step = t0.elapsed();
+        self.last_step = step;
         let tick = self.run.world.tick - 1;
         if let Some(times) = &self.tick_times {
             times
