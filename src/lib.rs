@@ -12,6 +12,7 @@ pub mod events;
 pub mod formation;
 pub mod frame;
 pub mod index;
+pub mod live;
 pub mod locomotion;
 pub mod perception;
 pub mod record;

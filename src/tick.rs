@@ -23,6 +23,9 @@ use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
 use std::sync::Arc;
 
+mod remap;
+pub use remap::Remap;
+
 /// The parts of an agent the decision stage mutates, moved out of the world during the pass.
 #[derive(Debug, Default)]
 struct Brain {
@@ -90,6 +93,9 @@ pub struct Pipeline {
     pub plan_targets: Vec<Option<Vec3>>,
     /// Percepts fed to agents instead of what they perceive (script tests), by agent id.
     pub injected: std::collections::BTreeMap<AgentId, Vec<crate::perception::Percept>>,
+    /// Run every agent's scripts every tick, whatever the species' decision interval (a dry
+    /// run of a new version exercises every agent in one tick).
+    pub scripts_every_tick: bool,
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -120,6 +126,7 @@ impl Pipeline {
             stats: Stats::default(),
             plan_targets: Vec::new(),
             injected: Default::default(),
+            scripts_every_tick: false,
         };
         p.set_species(species);
         p
@@ -267,6 +274,7 @@ impl Pipeline {
         let perception = &self.perception;
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
+        let every_tick = self.scripts_every_tick;
         self.brains
             .par_iter_mut()
             .zip(self.outcomes.par_iter_mut())
@@ -279,6 +287,7 @@ impl Pipeline {
                     scratch.plan_target = plan_targets[i];
                     agent_pass(
                         i, world_ref, &set, perception, names, brain, out, scope, scratch,
+                        every_tick,
                     );
                 },
             );
@@ -542,6 +551,7 @@ fn agent_pass(
     out: &mut Outcome,
     scope: &mut Scope,
     scratch: &mut Scratch,
+    scripts_every_tick: bool,
 ) {
     let base = &world.agents[i];
     let s = base.species.0 as usize;
@@ -587,7 +597,7 @@ fn agent_pass(
         .as_deref()
         .filter(|_| !sp.slots.is_empty() || sp.has_on_tick);
     if let Some(script) = script {
-        if scripts::due(tick, me.id.0, def.decision_interval) {
+        if scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval) {
             let ctx = Ctx {
                 world,
                 species: sp,

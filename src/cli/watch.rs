@@ -1,12 +1,178 @@
-//! `shoal watch`.
+//! `shoal watch SCENARIO [--port P]`: runs a scenario live with hot reload, serves the live viewer
+//! on the loopback interface and prints every reload (accepted or rejected) with a timestamp.
 
+use shoal::live::server::{live_page, Server};
+use shoal::live::{LiveEvent, LiveOptions, Session};
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 /// Arguments of `shoal watch`.
 #[derive(clap::Args, Debug, Default)]
-pub struct WatchArgs {}
+pub struct WatchArgs {
+    /// Scenario file.
+    pub scenario: PathBuf,
+    /// Port of the live viewer on 127.0.0.1 (0: any free port).
+    #[arg(long, default_value_t = 7471)]
+    pub port: u16,
+    /// Seed (default: the scenario's).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Simulated seconds per wall-clock second.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f32,
+    /// Start paused.
+    #[arg(long)]
+    pub paused: bool,
+    /// Record every version and reload in this folder, so the session can be re-run exactly.
+    #[arg(long)]
+    pub record: Option<PathBuf>,
+    /// Watcher debounce in milliseconds.
+    #[arg(long, default_value_t = 50, hide = true)]
+    pub debounce_ms: u64,
+}
+
+/// `HH:MM:SS.mmm` (UTC) of `t`.
+fn clock(t: SystemTime) -> String {
+    let ms = t.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_millis());
+    let s = ms / 1000;
+    format!(
+        "{:02}:{:02}:{:02}.{:03}",
+        (s / 3600) % 24,
+        (s / 60) % 60,
+        s % 60,
+        ms % 1000
+    )
+}
+
+fn print_event(e: &LiveEvent) {
+    match e {
+        LiveEvent::Accepted(a) => {
+            let files: Vec<String> = a.changed.iter().map(|p| p.display().to_string()).collect();
+            println!(
+                "[{}] accepted: version {} takes effect at tick {} ({})",
+                clock(a.time),
+                a.version,
+                a.tick,
+                if files.is_empty() {
+                    "changed".to_string()
+                } else {
+                    files.join(", ")
+                }
+            );
+            for (name, n) in &a.fell_back {
+                println!(
+                    "    {n} {name} agent{} fell back to the initial behavior (current behavior renamed or removed)",
+                    if *n == 1 { "" } else { "s" }
+                );
+            }
+            for (name, n) in &a.spawned {
+                println!("    spawned {n} {name}");
+            }
+            if a.removed > 0 {
+                println!(
+                    "    removed {} agents of species no longer in the scenario",
+                    a.removed
+                );
+            }
+        }
+        LiveEvent::Rejected(r) => {
+            println!(
+                "[{}] rejected: version {} keeps running",
+                clock(r.time),
+                r.running
+            );
+            for d in &r.diagnostics {
+                for line in d.lines() {
+                    println!("    {line}");
+                }
+            }
+        }
+        LiveEvent::Restored { time, version } => println!(
+            "[{}] restored: the files match version {version} again",
+            clock(*time)
+        ),
+        LiveEvent::ScriptError {
+            time,
+            tick,
+            message,
+        } => {
+            println!("[{}] script error at tick {tick}:", clock(*time));
+            for line in message.lines() {
+                println!("    {line}");
+            }
+        }
+        LiveEvent::WatchError { time, message } => {
+            println!("[{}] watcher: {message}", clock(*time))
+        }
+        LiveEvent::RecordError { time, message } => {
+            println!("[{}] record: {message}", clock(*time))
+        }
+        LiveEvent::FirstTick { .. } => {}
+    }
+}
 
 /// Runs `shoal watch`.
-pub fn watch(_args: WatchArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("`shoal watch` is not available in this build yet")
+pub fn watch(args: WatchArgs) -> anyhow::Result<ExitCode> {
+    if !args.scenario.is_file() {
+        eprintln!("{}: no such file", args.scenario.display());
+        return Ok(ExitCode::from(super::BAD_INPUT));
+    }
+    let options = LiveOptions {
+        debounce: Duration::from_millis(args.debounce_ms.max(1)),
+        speed: args.speed,
+        paused: args.paused,
+        seed: args.seed,
+        record: args.record.clone(),
+        ..LiveOptions::default()
+    };
+    let session = match Session::start(&args.scenario, options) {
+        Ok(s) => s,
+        Err(d) => return Ok(super::report(&d)),
+    };
+    let server = Server::start(session.handle(), live_page(), args.port).map_err(|e| {
+        anyhow::anyhow!(
+            "cannot serve the live viewer on 127.0.0.1:{}: {e}",
+            args.port
+        )
+    })?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed))?;
+    }
+    let species: Vec<String> = session
+        .started_with
+        .iter()
+        .map(|(s, n)| format!("{n} {s}"))
+        .collect();
+    println!(
+        "[{}] watching {} ({}); edits to its species, scripts and imports reload live",
+        clock(SystemTime::now()),
+        args.scenario.display(),
+        species.join(", ")
+    );
+    if let Some(dir) = &args.record {
+        println!("recording versions and reloads in {}", dir.display());
+    }
+    println!("live view: {}  (Ctrl-C to stop)", server.url());
+    while !stop.load(Ordering::Relaxed) {
+        match session.events().recv_timeout(Duration::from_millis(100)) {
+            Ok(e) => print_event(&e),
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+        }
+    }
+    let status = session.status();
+    drop(server);
+    session.stop();
+    println!(
+        "[{}] stopped at tick {} (version {})",
+        clock(SystemTime::now()),
+        status.tick,
+        status.version
+    );
+    Ok(ExitCode::SUCCESS)
 }

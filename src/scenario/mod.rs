@@ -4,8 +4,10 @@
 
 pub mod def;
 pub mod expect;
+mod reload;
 
 pub use def::*;
+pub use reload::ScenarioReload;
 
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::species::validate::{locate, ron_diag, ron_options};

@@ -233,7 +233,7 @@ struct Tracker {
 }
 
 /// One squad at run time.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Squad {
     /// Index in the scenario.
     pub index: usize,
@@ -546,6 +546,18 @@ pub struct Squads {
 }
 
 impl Squads {
+    /// A copy of the squads' state with fresh search buffers (for trying a new version of the
+    /// scenario out on a copy of the run).
+    pub fn fork(&self) -> Squads {
+        Squads {
+            ground: self.ground.clone(),
+            squads: self.squads.clone(),
+            blocked_steps: self.blocked_steps,
+            router: Router::default(),
+            planner: Planner::new(),
+        }
+    }
+
     /// Spawns every squad's members at their slots of the first key point, on the ground,
     /// facing the first leg, and puts every walking agent already in `world` on the ground.
     pub fn start(

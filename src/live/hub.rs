@@ -1,0 +1,278 @@
+//! What a live session shows to its viewers: the latest world description, frame, diagnostics
+//! and reload messages, each with a sequence number. Every stream reader keeps the numbers it
+//! has sent and is woken when one changes; a slow reader skips frames instead of queueing them.
+
+use std::collections::VecDeque;
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::time::Duration;
+
+/// Reload messages kept for readers that connect late (only the newest matter).
+const RELOADS_KEPT: usize = 8;
+
+/// Where a live session stands.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Status {
+    /// Ticks done.
+    pub tick: u64,
+    /// Simulated time (s).
+    pub time: f64,
+    /// Version of the scenario running (0 = as started).
+    pub version: u32,
+    /// Whether the simulation is paused.
+    pub paused: bool,
+    /// Simulated seconds per wall-clock second.
+    pub speed: f32,
+    /// Agents alive.
+    pub agents: usize,
+    /// Diagnostics of the last rejected edit, empty once it is fixed.
+    pub diagnostics: Vec<String>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct Item {
+    seq: u64,
+    data: Option<Arc<str>>,
+}
+
+#[derive(Debug)]
+struct State {
+    world: Item,
+    diagnostics: Item,
+    frame: Item,
+    reloads: VecDeque<(u64, Arc<str>)>,
+    reload_seq: u64,
+    status: Status,
+    closed: bool,
+}
+
+/// The latest of everything a viewer is sent, shared between the simulation, the loader and the
+/// stream readers.
+#[derive(Debug)]
+pub struct Hub {
+    state: Mutex<State>,
+    changed: Condvar,
+}
+
+/// What a stream reader has already sent.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Seen {
+    world: u64,
+    diagnostics: u64,
+    frame: u64,
+    reload: u64,
+    started: bool,
+}
+
+/// Server-sent event names of the live protocol.
+pub mod event {
+    /// The world description (bounds, obstacles, species and their behaviors).
+    pub const WORLD: &str = "world";
+    /// One frame of agent states.
+    pub const FRAME: &str = "frame";
+    /// The diagnostics of a rejected edit (an empty array once fixed).
+    pub const DIAGNOSTICS: &str = "diagnostics";
+    /// A version was swapped in.
+    pub const RELOAD: &str = "reload";
+}
+
+impl Hub {
+    /// An empty hub; nothing is sent before the first world and frame are published.
+    pub fn new() -> Arc<Hub> {
+        Arc::new(Hub {
+            state: Mutex::new(State {
+                world: Item::default(),
+                diagnostics: Item {
+                    seq: 1,
+                    data: Some("[]".into()),
+                },
+                frame: Item::default(),
+                reloads: VecDeque::new(),
+                reload_seq: 0,
+                status: Status {
+                    tick: 0,
+                    time: 0.0,
+                    version: 0,
+                    paused: false,
+                    speed: 1.0,
+                    agents: 0,
+                    diagnostics: Vec::new(),
+                },
+                closed: false,
+            }),
+            changed: Condvar::new(),
+        })
+    }
+
+    fn lock(&self) -> MutexGuard<'_, State> {
+        // A reader that panicked leaves consistent data behind: every update is one assignment.
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn bump(item: &mut Item, data: Arc<str>) {
+        item.seq += 1;
+        item.data = Some(data);
+    }
+
+    /// Publishes a new world description (JSON).
+    pub fn set_world(&self, json: String) {
+        Self::bump(&mut self.lock().world, json.into());
+        self.changed.notify_all();
+    }
+
+    /// Publishes a new frame (JSON).
+    pub fn set_frame(&self, json: String) {
+        Self::bump(&mut self.lock().frame, json.into());
+        self.changed.notify_all();
+    }
+
+    /// Publishes the diagnostics of the last rejected edit (empty: none). Returns whether they
+    /// changed.
+    pub fn set_diagnostics(&self, lines: &[String]) -> bool {
+        let json = serde_json::to_string(lines).unwrap_or_else(|_| "[]".into());
+        let mut s = self.lock();
+        if s.diagnostics.data.as_deref() == Some(json.as_str()) {
+            return false;
+        }
+        Self::bump(&mut s.diagnostics, json.into());
+        s.status.diagnostics = lines.to_vec();
+        drop(s);
+        self.changed.notify_all();
+        true
+    }
+
+    /// Publishes a reload message (`{"message": ...}`).
+    pub fn push_reload(&self, message: &str) {
+        let json = serde_json::json!({ "message": message }).to_string();
+        let mut s = self.lock();
+        s.reload_seq += 1;
+        let seq = s.reload_seq;
+        s.reloads.push_back((seq, json.into()));
+        while s.reloads.len() > RELOADS_KEPT {
+            s.reloads.pop_front();
+        }
+        drop(s);
+        self.changed.notify_all();
+    }
+
+    /// Updates the status with `f`.
+    pub fn update_status(&self, f: impl FnOnce(&mut Status)) {
+        f(&mut self.lock().status);
+    }
+
+    /// The current status.
+    pub fn status(&self) -> Status {
+        self.lock().status.clone()
+    }
+
+    /// Wakes every reader and tells it to stop.
+    pub fn close(&self) {
+        self.lock().closed = true;
+        self.changed.notify_all();
+    }
+
+    /// Whether the hub was closed.
+    pub fn is_closed(&self) -> bool {
+        self.lock().closed
+    }
+
+    /// Waits up to `timeout` for something `seen` has not sent yet and returns it as
+    /// `(event name, data)` pairs in the order a viewer needs them (world before the frames that
+    /// refer to it). `None` once the hub is closed; an empty list on timeout.
+    pub fn next(
+        &self,
+        seen: &mut Seen,
+        timeout: Duration,
+    ) -> Option<Vec<(&'static str, Arc<str>)>> {
+        let mut s = self.lock();
+        let fresh = |s: &State, seen: &Seen| {
+            (s.world.data.is_some() && s.world.seq != seen.world)
+                || s.diagnostics.seq != seen.diagnostics
+                || (s.frame.data.is_some() && s.frame.seq != seen.frame)
+                || (seen.started && s.reload_seq != seen.reload)
+        };
+        if !s.closed && !fresh(&s, seen) {
+            s = self
+                .changed
+                .wait_timeout_while(s, timeout, |s| !s.closed && !fresh(s, seen))
+                .unwrap_or_else(|e| e.into_inner())
+                .0;
+        }
+        if s.closed {
+            return None;
+        }
+        let mut out = Vec::new();
+        if let (Some(d), true) = (&s.world.data, s.world.seq != seen.world) {
+            out.push((event::WORLD, d.clone()));
+            seen.world = s.world.seq;
+        }
+        if let (Some(d), true) = (&s.diagnostics.data, s.diagnostics.seq != seen.diagnostics) {
+            out.push((event::DIAGNOSTICS, d.clone()));
+            seen.diagnostics = s.diagnostics.seq;
+        }
+        if !seen.started {
+            // A reader that connects late does not replay old reload messages.
+            seen.started = true;
+            seen.reload = s.reload_seq;
+        } else if s.reload_seq != seen.reload {
+            for (seq, d) in &s.reloads {
+                if *seq > seen.reload {
+                    out.push((event::RELOAD, d.clone()));
+                }
+            }
+            seen.reload = s.reload_seq;
+        }
+        // Frames need a world first.
+        if let (Some(d), true) = (&s.frame.data, s.frame.seq != seen.frame && seen.world != 0) {
+            out.push((event::FRAME, d.clone()));
+            seen.frame = s.frame.seq;
+        }
+        Some(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(v: &[(&'static str, Arc<str>)]) -> Vec<&'static str> {
+        v.iter().map(|x| x.0).collect()
+    }
+
+    #[test]
+    fn world_comes_before_frames_and_slow_readers_skip_frames() {
+        let hub = Hub::new();
+        hub.set_frame("{\"tick\":1}".into());
+        hub.set_world("{}".into());
+        hub.set_frame("{\"tick\":2}".into());
+        let mut seen = Seen::default();
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        assert_eq!(names(&got), ["world", "diagnostics", "frame"]);
+        assert_eq!(&*got[2].1, "{\"tick\":2}");
+        assert!(hub
+            .next(&mut seen, Duration::from_millis(1))
+            .unwrap()
+            .is_empty());
+        hub.push_reload("v1");
+        hub.set_diagnostics(&["a.ron:1:2: bad".into()]);
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        assert_eq!(names(&got), ["diagnostics", "reload"]);
+        assert_eq!(&*got[0].1, "[\"a.ron:1:2: bad\"]");
+        assert!(!hub.set_diagnostics(&["a.ron:1:2: bad".into()]));
+        hub.close();
+        assert!(hub.next(&mut seen, Duration::from_secs(5)).is_none());
+    }
+
+    #[test]
+    fn a_late_reader_does_not_replay_old_reload_messages() {
+        let hub = Hub::new();
+        hub.set_world("{}".into());
+        hub.push_reload("old");
+        let mut seen = Seen::default();
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        assert!(!names(&got).contains(&"reload"));
+        hub.push_reload("new");
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        assert_eq!(names(&got), ["reload"]);
+        assert!(got[0].1.contains("new"));
+    }
+}

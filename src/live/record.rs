@@ -1,0 +1,217 @@
+//! The record of a live session: every version of the scenario that ran, with the tick it took
+//! effect at and a copy of its files, and every rejected edit, so that the session can be re-run
+//! exactly ([`rerun`]).
+//!
+//! Folder layout: `live.json` (`{"seed", "dt", "scenario"}`), `reloads.jsonl` (one line per
+//! version or rejected edit: `{"time_ms", "status": "initial"|"accepted"|"rejected", "version",
+//! "tick", "scenario", "files": {path: sha256}, "diagnostics"}`) and `versions/<n>/` (the files of
+//! version `n`, laid out as they were relative to their common folder).
+
+use super::files::{absolute, FileEntry};
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::scenario::{Overrides, Run, Scenario};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+/// Milliseconds since the Unix epoch.
+pub fn unix_ms(t: SystemTime) -> u64 {
+    t.duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_millis() as u64)
+}
+
+/// Writes the record of a live session.
+#[derive(Debug)]
+pub struct Recorder {
+    dir: PathBuf,
+    log: std::fs::File,
+}
+
+fn common_folder(paths: &[PathBuf]) -> PathBuf {
+    let mut root: Option<PathBuf> = None;
+    for p in paths {
+        let dir = p.parent().unwrap_or(Path::new("/")).to_path_buf();
+        root = Some(match root {
+            None => dir,
+            Some(r) => {
+                let mut r = r;
+                while !dir.starts_with(&r) {
+                    if !r.pop() {
+                        break;
+                    }
+                }
+                r
+            }
+        });
+    }
+    root.unwrap_or_else(|| PathBuf::from("/"))
+}
+
+impl Recorder {
+    /// Creates the record folder `dir` for a run of `seed` with time step `dt`.
+    pub fn create(dir: &Path, seed: u64, dt: f32) -> std::io::Result<Recorder> {
+        std::fs::create_dir_all(dir.join("versions"))?;
+        let meta = serde_json::json!({ "seed": seed, "dt": dt, "scenario": null });
+        std::fs::write(dir.join("live.json"), format!("{meta}\n"))?;
+        let log = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(dir.join("reloads.jsonl"))?;
+        Ok(Recorder {
+            dir: dir.to_path_buf(),
+            log,
+        })
+    }
+
+    fn line(&mut self, v: serde_json::Value) -> std::io::Result<()> {
+        writeln!(self.log, "{v}")?;
+        self.log.flush()
+    }
+
+    /// Records version `version` of the scenario `scenario` (built from `files`, with species
+    /// files named only in relations in `library`), in effect from `tick` on.
+    pub fn version(
+        &mut self,
+        time: SystemTime,
+        version: u32,
+        tick: u64,
+        scenario: &Path,
+        files: &[FileEntry],
+        library: &[PathBuf],
+    ) -> std::io::Result<()> {
+        let mut all: Vec<PathBuf> = files.iter().map(|f| f.path.clone()).collect();
+        all.extend(library.iter().cloned());
+        let root = common_folder(&all);
+        let vdir = self.dir.join("versions").join(version.to_string());
+        let rel = |p: &Path| p.strip_prefix(&root).unwrap_or(p).to_path_buf();
+        for f in files {
+            let to = vdir.join(rel(&f.path));
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent)?;
+            }
+            std::fs::write(&to, &f.bytes)?;
+        }
+        for p in library {
+            let to = vdir.join(rel(p));
+            if let Some(parent) = to.parent() {
+                std::fs::create_dir_all(parent)?;
+            }
+            // Only needs to exist; a missing one shows up when the record is re-run.
+            let _ = std::fs::copy(p, &to);
+        }
+        let scenario_rel = Path::new("versions")
+            .join(version.to_string())
+            .join(rel(&absolute(scenario)));
+        let hashes: serde_json::Map<String, serde_json::Value> = files
+            .iter()
+            .map(|f| (f.path.display().to_string(), f.sha256.clone().into()))
+            .collect();
+        if version == 0 {
+            let meta_path = self.dir.join("live.json");
+            let mut meta: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(&meta_path)?)
+                    .unwrap_or_else(|_| serde_json::json!({}));
+            meta["scenario"] = scenario_rel.display().to_string().into();
+            std::fs::write(&meta_path, format!("{meta}\n"))?;
+        }
+        self.line(serde_json::json!({
+            "time_ms": unix_ms(time),
+            "status": if version == 0 { "initial" } else { "accepted" },
+            "version": version,
+            "tick": tick,
+            "scenario": scenario_rel.display().to_string(),
+            "files": hashes,
+        }))
+    }
+
+    /// Records a rejected edit while `running` ran, at `tick`.
+    pub fn rejected(
+        &mut self,
+        time: SystemTime,
+        running: u32,
+        tick: u64,
+        diagnostics: &[String],
+    ) -> std::io::Result<()> {
+        self.line(serde_json::json!({
+            "time_ms": unix_ms(time),
+            "status": "rejected",
+            "version": running,
+            "tick": tick,
+            "diagnostics": diagnostics,
+        }))
+    }
+}
+
+fn bad(dir: &Path, msg: impl Into<String>) -> Diagnostics {
+    Diagnostic::file(dir, msg).into()
+}
+
+/// Re-runs the live session recorded in `dir` up to tick `ticks`: the first version from tick 0,
+/// each later one swapped in at the tick it took effect at. The result is bit-identical to the
+/// live session at that tick.
+pub fn rerun(dir: &Path, ticks: u64) -> Result<Run, Diagnostics> {
+    let meta: serde_json::Value = std::fs::read_to_string(dir.join("live.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .ok_or_else(|| bad(dir, "no readable live.json: not a live session record"))?;
+    let seed = meta["seed"]
+        .as_u64()
+        .ok_or_else(|| bad(dir, "live.json has no seed"))?;
+    let log = std::fs::read_to_string(dir.join("reloads.jsonl"))
+        .map_err(|e| bad(dir, format!("cannot read reloads.jsonl: {e}")))?;
+    let mut versions: Vec<(u64, PathBuf)> = Vec::new();
+    for (i, line) in log.lines().enumerate() {
+        let v: serde_json::Value = serde_json::from_str(line).map_err(|e| {
+            Diagnostics::from(Diagnostic::new(
+                dir.join("reloads.jsonl"),
+                i + 1,
+                e.column(),
+                e.to_string(),
+                Some(&log),
+            ))
+        })?;
+        if matches!(v["status"].as_str(), Some("initial" | "accepted")) {
+            let tick = v["tick"].as_u64().unwrap_or(0);
+            let scenario = dir.join(v["scenario"].as_str().unwrap_or_default());
+            versions.push((tick, scenario));
+        }
+    }
+    let Some((_, first)) = versions.first() else {
+        return Err(bad(dir, "reloads.jsonl records no version"));
+    };
+    let mut run = Run::new(
+        Scenario::load(first)?,
+        Overrides {
+            seed: Some(seed),
+            duration: None,
+        },
+    );
+    for (tick, scenario) in versions.iter().skip(1) {
+        if *tick > ticks {
+            break;
+        }
+        while run.world.tick < *tick {
+            run.step();
+        }
+        run.reload(Scenario::load(scenario)?)?;
+    }
+    while run.world.tick < ticks {
+        run.step();
+    }
+    Ok(run)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn common_folder_of_files() {
+        let p = |s: &str| PathBuf::from(s);
+        assert_eq!(
+            common_folder(&[p("/a/scen/x.ron"), p("/a/beh/y.ron"), p("/a/beh/c/z.rhai")]),
+            p("/a")
+        );
+        assert_eq!(common_folder(&[p("/a/b/x.ron")]), p("/a/b"));
+    }
+}

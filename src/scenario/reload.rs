@@ -1,0 +1,118 @@
+//! A new version of a running scenario, swapped in at a tick boundary (hot reload): the species
+//! are carried over by name ([`Pipeline::install_species`]), species the new version adds are
+//! spawned from its groups, and the world-level settings that may change while running
+//! (obstacles, current, bounds, timed events, food) follow the new definition. The fixed time
+//! step may not change: the run's clock is counted in ticks of it.
+
+use super::{ObstacleDef, Run, Scenario};
+use crate::diag::Diagnostic;
+use crate::species::validate::locate;
+use crate::tick::{Pipeline, Remap};
+use crate::world::{Aabb, Obstacle, Shape};
+
+/// What swapping in a new version of a scenario did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ScenarioReload {
+    /// What happened to the agents of species that were already running.
+    pub remap: Remap,
+    /// Species the new version added, with the number of agents spawned for each.
+    pub spawned: Vec<(String, usize)>,
+}
+
+impl Run {
+    /// A copy of this run (same world, scenario and clocks, fresh pipeline buffers) for trying a
+    /// new version out without touching the run itself.
+    pub fn fork(&self) -> Run {
+        Run {
+            scenario: self.scenario.clone(),
+            world: self.world.clone(),
+            pipeline: Pipeline::new(self.pipeline.species.clone()),
+            total_ticks: self.total_ticks,
+            next_event: self.next_event,
+            food_rng: self.food_rng,
+            food_debt: self.food_debt,
+            scenario_events: Vec::new(),
+            squads: self.squads.fork(),
+        }
+    }
+
+    /// Checks that `new` may replace the running scenario (same time step).
+    pub fn check_reload(&self, new: &Scenario) -> Result<(), Diagnostic> {
+        if new.def.dt.to_bits() != self.scenario.def.dt.to_bits() {
+            let (l, c, _) = locate(&new.text, "dt", 0).unwrap_or((0, 0, 0));
+            return Err(Diagnostic::new(
+                &new.file,
+                l,
+                c,
+                format!(
+                    "`dt` cannot change while the scenario runs ({} s → {} s): restart to use it",
+                    self.scenario.def.dt, new.def.dt
+                ),
+                Some(&new.text),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Swaps in `new` at the current tick boundary. Agents keep their state (see
+    /// [`Pipeline::install_species`]); groups of species the new version adds are spawned now.
+    pub fn reload(&mut self, new: Scenario) -> Result<ScenarioReload, Diagnostic> {
+        self.check_reload(&new)?;
+        let old = std::mem::replace(&mut self.scenario, new);
+        let def = &self.scenario.def;
+        let remap = self
+            .pipeline
+            .install_species(&mut self.world, self.scenario.species.clone());
+        // World-level settings that follow the file (each only when the file changed it, so that
+        // what timed events did stays done).
+        if def.obstacles != old.def.obstacles {
+            let before = std::mem::take(&mut self.world.obstacles);
+            for (i, ob) in def.obstacles.iter().enumerate() {
+                let shape = match *ob {
+                    ObstacleDef::Sphere { center, radius } => Shape::Sphere { center, radius },
+                    ObstacleDef::Box { min, max } => Shape::Box(Aabb::new(min, max)),
+                };
+                self.world.obstacles.push(Obstacle {
+                    id: i as u32,
+                    shape,
+                    active: before.get(i).is_none_or(|o| o.active),
+                });
+            }
+        }
+        if def.current != old.def.current {
+            self.world.current = def.current;
+        }
+        if def.bounds != old.def.bounds {
+            self.world.bounds = def.bounds;
+        }
+        if def.events != old.def.events {
+            // Events already due by the last tick count as done.
+            let done_by = self.world.time() as f32 - self.world.dt * 0.5;
+            self.next_event = def
+                .events
+                .iter()
+                .position(|e| e.at > done_by)
+                .unwrap_or(def.events.len());
+        }
+        let mut spawned = Vec::new();
+        let added: Vec<String> = self
+            .scenario
+            .species
+            .species
+            .iter()
+            .filter(|s| old.species.index_of(&s.name).is_none())
+            .map(|s| s.name.clone())
+            .collect();
+        let groups = self.scenario.def.groups.clone();
+        for name in added {
+            let before = self.world.agents.len();
+            for (k, g) in groups.iter().enumerate() {
+                if g.species == name {
+                    self.spawn_group(g, 2000 + k as u64);
+                }
+            }
+            spawned.push((name, self.world.agents.len() - before));
+        }
+        Ok(ScenarioReload { remap, spawned })
+    }
+}

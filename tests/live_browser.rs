@@ -1,0 +1,136 @@
+//! `shoal watch` in a real browser: the binary runs a project in a temporary folder, headless
+//! Debian Chromium (driven by `tests/browser/watch.test.mjs`, playwright-core) connects to it,
+//! sees the agents move, sees the error overlay appear after a broken edit and disappear after
+//! the fix, pauses, steps and inspects an agent. Under CI (`CI` set) a missing browser, node or
+//! `npm ci --prefix tests/browser` is a failure; locally the test skips with a visible message.
+
+mod live_support;
+
+use live_support::Project;
+use std::io::{BufRead, BufReader, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+const CHROMIUM: &str = "/usr/bin/chromium";
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn missing_prerequisites() -> Vec<String> {
+    let mut missing = Vec::new();
+    if !Path::new(CHROMIUM).exists() {
+        missing.push(format!("{CHROMIUM} (apt-get install -y chromium)"));
+    }
+    let node = Command::new("node").arg("--version").output();
+    if !matches!(node, Ok(ref o) if o.status.success()) {
+        missing.push("node (apt-get install -y nodejs npm)".to_string());
+    }
+    if !repo()
+        .join("tests/browser/node_modules/playwright-core")
+        .exists()
+    {
+        missing.push(
+            "tests/browser/node_modules/playwright-core (npm ci --prefix tests/browser)".into(),
+        );
+    }
+    missing
+}
+
+/// True when the test may run; under CI a missing prerequisite fails instead of skipping.
+fn browser_available(test: &str) -> bool {
+    let missing = missing_prerequisites();
+    if missing.is_empty() {
+        return true;
+    }
+    let what = missing.join(", ");
+    if std::env::var_os("CI").is_some() {
+        panic!("{test}: browser test prerequisites missing under CI: {what}; run `bash tests/browser/setup.sh`");
+    }
+    // Straight to the process's stderr so that the test harness does not capture it.
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it"
+    );
+    false
+}
+
+/// Kills the watch process when the test ends, however it ends.
+struct Child(std::process::Child);
+
+impl Drop for Child {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn shoal_watch_in_chromium_moves_shows_and_clears_the_error_overlay_and_inspects() {
+    if !browser_available("shoal_watch_in_chromium") {
+        return;
+    }
+    let p = Project::new();
+    let mut child = Child(
+        Command::new(env!("CARGO_BIN_EXE_shoal"))
+            .arg("watch")
+            .arg(p.scenario())
+            .args(["--port", "0"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("start shoal watch"),
+    );
+    // Read the terminal in the background: the URL first, then the reload log.
+    let stdout = child.0.stdout.take().unwrap();
+    let (tx, rx) = mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut log = Vec::new();
+        for line in BufReader::new(stdout).lines() {
+            let Ok(line) = line else { break };
+            if let Some(url) = line.strip_prefix("live view: ") {
+                let _ = tx.send(url.split_whitespace().next().unwrap_or("").to_string());
+            }
+            log.push(line);
+        }
+        log
+    });
+    let url = rx
+        .recv_timeout(Duration::from_secs(60))
+        .expect("shoal watch printed no URL");
+    assert!(url.starts_with("http://127.0.0.1:"), "{url}");
+
+    let out = Command::new("node")
+        .arg(repo().join("tests/browser/watch.test.mjs"))
+        .args(["--url", &url, "--agents", "24", "--species"])
+        .arg(p.path("behaviors/fish.ron"))
+        .output()
+        .expect("run node");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("{stdout}");
+    eprintln!("{stderr}");
+    drop(child);
+    let log = reader.join().unwrap();
+    println!("shoal watch printed:\n{}", log.join("\n"));
+    assert!(
+        out.status.success(),
+        "watch.test.mjs failed ({}):\n{stdout}\n{stderr}",
+        out.status
+    );
+    // The terminal logged the rejected edit with its diagnostic and the accepted fix, stamped.
+    let stamped = |l: &&String| l.starts_with('[') && l.as_bytes().get(13) == Some(&b']');
+    assert!(log
+        .iter()
+        .filter(stamped)
+        .any(|l| l.contains("rejected: version 0 keeps running")));
+    assert!(log
+        .iter()
+        .any(|l| l.contains("fish.ron:14:19: unknown Cond `Abov`")));
+    assert!(log
+        .iter()
+        .filter(stamped)
+        .any(|l| l.contains("accepted: version 1")));
+}
