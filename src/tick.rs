@@ -12,6 +12,7 @@ use crate::events::{Cause, Event, MessageKind};
 use crate::index::Grid;
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{Category, Perception, Source};
+use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
@@ -217,11 +218,10 @@ impl Pipeline {
         id
     }
 
-    /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
-    /// (cleared at the start of each tick, after spawns made between ticks).
-    pub fn step(&mut self, world: &mut World) {
-        let n = world.agents.len();
-        let set = self.species.clone();
+    /// Stages 1–2 alone: rebuilds the spatial index and runs perception on `world` (results in
+    /// [`Pipeline::perception`]). [`Pipeline::step`] starts with this.
+    pub fn perceive(&mut self, world: &World) {
+        let set = &self.species;
         // 1. Spatial index.
         let cell = set
             .senses
@@ -240,6 +240,14 @@ impl Pipeline {
             &set.senses,
             &set.relations,
         );
+    }
+
+    /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
+    /// (cleared at the start of each tick, after spawns made between ticks).
+    pub fn step(&mut self, world: &mut World) {
+        let n = world.agents.len();
+        let set = self.species.clone();
+        self.perceive(world);
         // 3–6. Per agent: drives, decision, steering, locomotion.
         self.brains.resize_with(n, Brain::default);
         for (a, b) in world.agents.iter_mut().zip(self.brains.iter_mut()) {
@@ -259,12 +267,12 @@ impl Pipeline {
             .enumerate()
             .with_min_len(32)
             .for_each_init(
-                || (Scope::new(), Scratch::default()),
-                |(scope, scratch), (i, (brain, out))| {
+                || (Scope::new(), Scratch::default(), Dynamic::from(AgentView::default())),
+                |(scope, scratch, view), (i, (brain, out))| {
                     scratch.reset();
                     scratch.plan_target = plan_targets[i];
                     agent_pass(
-                        i, world_ref, &set, perception, names, brain, out, scope, scratch,
+                        i, world_ref, &set, perception, names, brain, out, scope, scratch, view,
                     );
                 },
             );
@@ -518,6 +526,7 @@ fn agent_pass(
     out: &mut Outcome,
     scope: &mut Scope,
     scratch: &mut Scratch,
+    view: &mut Dynamic,
 ) {
     let base = &world.agents[i];
     let s = base.species.0 as usize;
@@ -573,15 +582,22 @@ fn agent_pass(
                 tick,
                 dt,
             };
-            let mut view =
-                scripts::view_of(&ctx, mind, &names.0[s], &names.1[s][mind.current as usize]);
-            view.rng = *rng;
-            let mut this = Dynamic::from(view);
-            let r = scripts::run_slots(sp, script, mind, &mut this, scope);
-            if let Some(v) = this.try_cast::<crate::script::AgentView>() {
+            // The worker's view is refilled in place (no allocation per call); the blackboard
+            // moves in and back out.
+            let memory = me.memory.clone();
+            if !view.is::<AgentView>() {
+                *view = Dynamic::from(AgentView::default());
+            }
+            if let Some(mut v) = view.write_lock::<AgentView>() {
+                let behavior = &names.1[s][mind.current as usize];
+                scripts::fill_view(&mut v, &ctx, mind, &names.0[s], behavior, memory);
+                v.rng = *rng;
+            }
+            let r = scripts::run_slots(sp, script, mind, view, scope);
+            if let Some(mut v) = view.write_lock::<AgentView>() {
                 scripts::write_back(&v, &mut me);
                 *rng = v.rng;
-                for (k, m) in v.outbox.into_iter().take(2).enumerate() {
+                for (k, m) in v.outbox.drain(..).take(2).enumerate() {
                     out.messages[2 + k] = Some(m);
                 }
             }
