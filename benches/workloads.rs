@@ -23,7 +23,7 @@ fn warm(workload: Workload, n: usize) -> Option<BenchWorld> {
     }
     let mut w = bench::world_of(workload, n, &bench::default_behaviors_dir())
         .unwrap_or_else(|d| panic!("{d}"));
-    bench::step_timed(&mut w, bench::WARMUP_TICKS);
+    bench::warm_up(&mut w, bench::WARMUP_TICKS);
     Some(w)
 }
 

@@ -261,13 +261,18 @@ impl Pipeline {
         let perception = &self.perception;
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
+        let velocities = perception.velocities();
         self.brains
             .par_iter_mut()
             .zip(self.outcomes.par_iter_mut())
             .enumerate()
             .with_min_len(32)
             .for_each_init(
-                || (Scope::new(), Scratch::default(), Dynamic::from(AgentView::default())),
+                || {
+                    let mut scratch = Scratch::default();
+                    scratch.velocities = Some(velocities.clone());
+                    (Scope::new(), scratch, Dynamic::from(AgentView::default()))
+                },
                 |(scope, scratch, view), (i, (brain, out))| {
                     scratch.reset();
                     scratch.plan_target = plan_targets[i];

@@ -14,6 +14,9 @@ use glam::Vec3;
 /// Scratch buffers reused across agents by one worker.
 #[derive(Debug, Default)]
 pub struct Scratch {
+    /// Velocities of every agent at the start of the tick, by agent index
+    /// ([`crate::perception::Perception::velocities`]); computed from the world when absent.
+    pub velocities: Option<std::sync::Arc<Vec<Vec3>>>,
     neighbors: Vec<Neighbor>,
     kin_ready: bool,
     filtered: Vec<Neighbor>,
@@ -33,11 +36,15 @@ impl Scratch {
             self.neighbors.clear();
             for p in ctx.percepts {
                 if let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) {
-                    let o = &ctx.world.agents[j as usize];
+                    let j = j as usize;
+                    let velocity = match self.velocities.as_deref() {
+                        Some(v) if j < v.len() => v[j],
+                        _ => ctx.world.agents[j].velocity(),
+                    };
                     self.neighbors.push(Neighbor {
                         offset: p.offset,
                         dist: p.dist,
-                        velocity: o.velocity(),
+                        velocity,
                     });
                 }
             }
