@@ -13,7 +13,10 @@ use crate::index::Grid;
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{Category, Perception, Source};
 use crate::script::AgentView;
-use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
+use crate::species::{
+    ActionNode, CondNode, Contact, Draw, Recipe, RecipeNode, SexDef, Species, SpeciesSet,
+};
+use crate::steering::avoid::AvoidParams;
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{
@@ -88,6 +91,90 @@ pub struct Pipeline {
     pub stats: Stats,
     /// Per-agent targets of planned paths (set by the planning layer), by agent index.
     pub plan_targets: Vec<Option<Vec3>>,
+    /// Per species: distance within which its behaviors read the bearings of agent percepts
+    /// (see [`bearing_range`]); empty when every percept gets its bearing.
+    bearing_ranges: Vec<f32>,
+    full_bearings: bool,
+    species_counts: Vec<u32>,
+}
+
+/// Distance within which a species' behaviors read the bearing and elevation of agent percepts
+/// other than the nearest of their category: its dynamic-avoidance range (`TrafficNear`,
+/// `AvoidDynamic`), 0 when it has neither. Obstacles and the nearest percept of each category
+/// always get theirs. The matches are exhaustive so that a new primitive has to say what it
+/// reads.
+pub fn bearing_range(sp: &Species) -> f32 {
+    fn of(p: &AvoidParams) -> f32 {
+        p.range.unwrap_or(f32::INFINITY)
+    }
+    fn cond(c: &CondNode, sp: &Species) -> f32 {
+        match c {
+            CondNode::TrafficNear => of(&sp.def.avoid),
+            CondNode::All(v) | CondNode::Any(v) => v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max),
+            CondNode::Not(c) => cond(c, sp),
+            CondNode::Latch { on, off, .. } => cond(on, sp).max(cond(off, sp)),
+            // Nearest percepts, obstacles or no percepts at all.
+            CondNode::Always
+            | CondNode::Never
+            | CondNode::Above(..)
+            | CondNode::Below(..)
+            | CondNode::Sees(_)
+            | CondNode::Smells(_)
+            | CondNode::Perceives(_)
+            | CondNode::Within(..)
+            | CondNode::EscapeDone
+            | CondNode::ObstacleNear
+            | CondNode::Heard(_)
+            | CondNode::TimeIn(_)
+            | CondNode::Chance(_)
+            | CondNode::NearBounds(_)
+            | CondNode::Script(_) => 0.0,
+        }
+    }
+    fn leaf(r: &Recipe) -> f32 {
+        match r {
+            Recipe::AvoidDynamic(p) => of(p),
+            // Nearest percepts, obstacles, neighbors' offsets and velocities, or nothing.
+            Recipe::Priority(_)
+            | Recipe::Blend(_)
+            | Recipe::Script(_)
+            | Recipe::AvoidStatic(_)
+            | Recipe::PredictCollision(_)
+            | Recipe::Contain(_)
+            | Recipe::Chase(_)
+            | Recipe::Escape(_)
+            | Recipe::EscapeMirror(_)
+            | Recipe::Pursue(_)
+            | Recipe::Seek(_)
+            | Recipe::Flee(_)
+            | Recipe::Arrive(_)
+            | Recipe::Separation(_)
+            | Recipe::Alignment(_)
+            | Recipe::Cohesion(_)
+            | Recipe::Zones(_)
+            | Recipe::Vicsek(_)
+            | Recipe::Disperse(_)
+            | Recipe::Wander(_)
+            | Recipe::Cruise(_)
+            | Recipe::Stop
+            | Recipe::FollowPlan(_) => 0.0,
+        }
+    }
+    fn recipe(r: &RecipeNode) -> f32 {
+        match r {
+            RecipeNode::Leaf(l) => leaf(l),
+            RecipeNode::Priority(v) => v.iter().map(recipe).fold(0.0, f32::max),
+            RecipeNode::Blend(v) => v.iter().map(|(_, _, r)| recipe(r)).fold(0.0, f32::max),
+            // Script-built steering composes the named recipes, walked below.
+            RecipeNode::Script(_) => 0.0,
+        }
+    }
+    let behaviors = sp
+        .behaviors
+        .iter()
+        .map(|b| cond(&b.when, sp).max(cond(&b.done, sp)).max(recipe(&b.steer)));
+    let named = sp.recipes.iter().map(recipe);
+    behaviors.chain(named).fold(0.0, f32::max)
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -116,6 +203,9 @@ impl Pipeline {
             events: Vec::new(),
             stats: Stats::default(),
             plan_targets: Vec::new(),
+            bearing_ranges: Vec::new(),
+            full_bearings: false,
+            species_counts: Vec::new(),
         };
         p.set_species(species);
         p
@@ -140,6 +230,23 @@ impl Pipeline {
             self.stats.behavior_ticks[i].resize(s.behaviors.len(), 0);
         }
         self.species = species;
+        self.refresh_bearing_ranges();
+    }
+
+    /// With `true`, every percept gets its bearing and elevation (for tools that show all of an
+    /// agent's percepts); by default only those the species' behaviors can read do (see
+    /// [`bearing_range`]).
+    pub fn set_full_bearings(&mut self, on: bool) {
+        self.full_bearings = on;
+        self.refresh_bearing_ranges();
+    }
+
+    fn refresh_bearing_ranges(&mut self) {
+        self.bearing_ranges = if self.full_bearings {
+            Vec::new()
+        } else {
+            self.species.species.iter().map(|s| bearing_range(s)).collect()
+        };
     }
 
     /// Percepts of the last tick's perception stage, by agent index.
@@ -222,23 +329,36 @@ impl Pipeline {
     /// [`Pipeline::perception`]). [`Pipeline::step`] starts with this.
     pub fn perceive(&mut self, world: &World) {
         let set = &self.species;
-        // 1. Spatial index.
+        // 1. Spatial index. Cells of half the query radius of the most numerous species: its
+        // queries visit about 5 cells per axis, 15.6 r³ of space for a 4.2 r³ sphere (27 r³ with
+        // cells of a whole radius). Any cell size gives the same neighbors.
+        self.species_counts.clear();
+        self.species_counts.resize(set.species.len(), 0);
+        for a in &world.agents {
+            if let Some(c) = self.species_counts.get_mut(a.species.0 as usize) {
+                *c += 1;
+            }
+        }
+        let most = (0..self.species_counts.len())
+            .max_by_key(|&s| (self.species_counts[s], std::cmp::Reverse(s)))
+            .unwrap_or(0);
         let cell = set
             .senses
-            .iter()
-            .map(|s| s.query_radius())
-            .fold(1.0f32, f32::max);
+            .get(most)
+            .map_or(1.0, |s| 0.5 * s.query_radius())
+            .max(0.5);
         self.agent_grid
             .rebuild(world.bounds, cell, world.agents.iter().map(|a| a.pos));
         self.food_grid
             .rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
         // 2. Perception.
-        self.perception.run(
+        self.perception.run_selective(
             world,
             &self.agent_grid,
             &self.food_grid,
             &set.senses,
             &set.relations,
+            &self.bearing_ranges,
         );
     }
 

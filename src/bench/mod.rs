@@ -395,6 +395,7 @@ pub fn mean_neighbors(w: &BenchWorld) -> f32 {
 }
 
 /// Steps `w` `ticks` times; returns (seconds, agent-updates).
+#[inline(never)]
 pub fn step_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
     let mut updates = 0;
     let t0 = Instant::now();
@@ -472,6 +473,7 @@ pub fn measure(
 }
 
 /// Runs stages 1–2 (spatial index, perception) `ticks` times on the current world.
+#[inline(never)]
 pub fn perceive_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
     let n = w.run.world.agents.len() as u64;
     let t0 = Instant::now();
@@ -485,6 +487,7 @@ pub fn perceive_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
 /// with `scripted`, the species' script functions are called with the agent's view bound as
 /// `this` (the view is refilled in place, not rebuilt), then conditions are arbitrated natively.
 /// Minds are copies, so the world does not change between passes.
+#[inline(never)]
 pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
     let world = &w.run.world;
     let pipeline = &w.run.pipeline;

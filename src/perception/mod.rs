@@ -24,6 +24,8 @@ use std::sync::Arc;
 
 /// Percepts kept per agent (the nearest ones; summaries still count all of them).
 pub const MAX_PERCEPTS: usize = 24;
+// Kept percepts are flagged in a `u32` bit mask.
+const _: () = assert!(MAX_PERCEPTS <= 32);
 
 /// Most obstacles considered as occluders for one agent.
 const MAX_OCCLUDERS: usize = 16;
@@ -200,7 +202,8 @@ impl Perception {
         self.counts.is_empty()
     }
 
-    /// Runs perception for every agent of `world`. `senses[s]` are species `s`'s senses.
+    /// Runs perception for every agent of `world`. `senses[s]` are species `s`'s senses. Every
+    /// percept kept gets its bearing and elevation.
     pub fn run(
         &mut self,
         world: &World,
@@ -209,12 +212,27 @@ impl Perception {
         senses: &[SenseParams],
         relations: &Relations,
     ) {
+        self.run_selective(world, agents, food, senses, relations, &[]);
+    }
+
+    /// Like [`Perception::run`], but bearing and elevation (two inverse trigonometric calls per
+    /// percept) are only computed where species `s` can read them: for obstacles, for the nearest
+    /// percept of each category, and for agents within `bearing_ranges[s]` (its dynamic-avoidance
+    /// range); other percepts keep a bearing and elevation of 0. A species without an entry gets
+    /// every bearing.
+    pub fn run_selective(
+        &mut self,
+        world: &World,
+        agents: &Grid,
+        food: &Grid,
+        senses: &[SenseParams],
+        relations: &Relations,
+        bearing_ranges: &[f32],
+    ) {
         let n = world.agents.len();
-        self.percepts.clear();
+        // Every agent's slots and summaries are rewritten below: only the sizes change here.
         self.percepts.resize(n * MAX_PERCEPTS, EMPTY);
-        self.counts.clear();
         self.counts.resize(n, 0);
-        self.summaries.clear();
         self.summaries
             .resize(n, [Summary::default(); Category::COUNT]);
         self.bodies.resize(n, Body::default());
@@ -245,11 +263,13 @@ impl Perception {
             .enumerate()
             .with_min_len(64)
             .for_each(|(i, ((slots, count), summary))| {
+                *summary = [Summary::default(); Category::COUNT];
                 let s = world.agents[i].species.0 as usize;
                 let default = SenseParams::default();
                 let sense = senses.get(s).unwrap_or(&default);
+                let bearings = bearing_ranges.get(s).copied();
                 *count = perceive_one(
-                    i, world, bodies, agents, food, sense, relations, slots, summary,
+                    i, world, bodies, agents, food, sense, relations, bearings, slots, summary,
                 );
             });
     }
@@ -267,31 +287,29 @@ struct Kept<'a> {
 }
 
 impl Kept<'_> {
+    /// The first slot of the largest distance (distances are finite: positions are kept
+    /// inside the world bounds).
     #[inline]
     fn find_far(&mut self) {
         let d = &self.dists[..self.len];
-        let mut far = 0;
-        for k in 1..d.len() {
-            if d[k] > d[far] {
-                far = k;
-            }
-        }
-        self.far = far;
+        let max = d.iter().fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
+        self.far = d.iter().position(|&x| x == max).unwrap_or(0);
     }
 
-    #[inline]
-    fn offer(&mut self, p: Percept) {
+    /// Offers the percept `make()` builds, at distance `dist`; `make` runs only when it is kept.
+    #[inline(always)]
+    fn offer(&mut self, dist: f32, make: impl FnOnce() -> Percept) {
         let cap = self.slots.len().min(MAX_PERCEPTS);
         if self.len < cap {
-            self.slots[self.len] = p;
-            self.dists[self.len] = p.dist;
+            self.slots[self.len] = make();
+            self.dists[self.len] = dist;
             self.len += 1;
             if self.len == cap {
                 self.find_far();
             }
-        } else if p.dist < self.dists[self.far] {
-            self.slots[self.far] = p;
-            self.dists[self.far] = p.dist;
+        } else if dist < self.dists[self.far] {
+            self.slots[self.far] = make();
+            self.dists[self.far] = dist;
             self.find_far();
         }
     }
@@ -338,6 +356,7 @@ fn perceive_one(
     food: &Grid,
     sense: &SenseParams,
     relations: &Relations,
+    bearing_range: Option<f32>,
     slots: &mut [Percept],
     summary: &mut [Summary; Category::COUNT],
 ) -> u16 {
@@ -377,29 +396,19 @@ fn perceive_one(
         }
         let to_center = o.shape.center() - me.pos;
         let dir = if dist > 1e-6 { offset } else { to_center };
-        if let Some(p) = classify(
-            me.pos,
-            dir,
-            dir.length(),
-            dist,
-            &eye,
-            sense,
-            Category::Obstacle,
-            &[],
-        ) {
-            let p = Percept {
-                source: Source::Obstacle(k as u32),
-                size: o.shape.diagonal(),
-                ..p
-            };
-            note(summary, &p, me.pos + offset, Vec3::ZERO, Vec3::ZERO);
-            kept.offer(p);
+        if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense, &[]) {
+            let cat = Category::Obstacle;
+            note(summary, cat, seen, dist, me.pos + offset, Vec3::ZERO, Vec3::ZERO);
+            kept.offer(dist, || {
+                percept(Source::Obstacle(k as u32), cat, seen, dir, dist, o.shape.diagonal())
+            });
         }
     }
     let occ = &occluders[..n_occ];
 
     let mates = relations.mates.get(s).copied().unwrap_or(false);
-    agents.for_each_within(me.pos, radius, |j, pos, _| {
+    let (here, my_sex) = (me.pos, me.attrs.sex);
+    agents.for_each_within(here, radius, |j, pos, d2| {
         let j = j as usize;
         if j == i {
             return;
@@ -408,62 +417,42 @@ fn perceive_one(
         let Some(mut cat) = relations.get(s, other.species as usize) else {
             return;
         };
-        if cat == Category::Kin && mates && other.sex != me.attrs.sex {
+        if cat == Category::Kin && mates && other.sex != my_sex {
             cat = Category::Mate;
         }
-        let offset = pos - me.pos;
-        let dist = offset.length();
-        if let Some(p) = classify(me.pos, offset, dist, dist, &eye, sense, cat, occ) {
-            let p = Percept {
-                source: Source::Agent(j as u32),
-                size: other.diagonal,
-                ..p
-            };
-            let heading = other.heading;
-            let vel = heading * other.speed;
-            note(summary, &p, pos, heading, vel);
-            if cat == Category::Mate {
-                note(
-                    summary,
-                    &Percept {
-                        category: Category::Kin,
-                        ..p
-                    },
-                    pos,
-                    heading,
-                    vel,
-                );
-            }
-            kept.offer(p);
+        let offset = pos - here;
+        // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+        let dist = d2.sqrt();
+        let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) else {
+            return;
+        };
+        let heading = other.heading;
+        let vel = heading * other.speed;
+        note(summary, cat, seen, dist, pos, heading, vel);
+        if cat == Category::Mate {
+            note(summary, Category::Kin, seen, dist, pos, heading, vel);
         }
+        kept.offer(dist, || {
+            percept(Source::Agent(j as u32), cat, seen, offset, dist, other.diagonal)
+        });
     });
 
     if relations.eats_items(s) {
-        food.for_each_within(me.pos, radius, |j, pos, _| {
-            let offset = pos - me.pos;
-            let dist = offset.length();
-            if let Some(p) = classify(me.pos, offset, dist, dist, &eye, sense, Category::Food, occ)
-            {
-                let p = Percept {
-                    source: Source::Food(j),
-                    size: 0.0,
-                    ..p
-                };
-                note(summary, &p, pos, Vec3::ZERO, Vec3::ZERO);
-                kept.offer(p);
+        food.for_each_within(here, radius, |j, pos, d2| {
+            let offset = pos - here;
+            let dist = d2.sqrt();
+            if let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) {
+                let cat = Category::Food;
+                note(summary, cat, seen, dist, pos, Vec3::ZERO, Vec3::ZERO);
+                kept.offer(dist, || percept(Source::Food(j), cat, seen, offset, dist, 0.0));
             }
         });
     }
 
-    // Bearing and elevation only for the percepts kept (a pure function of the offset).
-    let len = kept.len;
-    let slots = &mut kept.slots[..len];
-    for p in slots.iter_mut() {
-        (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
-    }
-
     // Finish summaries: means, and the nearest among the kept percepts (the first of the
     // smallest distance; mates also count as kin).
+    let len = kept.len;
+    let slots = &mut kept.slots[..len];
     let mut best: [Option<(u16, f32)>; Category::COUNT] = [None; Category::COUNT];
     for (k, p) in slots.iter().enumerate() {
         let mut offer = |c: usize| {
@@ -476,6 +465,7 @@ fn perceive_one(
             offer(Category::Kin as usize);
         }
     }
+    let mut nearest = 0u32;
     for (sm, b) in summary.iter_mut().zip(best) {
         if sm.count > 0 {
             let n = sm.count as f32;
@@ -484,47 +474,86 @@ fn perceive_one(
             sm.mean_velocity /= n;
         }
         sm.nearest = b.map(|b| b.0);
+        if let Some((k, _)) = b {
+            nearest |= 1 << k;
+        }
+    }
+
+    // Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
+    // those the species reads.
+    for (k, p) in slots.iter_mut().enumerate() {
+        let wanted = match bearing_range {
+            None => true,
+            Some(r) => {
+                nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r
+            }
+        };
+        if wanted {
+            (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
+        }
     }
     len as u16
 }
 
 /// Adds a percept to its category's running sums.
-#[inline]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn note(
     summary: &mut [Summary; Category::COUNT],
-    p: &Percept,
+    category: Category,
+    sense: Sense,
+    dist: f32,
     pos: Vec3,
     heading: Vec3,
     vel: Vec3,
 ) {
-    let sm = &mut summary[p.category as usize];
+    let sm = &mut summary[category as usize];
     sm.count += 1;
-    if p.sense == Sense::Vision {
+    if sense == Sense::Vision {
         sm.seen += 1;
     }
-    if p.dist < sm.nearest_dist {
-        sm.nearest_dist = p.dist;
+    if dist < sm.nearest_dist {
+        sm.nearest_dist = dist;
     }
     sm.centroid += pos;
     sm.mean_heading += heading;
     sm.mean_velocity += vel;
 }
 
+/// A percept without bearing and elevation (filled in for the percepts kept).
+#[inline(always)]
+fn percept(
+    source: Source,
+    category: Category,
+    sense: Sense,
+    offset: Vec3,
+    dist: f32,
+    size: f32,
+) -> Percept {
+    Percept {
+        source,
+        category,
+        sense,
+        offset,
+        dist,
+        bearing: 0.0,
+        elevation: 0.0,
+        size,
+    }
+}
+
 /// Decides whether a target at `offset` (of length `offset_len`; `dist` is the distance the
-/// ranges apply to) is seen, smelt or missed, and builds its percept. Bearing and elevation are
-/// left at zero: they are filled in for the percepts kept.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn classify(
+/// ranges apply to) is seen, smelt or missed.
+#[inline(always)]
+fn sense_of(
     from: Vec3,
     offset: Vec3,
     offset_len: f32,
     dist: f32,
     eye: &Eye,
     sense: &SenseParams,
-    category: Category,
     occluders: &[(Vec3, f32)],
-) -> Option<Percept> {
+) -> Option<Sense> {
     let in_vision = match &sense.volume {
         Some(v) => v.contains(Vec3::new(
             offset.dot(eye.left),
@@ -537,24 +566,13 @@ fn classify(
                 && (offset_len == 0.0 || eye.fwd.dot(offset) / offset_len >= eye.cos_min)
         }
     };
-    let seen = in_vision && !occluded(from, from + offset, occluders);
-    let sense_used = if seen {
-        Sense::Vision
+    if in_vision && !occluded(from, from + offset, occluders) {
+        Some(Sense::Vision)
     } else if dist <= sense.smell_radius {
-        Sense::Smell
+        Some(Sense::Smell)
     } else {
-        return None;
-    };
-    Some(Percept {
-        source: Source::Food(0),
-        category,
-        sense: sense_used,
-        offset,
-        dist,
-        bearing: 0.0,
-        elevation: 0.0,
-        size: 0.0,
-    })
+        None
+    }
 }
 
 #[cfg(test)]
