@@ -5,6 +5,10 @@
 //! overlap the query sphere, so perception costs O(N·k), not O(N²). Entries carry a copy of the
 //! position so that a query walks memory linearly.
 
+mod obstacles;
+
+pub use obstacles::ObstacleGrid;
+
 use crate::world::Aabb;
 use glam::{IVec3, Vec3};
 

@@ -15,7 +15,7 @@ pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::Volume;
 
 use crate::frame;
-use crate::index::Grid;
+use crate::index::{Grid, ObstacleGrid};
 use crate::world::World;
 use glam::Vec3;
 use rayon::prelude::*;
@@ -128,6 +128,8 @@ pub struct Perception {
     /// Velocity of each agent at the start of the tick (`Agent::velocity`), by agent index:
     /// shared with the steering stage's workers.
     velocities: Arc<Vec<Vec3>>,
+    /// Obstacles by cell, so a perceiver looks only at those that may be in range.
+    obstacle_grid: ObstacleGrid,
 }
 
 /// The part of an agent its neighbors read.
@@ -256,6 +258,16 @@ impl Perception {
                 *v = b.heading * b.speed;
             });
         let bodies = &self.bodies[..];
+        let default = SenseParams::default();
+        let unsensed = bodies.iter().any(|b| b.species as usize >= senses.len());
+        let reach = senses
+            .iter()
+            .chain(unsensed.then_some(&default))
+            .map(|s| s.query_radius())
+            .fold(0.0, f32::max);
+        self.obstacle_grid
+            .update(world.bounds, reach, &world.obstacles);
+        let obstacle_grid = &self.obstacle_grid;
         self.percepts
             .par_chunks_mut(MAX_PERCEPTS)
             .zip(self.counts.par_iter_mut())
@@ -265,11 +277,20 @@ impl Perception {
             .for_each(|(i, ((slots, count), summary))| {
                 *summary = [Summary::default(); Category::COUNT];
                 let s = world.agents[i].species.0 as usize;
-                let default = SenseParams::default();
                 let sense = senses.get(s).unwrap_or(&default);
                 let bearings = bearing_ranges.get(s).copied();
                 *count = perceive_one(
-                    i, world, bodies, agents, food, sense, relations, bearings, slots, summary,
+                    i,
+                    world,
+                    bodies,
+                    agents,
+                    food,
+                    obstacle_grid,
+                    sense,
+                    relations,
+                    bearings,
+                    slots,
+                    summary,
                 );
             });
     }
@@ -291,9 +312,29 @@ impl Kept<'_> {
     /// inside the world bounds).
     #[inline]
     fn find_far(&mut self) {
-        let d = &self.dists[..self.len];
-        let max = d.iter().fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
-        self.far = d.iter().position(|&x| x == max).unwrap_or(0);
+        if self.len == MAX_PERCEPTS {
+            // Four independent running maxima and a mask of the slots equal to the largest: no
+            // serial chain of compares and branches.
+            let d = &self.dists;
+            let mut m = [f32::NEG_INFINITY; 4];
+            for c in d.chunks_exact(4) {
+                for l in 0..4 {
+                    m[l] = if c[l] > m[l] { c[l] } else { m[l] };
+                }
+            }
+            let m01 = if m[1] > m[0] { m[1] } else { m[0] };
+            let m23 = if m[3] > m[2] { m[3] } else { m[2] };
+            let max = if m23 > m01 { m23 } else { m01 };
+            let mut mask = 0u32;
+            for (k, &x) in d.iter().enumerate() {
+                mask |= ((x == max) as u32) << k;
+            }
+            self.far = (mask.trailing_zeros() as usize).min(MAX_PERCEPTS - 1);
+        } else {
+            let d = &self.dists[..self.len];
+            let max = d.iter().fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
+            self.far = d.iter().position(|&x| x == max).unwrap_or(0);
+        }
     }
 
     /// Offers the percept `make()` builds, at distance `dist`; `make` runs only when it is kept.
@@ -354,6 +395,7 @@ fn perceive_one(
     bodies: &[Body],
     agents: &Grid,
     food: &Grid,
+    obstacle_grid: &ObstacleGrid,
     sense: &SenseParams,
     relations: &Relations,
     bearing_range: Option<f32>,
@@ -380,7 +422,9 @@ fn perceive_one(
     // Nearby obstacles first: they are percepts and occluders.
     let mut occluders = [(Vec3::ZERO, 0.0f32); MAX_OCCLUDERS];
     let mut n_occ = 0;
-    for (k, o) in world.obstacles.iter().enumerate() {
+    // The grid lists, in index order, every active obstacle that may be within `radius`.
+    for &k in obstacle_grid.near(me.pos) {
+        let o = &world.obstacles[k as usize];
         if !o.active {
             continue;
         }
