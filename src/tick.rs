@@ -41,6 +41,24 @@ impl Default for Mind {
     }
 }
 
+/// One worker thread's reusable buffers for stages 3–6.
+struct Worker {
+    scope: Scope<'static>,
+    scratch: Scratch,
+    /// The script view, refilled in place for each call.
+    view: Dynamic,
+}
+
+impl Default for Worker {
+    fn default() -> Self {
+        Worker {
+            scope: Scope::new(),
+            scratch: Scratch::default(),
+            view: Dynamic::from(AgentView::default()),
+        }
+    }
+}
+
 /// What one agent's pass produced.
 #[derive(Debug, Default)]
 struct Outcome {
@@ -96,6 +114,8 @@ pub struct Pipeline {
     bearing_ranges: Vec<f32>,
     full_bearings: bool,
     species_counts: Vec<u32>,
+    /// Per worker thread (by rayon thread index): buffers kept across ticks.
+    workers: Vec<std::sync::Mutex<Worker>>,
 }
 
 /// Distance within which a species' behaviors read the bearing and elevation of agent percepts
@@ -206,6 +226,7 @@ impl Pipeline {
             bearing_ranges: Vec::new(),
             full_bearings: false,
             species_counts: Vec::new(),
+            workers: Vec::new(),
         };
         p.set_species(species);
         p
@@ -382,6 +403,11 @@ impl Pipeline {
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
         let velocities = perception.velocities();
+        let threads = rayon::current_num_threads();
+        if self.workers.len() < threads {
+            self.workers.resize_with(threads, Default::default);
+        }
+        let workers = &self.workers;
         self.brains
             .par_iter_mut()
             .zip(self.outcomes.par_iter_mut())
@@ -389,18 +415,52 @@ impl Pipeline {
             .with_min_len(32)
             .for_each_init(
                 || {
-                    let mut scratch = Scratch::default();
-                    scratch.velocities = Some(velocities.clone());
-                    (Scope::new(), scratch, Dynamic::from(AgentView::default()))
+                    // This thread's buffers, kept from tick to tick; a fresh set only if they
+                    // are somehow in use.
+                    let mut own = rayon::current_thread_index()
+                        .and_then(|t| workers.get(t))
+                        .and_then(|w| w.try_lock().ok());
+                    let fresh = own.is_none().then(Worker::default);
+                    if let Some(w) = own.as_deref_mut() {
+                        if w.scratch.velocities.is_none() {
+                            w.scratch.velocities = Some(velocities.clone());
+                        }
+                    }
+                    (own, fresh)
                 },
-                |(scope, scratch, view), (i, (brain, out))| {
-                    scratch.reset();
-                    scratch.plan_target = plan_targets[i];
+                |(own, fresh), (i, (brain, out))| {
+                    let w = match (own.as_deref_mut(), fresh.as_mut()) {
+                        (Some(w), _) => w,
+                        (None, Some(w)) => {
+                            if w.scratch.velocities.is_none() {
+                                w.scratch.velocities = Some(velocities.clone());
+                            }
+                            w
+                        }
+                        (None, None) => unreachable!("one of the two is set"),
+                    };
+                    w.scratch.reset();
+                    w.scratch.plan_target = plan_targets[i];
                     agent_pass(
-                        i, world_ref, &set, perception, names, brain, out, scope, scratch, view,
+                        i,
+                        world_ref,
+                        &set,
+                        perception,
+                        names,
+                        brain,
+                        out,
+                        &mut w.scope,
+                        &mut w.scratch,
+                        &mut w.view,
                     );
                 },
             );
+        // Let go of this tick's velocities so the next tick refills them in place.
+        for w in &self.workers {
+            if let Ok(mut w) = w.lock() {
+                w.scratch.velocities = None;
+            }
+        }
         // 7. World events, applied in agent order.
         self.apply(world);
     }

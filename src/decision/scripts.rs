@@ -94,14 +94,14 @@ pub fn fill_view(
         "female"
     };
     if v.sex.as_str() != sex {
-        v.sex = sex.into();
+        v.sex = shared_name(sex);
     }
     v.age = a.attrs.age;
     v.mass = a.attrs.mass;
     v.kind = a.attrs.kind as i64;
     let heard = a.inbox.map_or("", |k| k.name());
     if v.heard.as_str() != heard {
-        v.heard = heard.into();
+        v.heard = shared_name(heard);
     }
     v.memory = memory;
     v.rng = a.rng;
@@ -110,6 +110,24 @@ pub fn fill_view(
         v.recipes = ctx.species.recipe_names.clone();
     }
     v.drives_written = false;
+}
+
+/// The few fixed names a view holds ("male", "female", message kinds), built once per thread and
+/// shared, so that refilling a view does not allocate.
+fn shared_name(name: &'static str) -> ImmutableString {
+    thread_local! {
+        static NAMES: std::cell::RefCell<Vec<ImmutableString>> =
+            const { std::cell::RefCell::new(Vec::new()) };
+    }
+    NAMES.with(|names| {
+        let mut names = names.borrow_mut();
+        if let Some(n) = names.iter().find(|n| n.as_str() == name) {
+            return n.clone();
+        }
+        let n = ImmutableString::from(name);
+        names.push(n.clone());
+        n
+    })
 }
 
 /// Converts a script's return value into a number for a slot.
