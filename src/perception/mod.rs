@@ -94,6 +94,13 @@ impl Relations {
     pub fn get(&self, perceiver: usize, other: usize) -> Option<Category> {
         self.cats.get(perceiver * self.n + other).copied().flatten()
     }
+    /// What every species is to `perceiver`, by species index.
+    #[inline]
+    fn row(&self, perceiver: usize) -> &[Option<Category>] {
+        self.cats
+            .get(perceiver * self.n..(perceiver + 1) * self.n)
+            .unwrap_or(&[])
+    }
     /// Declares that `perceiver` eats food items.
     pub fn set_eats_items(&mut self, perceiver: usize, yes: bool) {
         self.eats_items[perceiver] = yes;
@@ -304,7 +311,11 @@ struct Kept<'a> {
     /// Distances of `slots`, contiguous for the search of the farthest.
     dists: [f32; MAX_PERCEPTS],
     len: usize,
+    /// The first slot of the largest distance, when `far_valid`.
     far: usize,
+    far_valid: bool,
+    /// The largest distance (when `far_valid`) or an upper bound of it.
+    bound: f32,
 }
 
 impl Kept<'_> {
@@ -338,6 +349,8 @@ impl Kept<'_> {
     }
 
     /// Offers the percept `make()` builds, at distance `dist`; `make` runs only when it is kept.
+    /// After a replacement the farthest slot is looked for again only when an offer could beat
+    /// the distance just replaced (an upper bound of the new largest one).
     #[inline(always)]
     fn offer(&mut self, dist: f32, make: impl FnOnce() -> Percept) {
         let cap = self.slots.len().min(MAX_PERCEPTS);
@@ -347,12 +360,26 @@ impl Kept<'_> {
             self.len += 1;
             if self.len == cap {
                 self.find_far();
+                self.bound = self.dists[self.far];
+                self.far_valid = true;
             }
-        } else if dist < self.dists[self.far] {
-            self.slots[self.far] = make();
-            self.dists[self.far] = dist;
-            self.find_far();
+            return;
         }
+        if cap == 0 || dist >= self.bound {
+            return;
+        }
+        if !self.far_valid {
+            self.find_far();
+            self.bound = self.dists[self.far];
+            self.far_valid = true;
+            if dist >= self.bound {
+                return;
+            }
+        }
+        // `far` is the first slot of the largest distance, and `dist` is nearer.
+        self.slots[self.far] = make();
+        self.dists[self.far] = dist;
+        self.far_valid = false;
     }
 }
 
@@ -386,6 +413,8 @@ struct Eye {
     up: Vec3,
     /// Cosine bound of the vision cone (as [`volume::in_cone`] computes it).
     cos_min: f32,
+    /// Whether the cone is the whole sphere.
+    full_circle: bool,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -410,6 +439,7 @@ fn perceive_one(
         left: frame::left(yaw),
         up: frame::dorsal(yaw, pitch),
         cos_min: sense.vision_half_angle.cos() - 1e-6,
+        full_circle: sense.vision_half_angle.cos() - 1e-6 < -1.000_000_5,
     };
     let radius = sense.query_radius();
     let mut kept = Kept {
@@ -417,6 +447,8 @@ fn perceive_one(
         dists: [0.0; MAX_PERCEPTS],
         len: 0,
         far: 0,
+        far_valid: false,
+        bound: f32::INFINITY,
     };
 
     // Nearby obstacles first: they are percepts and occluders.
@@ -452,13 +484,14 @@ fn perceive_one(
 
     let mates = relations.mates.get(s).copied().unwrap_or(false);
     let (here, my_sex) = (me.pos, me.attrs.sex);
+    let row = relations.row(s);
     agents.for_each_within(here, radius, |j, pos, d2| {
         let j = j as usize;
         if j == i {
             return;
         }
         let other = &bodies[j];
-        let Some(mut cat) = relations.get(s, other.species as usize) else {
+        let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
             return;
         };
         if cat == Category::Kin && mates && other.sex != my_sex {
@@ -604,10 +637,13 @@ fn sense_of(
             offset.dot(eye.up),
             offset.dot(eye.fwd),
         )),
-        // `volume::in_cone` with the cosine computed once per perceiver.
+        // `volume::in_cone` with the cosine computed once per perceiver; a full circle (±180°,
+        // bound below −1 by more than any rounding of a unit vector's dot product) needs no test.
         None => {
             dist <= sense.vision_radius
-                && (offset_len == 0.0 || eye.fwd.dot(offset) / offset_len >= eye.cos_min)
+                && (eye.full_circle
+                    || offset_len == 0.0
+                    || eye.fwd.dot(offset) / offset_len >= eye.cos_min)
         }
     };
     if in_vision && !occluded(from, from + offset, occluders) {
