@@ -38,10 +38,15 @@ pub fn dorsal(yaw: f32, pitch: f32) -> Vec3 {
 /// Wraps an angle into (−π, π].
 #[inline]
 pub fn wrap(a: f32) -> f32 {
+    // Already in range (the common case): `a % TAU` would give `a` back unchanged.
+    if a > -PI && a <= PI {
+        return a;
+    }
     if !a.is_finite() {
         return 0.0;
     }
-    let mut a = a % TAU;
+    // `a % TAU` is exact and returns `a` itself when |a| < TAU: skip the slow `fmodf` then.
+    let mut a = if a.abs() < TAU { a } else { a % TAU };
     if a <= -PI {
         a += TAU;
     } else if a > PI {
@@ -59,7 +64,10 @@ pub fn heading_of(dir: Vec3) -> Option<(f32, f32)> {
     }
     let d = dir / len;
     let yaw = (-d.x).atan2(d.z);
-    let pitch = d.y.clamp(-1.0, 1.0).asin().clamp(-PITCH_LIMIT, PITCH_LIMIT);
+    // asin(±0) = ±0: level directions (every one in a flat world) skip the call.
+    let sy = d.y.clamp(-1.0, 1.0);
+    let pitch = if sy == 0.0 { sy } else { sy.asin() };
+    let pitch = pitch.clamp(-PITCH_LIMIT, PITCH_LIMIT);
     Some((yaw, pitch))
 }
 

@@ -5,6 +5,7 @@
 //! [`events`], driven by [`tick`].
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod decision;
 pub mod diag;
 pub mod drives;

@@ -12,7 +12,11 @@ use crate::events::{Cause, Event, MessageKind};
 use crate::index::Grid;
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{Category, Perception, Source};
-use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
+use crate::script::AgentView;
+use crate::species::{
+    ActionNode, CondNode, Contact, Draw, Recipe, RecipeNode, SexDef, Species, SpeciesSet,
+};
+use crate::steering::avoid::AvoidParams;
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{
@@ -37,6 +41,24 @@ struct Brain {
 impl Default for Mind {
     fn default() -> Self {
         Mind::new(0, 0, 0)
+    }
+}
+
+/// One worker thread's reusable buffers for stages 3–6.
+struct Worker {
+    scope: Scope<'static>,
+    scratch: Scratch,
+    /// The script view, refilled in place for each call.
+    view: Dynamic,
+}
+
+impl Default for Worker {
+    fn default() -> Self {
+        Worker {
+            scope: Scope::new(),
+            scratch: Scratch::default(),
+            view: Dynamic::from(AgentView::default()),
+        }
     }
 }
 
@@ -96,6 +118,95 @@ pub struct Pipeline {
     /// Run every agent's scripts every tick, whatever the species' decision interval (a dry
     /// run of a new version exercises every agent in one tick).
     pub scripts_every_tick: bool,
+    /// Per species: distance within which its behaviors read the bearings of agent percepts
+    /// (see [`bearing_range`]); empty when every percept gets its bearing.
+    bearing_ranges: Vec<f32>,
+    full_bearings: bool,
+    species_counts: Vec<u32>,
+    /// Per worker thread (by rayon thread index): buffers kept across ticks.
+    workers: Vec<std::sync::Mutex<Worker>>,
+}
+
+/// Distance within which a species' behaviors read the bearing and elevation of agent percepts
+/// other than the nearest of their category: its dynamic-avoidance range (`TrafficNear`,
+/// `AvoidDynamic`), 0 when it has neither. Obstacles and the nearest percept of each category
+/// always get theirs. The matches are exhaustive so that a new primitive has to say what it
+/// reads.
+pub fn bearing_range(sp: &Species) -> f32 {
+    fn of(p: &AvoidParams) -> f32 {
+        p.range.unwrap_or(f32::INFINITY)
+    }
+    fn cond(c: &CondNode, sp: &Species) -> f32 {
+        match c {
+            CondNode::TrafficNear => of(&sp.def.avoid),
+            CondNode::All(v) | CondNode::Any(v) => {
+                v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max)
+            }
+            CondNode::Not(c) => cond(c, sp),
+            CondNode::Latch { on, off, .. } => cond(on, sp).max(cond(off, sp)),
+            // Nearest percepts, obstacles or no percepts at all.
+            CondNode::Always
+            | CondNode::Never
+            | CondNode::Above(..)
+            | CondNode::Below(..)
+            | CondNode::Sees(_)
+            | CondNode::Smells(_)
+            | CondNode::Perceives(_)
+            | CondNode::Within(..)
+            | CondNode::EscapeDone
+            | CondNode::ObstacleNear
+            | CondNode::Heard(_)
+            | CondNode::TimeIn(_)
+            | CondNode::Chance(_)
+            | CondNode::NearBounds(_)
+            | CondNode::Script(_) => 0.0,
+        }
+    }
+    fn leaf(r: &Recipe) -> f32 {
+        match r {
+            Recipe::AvoidDynamic(p) => of(p),
+            // Nearest percepts, obstacles, neighbors' offsets and velocities, or nothing.
+            Recipe::Priority(_)
+            | Recipe::Blend(_)
+            | Recipe::Script(_)
+            | Recipe::AvoidStatic(_)
+            | Recipe::PredictCollision(_)
+            | Recipe::Contain(_)
+            | Recipe::Chase(_)
+            | Recipe::Escape(_)
+            | Recipe::EscapeMirror(_)
+            | Recipe::Pursue(_)
+            | Recipe::Seek(_)
+            | Recipe::Flee(_)
+            | Recipe::Arrive(_)
+            | Recipe::Separation(_)
+            | Recipe::Alignment(_)
+            | Recipe::Cohesion(_)
+            | Recipe::Zones(_)
+            | Recipe::Vicsek(_)
+            | Recipe::Disperse(_)
+            | Recipe::Wander(_)
+            | Recipe::Cruise(_)
+            | Recipe::Stop
+            | Recipe::FollowPlan(_) => 0.0,
+        }
+    }
+    fn recipe(r: &RecipeNode) -> f32 {
+        match r {
+            RecipeNode::Leaf(l) => leaf(l),
+            RecipeNode::Priority(v) => v.iter().map(recipe).fold(0.0, f32::max),
+            RecipeNode::Blend(v) => v.iter().map(|(_, _, r)| recipe(r)).fold(0.0, f32::max),
+            // Script-built steering composes the named recipes, walked below.
+            RecipeNode::Script(_) => 0.0,
+        }
+    }
+    let behaviors = sp.behaviors.iter().map(|b| {
+        cond(&b.when, sp)
+            .max(cond(&b.done, sp))
+            .max(recipe(&b.steer))
+    });
+    let named = sp.recipes.iter().map(recipe);
+    behaviors.chain(named).fold(0.0, f32::max)
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -127,6 +238,10 @@ impl Pipeline {
             plan_targets: Vec::new(),
             injected: Default::default(),
             scripts_every_tick: false,
+            bearing_ranges: Vec::new(),
+            full_bearings: false,
+            species_counts: Vec::new(),
+            workers: Vec::new(),
         };
         p.set_species(species);
         p
@@ -151,6 +266,27 @@ impl Pipeline {
             self.stats.behavior_ticks[i].resize(s.behaviors.len(), 0);
         }
         self.species = species;
+        self.refresh_bearing_ranges();
+    }
+
+    /// With `true`, every percept gets its bearing and elevation (for tools that show all of an
+    /// agent's percepts); by default only those the species' behaviors can read do (see
+    /// [`bearing_range`]).
+    pub fn set_full_bearings(&mut self, on: bool) {
+        self.full_bearings = on;
+        self.refresh_bearing_ranges();
+    }
+
+    fn refresh_bearing_ranges(&mut self) {
+        self.bearing_ranges = if self.full_bearings {
+            Vec::new()
+        } else {
+            self.species
+                .species
+                .iter()
+                .map(|s| bearing_range(s))
+                .collect()
+        };
     }
 
     /// Percepts of the last tick's perception stage, by agent index.
@@ -232,35 +368,54 @@ impl Pipeline {
         id
     }
 
-    /// Advances `world` by one tick. Events of the tick are appended to [`Pipeline::events`];
-    /// the caller clears it between ticks (`scenario::Run::step` clears it before the spawns
-    /// of its timed events, so those stay with the tick that follows).
-    pub fn step(&mut self, world: &mut World) {
-        let n = world.agents.len();
-        let set = self.species.clone();
-        // 1. Spatial index.
+    /// Stages 1–2 alone: rebuilds the spatial index and runs perception on `world` (results in
+    /// [`Pipeline::perception`]). [`Pipeline::step`] starts with this.
+    pub fn perceive(&mut self, world: &World) {
+        let set = &self.species;
+        // 1. Spatial index. Cells of half the query radius of the most numerous species: its
+        // queries visit about 5 cells per axis, 15.6 r³ of space for a 4.2 r³ sphere (27 r³ with
+        // cells of a whole radius). Any cell size gives the same neighbors.
+        self.species_counts.clear();
+        self.species_counts.resize(set.species.len(), 0);
+        for a in &world.agents {
+            if let Some(c) = self.species_counts.get_mut(a.species.0 as usize) {
+                *c += 1;
+            }
+        }
+        let most = (0..self.species_counts.len())
+            .max_by_key(|&s| (self.species_counts[s], std::cmp::Reverse(s)))
+            .unwrap_or(0);
         let cell = set
             .senses
-            .iter()
-            .map(|s| s.query_radius())
-            .fold(1.0f32, f32::max);
+            .get(most)
+            .map_or(1.0, |s| 0.5 * s.query_radius())
+            .max(0.5);
         self.agent_grid
             .rebuild(world.bounds, cell, world.agents.iter().map(|a| a.pos));
         self.food_grid
             .rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
         // 2. Perception.
-        self.perception.run(
+        self.perception.run_selective(
             world,
             &self.agent_grid,
             &self.food_grid,
             &set.senses,
             &set.relations,
+            &self.bearing_ranges,
         );
         for (id, percepts) in &self.injected {
             if let Some(i) = world.agent_index(*id) {
                 self.perception.inject(i, world.agents[i].pos, percepts);
             }
         }
+    }
+
+    /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
+    /// (cleared at the start of each tick, after spawns made between ticks).
+    pub fn step(&mut self, world: &mut World) {
+        let n = world.agents.len();
+        let set = self.species.clone();
+        self.perceive(world);
         // 3–6. Per agent: drives, decision, steering, locomotion.
         self.brains.resize_with(n, Brain::default);
         for (a, b) in world.agents.iter_mut().zip(self.brains.iter_mut()) {
@@ -275,22 +430,66 @@ impl Pipeline {
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
         let every_tick = self.scripts_every_tick;
+        let velocities = perception.velocities();
+        let threads = rayon::current_num_threads();
+        if self.workers.len() < threads {
+            self.workers.resize_with(threads, Default::default);
+        }
+        let workers = &self.workers;
         self.brains
             .par_iter_mut()
             .zip(self.outcomes.par_iter_mut())
             .enumerate()
             .with_min_len(32)
             .for_each_init(
-                || (Scope::new(), Scratch::default()),
-                |(scope, scratch), (i, (brain, out))| {
-                    scratch.reset();
-                    scratch.plan_target = plan_targets[i];
+                || {
+                    // This thread's buffers, kept from tick to tick; a fresh set only if they
+                    // are somehow in use.
+                    let mut own = rayon::current_thread_index()
+                        .and_then(|t| workers.get(t))
+                        .and_then(|w| w.try_lock().ok());
+                    let fresh = own.is_none().then(Worker::default);
+                    if let Some(w) = own.as_deref_mut() {
+                        if w.scratch.velocities.is_none() {
+                            w.scratch.velocities = Some(velocities.clone());
+                        }
+                    }
+                    (own, fresh)
+                },
+                |(own, fresh), (i, (brain, out))| {
+                    let w = match (own.as_deref_mut(), fresh.as_mut()) {
+                        (Some(w), _) => w,
+                        (None, Some(w)) => {
+                            if w.scratch.velocities.is_none() {
+                                w.scratch.velocities = Some(velocities.clone());
+                            }
+                            w
+                        }
+                        (None, None) => unreachable!("one of the two is set"),
+                    };
+                    w.scratch.reset();
+                    w.scratch.plan_target = plan_targets[i];
                     agent_pass(
-                        i, world_ref, &set, perception, names, brain, out, scope, scratch,
+                        i,
+                        world_ref,
+                        &set,
+                        perception,
+                        names,
+                        brain,
+                        out,
+                        &mut w.scope,
+                        &mut w.scratch,
+                        &mut w.view,
                         every_tick,
                     );
                 },
             );
+        // Let go of this tick's velocities so the next tick refills them in place.
+        for w in &self.workers {
+            if let Ok(mut w) = w.lock() {
+                w.scratch.velocities = None;
+            }
+        }
         // 7. World events, applied in agent order.
         self.apply(world);
     }
@@ -551,6 +750,7 @@ fn agent_pass(
     out: &mut Outcome,
     scope: &mut Scope,
     scratch: &mut Scratch,
+    view: &mut Dynamic,
     scripts_every_tick: bool,
 ) {
     let base = &world.agents[i];
@@ -607,15 +807,22 @@ fn agent_pass(
                 tick,
                 dt,
             };
-            let mut view =
-                scripts::view_of(&ctx, mind, &names.0[s], &names.1[s][mind.current as usize]);
-            view.rng = *rng;
-            let mut this = Dynamic::from(view);
-            let r = scripts::run_slots(sp, script, mind, &mut this, scope);
-            if let Some(v) = this.try_cast::<crate::script::AgentView>() {
+            // The worker's view is refilled in place (no allocation per call); the blackboard
+            // moves in and back out.
+            let memory = me.memory.clone();
+            if !view.is::<AgentView>() {
+                *view = Dynamic::from(AgentView::default());
+            }
+            if let Some(mut v) = view.write_lock::<AgentView>() {
+                let behavior = &names.1[s][mind.current as usize];
+                scripts::fill_view(&mut v, &ctx, mind, &names.0[s], behavior, memory);
+                v.rng = *rng;
+            }
+            let r = scripts::run_slots(sp, script, mind, view, scope);
+            if let Some(mut v) = view.write_lock::<AgentView>() {
                 scripts::write_back(&v, &mut me);
                 *rng = v.rng;
-                for (k, m) in v.outbox.into_iter().take(2).enumerate() {
+                for (k, m) in v.outbox.drain(..).take(2).enumerate() {
                     out.messages[2 + k] = Some(m);
                 }
             }

@@ -188,15 +188,18 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
             p.max() > avoid::static_m_min(ctx.species.senses.vision_radius, params.m0)
         }
         CondNode::TrafficNear => {
+            // One buffer per thread: conditions run every tick for every agent.
             thread_local! {
-                static MOVING: std::cell::RefCell<Vec<avoid::MovingObstacle>> = const { std::cell::RefCell::new(Vec::new()) };
+                static MOVING: std::cell::RefCell<Vec<avoid::MovingObstacle>> =
+                    const { std::cell::RefCell::new(Vec::new()) };
             }
             let params = &ctx.species.def.avoid;
-            MOVING.with_borrow_mut(|v| {
-                ctx.moving_obstacles(params, v);
+            MOVING.with(|v| {
+                let mut v = v.borrow_mut();
+                ctx.moving_obstacles(params, &mut v);
                 let s = avoid::avoid_dynamic(
                     &ctx.kin(),
-                    v,
+                    &v,
                     ctx.species.senses.vision_radius,
                     ctx.agent.diagonal(),
                     ctx.dt,

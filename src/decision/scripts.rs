@@ -6,11 +6,11 @@
 use super::Ctx;
 use crate::diag::Diagnostic;
 use crate::frame;
-use crate::perception::Category;
 use crate::script::{AgentView, CategoryView, Script, ScriptSteer};
 use crate::species::{SlotKind, Species};
 use crate::world::{Agent, Mind, Sex};
 use rhai::{Dynamic, ImmutableString, Scope};
+use std::sync::Arc;
 
 /// Whether agent `id` runs its scripts on `tick` (staggered: one agent in `interval` per tick).
 #[inline]
@@ -25,11 +25,33 @@ pub fn view_of(
     species_name: &ImmutableString,
     behavior: &ImmutableString,
 ) -> AgentView {
+    let mut v = AgentView::default();
+    fill_view(
+        &mut v,
+        ctx,
+        mind,
+        species_name,
+        behavior,
+        ctx.agent.memory.clone(),
+    );
+    v
+}
+
+/// Refills an existing view in place for another call (what [`view_of`] builds, without
+/// allocating: strings and the recipe list are shared, the blackboard `memory` is moved in and
+/// the outbox is emptied).
+pub fn fill_view(
+    v: &mut AgentView,
+    ctx: &Ctx,
+    mind: &Mind,
+    species_name: &ImmutableString,
+    behavior: &ImmutableString,
+    memory: Vec<(String, crate::world::MemValue)>,
+) {
     let a: &Agent = ctx.agent;
-    let mut cats: [CategoryView; Category::COUNT] = Default::default();
-    for (i, s) in ctx.summaries.iter().enumerate() {
+    for (cv, s) in v.cats.iter_mut().zip(ctx.summaries.iter()) {
         let near = s.nearest.map(|k| &ctx.percepts[k as usize]);
-        cats[i] = CategoryView {
+        *cv = CategoryView {
             count: s.count as i64,
             seen: s.seen as i64,
             nearest_dist: if s.nearest_dist.is_finite() {
@@ -45,45 +67,70 @@ pub fn view_of(
             mean_velocity: s.mean_velocity,
         };
     }
-    AgentView {
-        id: a.id.0 as i64,
-        species: species_name.clone(),
-        tick: ctx.tick as i64,
-        time: ctx.tick as f32 * ctx.dt,
-        dt: ctx.dt,
-        pos: a.pos,
-        vel: a.velocity(),
-        fwd: frame::forward(a.yaw, a.pitch),
-        speed: a.speed,
-        max_speed: ctx.species.def.body.limits.max_speed,
-        hunger: a.drives.hunger,
-        libido: a.drives.libido,
-        fear: a.drives.fear,
-        fatigue: a.drives.fatigue,
-        behavior: behavior.clone(),
-        time_in_behavior: ctx.time_in_behavior(mind),
-        stack_depth: mind.depth as i64,
-        sex: if a.attrs.sex == Sex::Male {
-            "male".into()
-        } else {
-            "female".into()
-        },
-        age: a.attrs.age,
-        mass: a.attrs.mass,
-        kind: a.attrs.kind as i64,
-        cats,
-        heard: a
-            .inbox
-            .map_or_else(ImmutableString::new, |k| k.name().into()),
-        memory: a.memory.clone(),
-        rng: a.rng,
-        outbox: Vec::new(),
-        recipes: ctx.species.recipe_names.clone(),
-        drives_written: false,
-        terrain: ctx.world.terrain.clone(),
-        eye_height: ctx.species.def.body.size.y,
-        squad: ctx.world.squads.as_ref().and_then(|b| b.view(a.id)),
+    v.id = a.id.0 as i64;
+    if !v.species.ptr_eq(species_name) {
+        v.species = species_name.clone();
     }
+    v.tick = ctx.tick as i64;
+    v.time = ctx.tick as f32 * ctx.dt;
+    v.dt = ctx.dt;
+    v.pos = a.pos;
+    v.vel = a.velocity();
+    v.fwd = frame::forward(a.yaw, a.pitch);
+    v.speed = a.speed;
+    v.max_speed = ctx.species.def.body.limits.max_speed;
+    v.hunger = a.drives.hunger;
+    v.libido = a.drives.libido;
+    v.fear = a.drives.fear;
+    v.fatigue = a.drives.fatigue;
+    if !v.behavior.ptr_eq(behavior) {
+        v.behavior = behavior.clone();
+    }
+    v.time_in_behavior = ctx.time_in_behavior(mind);
+    v.stack_depth = mind.depth as i64;
+    let sex = if a.attrs.sex == Sex::Male {
+        "male"
+    } else {
+        "female"
+    };
+    if v.sex.as_str() != sex {
+        v.sex = shared_name(sex);
+    }
+    v.age = a.attrs.age;
+    v.mass = a.attrs.mass;
+    v.kind = a.attrs.kind as i64;
+    let heard = a.inbox.map_or("", |k| k.name());
+    if v.heard.as_str() != heard {
+        v.heard = shared_name(heard);
+    }
+    v.memory = memory;
+    v.rng = a.rng;
+    v.outbox.clear();
+    if !Arc::ptr_eq(&v.recipes, &ctx.species.recipe_names) {
+        v.recipes = ctx.species.recipe_names.clone();
+    }
+    v.drives_written = false;
+    v.terrain = ctx.world.terrain.clone();
+    v.eye_height = ctx.species.def.body.size.y;
+    v.squad = ctx.world.squads.as_ref().and_then(|b| b.view(a.id));
+}
+
+/// The few fixed names a view holds ("male", "female", message kinds), built once per thread and
+/// shared, so that refilling a view does not allocate.
+fn shared_name(name: &'static str) -> ImmutableString {
+    thread_local! {
+        static NAMES: std::cell::RefCell<Vec<ImmutableString>> =
+            const { std::cell::RefCell::new(Vec::new()) };
+    }
+    NAMES.with(|names| {
+        let mut names = names.borrow_mut();
+        if let Some(n) = names.iter().find(|n| n.as_str() == name) {
+            return n.clone();
+        }
+        let n = ImmutableString::from(name);
+        names.push(n.clone());
+        n
+    })
 }
 
 /// Converts a script's return value into a number for a slot.

@@ -5,6 +5,10 @@
 //! overlap the query sphere, so perception costs O(N·k), not O(N²). Entries carry a copy of the
 //! position so that a query walks memory linearly.
 
+mod obstacles;
+
+pub use obstacles::ObstacleGrid;
+
 use crate::world::Aabb;
 use glam::{IVec3, Vec3};
 
@@ -60,6 +64,16 @@ impl Grid {
         let max_extent = size.max_element();
         if max_extent / cell > MAX_DIM as f32 {
             cell = max_extent / MAX_DIM as f32;
+        }
+        // A few cells per point at most: a large, sparse world gets larger cells instead of a
+        // cell table bigger than the points it indexes.
+        let max_cells = 4 * points.len() as i64 + 4096;
+        let dims_for = |cell: f32| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
+        while {
+            let d = dims_for(cell).as_i64vec3();
+            d.x * d.y * d.z > max_cells
+        } {
+            cell *= 1.25;
         }
         self.cell = cell;
         self.inv_cell = 1.0 / cell;

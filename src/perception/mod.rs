@@ -15,14 +15,17 @@ pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::Volume;
 
 use crate::frame;
-use crate::index::Grid;
+use crate::index::{Grid, ObstacleGrid};
 use crate::world::World;
 use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Percepts kept per agent (the nearest ones; summaries still count all of them).
 pub const MAX_PERCEPTS: usize = 24;
+// Kept percepts are flagged in a `u32` bit mask.
+const _: () = assert!(MAX_PERCEPTS <= 32);
 
 /// Most obstacles considered as occluders for one agent.
 const MAX_OCCLUDERS: usize = 16;
@@ -91,6 +94,13 @@ impl Relations {
     pub fn get(&self, perceiver: usize, other: usize) -> Option<Category> {
         self.cats.get(perceiver * self.n + other).copied().flatten()
     }
+    /// What every species is to `perceiver`, by species index.
+    #[inline]
+    fn row(&self, perceiver: usize) -> &[Option<Category>] {
+        self.cats
+            .get(perceiver * self.n..(perceiver + 1) * self.n)
+            .unwrap_or(&[])
+    }
     /// Declares that `perceiver` eats food items.
     pub fn set_eats_items(&mut self, perceiver: usize, yes: bool) {
         self.eats_items[perceiver] = yes;
@@ -119,6 +129,41 @@ pub struct Perception {
     percepts: Vec<Percept>,
     counts: Vec<u16>,
     summaries: Vec<[Summary; Category::COUNT]>,
+    /// What a perceiver reads of each agent, by agent index, gathered once per tick so that a
+    /// neighbor costs one small read instead of a walk into the full agent and two `sin_cos`.
+    bodies: Vec<Body>,
+    /// Velocity of each agent at the start of the tick (`Agent::velocity`), by agent index:
+    /// shared with the steering stage's workers.
+    velocities: Arc<Vec<Vec3>>,
+    /// Obstacles by cell, so a perceiver looks only at those that may be in range.
+    obstacle_grid: ObstacleGrid,
+}
+
+/// The part of an agent its neighbors read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Body {
+    /// Forward unit vector.
+    heading: Vec3,
+    /// Speed.
+    speed: f32,
+    /// Bounding-box diagonal.
+    diagonal: f32,
+    /// Species index.
+    species: u16,
+    /// Sex.
+    sex: crate::world::Sex,
+}
+
+impl Default for Body {
+    fn default() -> Self {
+        Body {
+            heading: Vec3::ZERO,
+            speed: 0.0,
+            diagonal: 0.0,
+            species: 0,
+            sex: crate::world::Sex::Female,
+        }
+    }
 }
 
 const EMPTY: Percept = Percept {
@@ -150,6 +195,12 @@ impl Perception {
         &self.summaries[i]
     }
 
+    /// Velocities of every agent at the start of the tick ([`crate::world::Agent::velocity`],
+    /// computed once), by agent index.
+    pub fn velocities(&self) -> &Arc<Vec<Vec3>> {
+        &self.velocities
+    }
+
     /// Number of agents perceived for.
     pub fn len(&self) -> usize {
         self.counts.len()
@@ -160,7 +211,8 @@ impl Perception {
         self.counts.is_empty()
     }
 
-    /// Runs perception for every agent of `world`. `senses[s]` are species `s`'s senses.
+    /// Runs perception for every agent of `world`. `senses[s]` are species `s`'s senses. Every
+    /// percept kept gets its bearing and elevation.
     pub fn run(
         &mut self,
         world: &World,
@@ -169,14 +221,60 @@ impl Perception {
         senses: &[SenseParams],
         relations: &Relations,
     ) {
+        self.run_selective(world, agents, food, senses, relations, &[]);
+    }
+
+    /// Like [`Perception::run`], but bearing and elevation (two inverse trigonometric calls per
+    /// percept) are only computed where species `s` can read them: for obstacles, for the nearest
+    /// percept of each category, and for agents within `bearing_ranges[s]` (its dynamic-avoidance
+    /// range); other percepts keep a bearing and elevation of 0. A species without an entry gets
+    /// every bearing.
+    pub fn run_selective(
+        &mut self,
+        world: &World,
+        agents: &Grid,
+        food: &Grid,
+        senses: &[SenseParams],
+        relations: &Relations,
+        bearing_ranges: &[f32],
+    ) {
         let n = world.agents.len();
-        self.percepts.clear();
+        // Every agent's slots and summaries are rewritten below: only the sizes change here.
         self.percepts.resize(n * MAX_PERCEPTS, EMPTY);
-        self.counts.clear();
         self.counts.resize(n, 0);
-        self.summaries.clear();
         self.summaries
             .resize(n, [Summary::default(); Category::COUNT]);
+        self.bodies.resize(n, Body::default());
+        // Steering workers drop their handles at the end of each tick, so this does not copy.
+        let velocities = Arc::make_mut(&mut self.velocities);
+        velocities.resize(n, Vec3::ZERO);
+        self.bodies
+            .par_iter_mut()
+            .zip(velocities.par_iter_mut())
+            .zip(world.agents.par_iter())
+            .with_min_len(256)
+            .for_each(|((b, v), a)| {
+                *b = Body {
+                    heading: a.forward(),
+                    speed: a.speed,
+                    diagonal: a.diagonal(),
+                    species: a.species.0,
+                    sex: a.attrs.sex,
+                };
+                // `Agent::velocity`, bit for bit.
+                *v = b.heading * b.speed;
+            });
+        let bodies = &self.bodies[..];
+        let default = SenseParams::default();
+        let unsensed = bodies.iter().any(|b| b.species as usize >= senses.len());
+        let reach = senses
+            .iter()
+            .chain(unsensed.then_some(&default))
+            .map(|s| s.query_radius())
+            .fold(0.0, f32::max);
+        self.obstacle_grid
+            .update(world.bounds, reach, &world.obstacles);
+        let obstacle_grid = &self.obstacle_grid;
         self.percepts
             .par_chunks_mut(MAX_PERCEPTS)
             .zip(self.counts.par_iter_mut())
@@ -184,10 +282,23 @@ impl Perception {
             .enumerate()
             .with_min_len(64)
             .for_each(|(i, ((slots, count), summary))| {
+                *summary = [Summary::default(); Category::COUNT];
                 let s = world.agents[i].species.0 as usize;
-                let default = SenseParams::default();
                 let sense = senses.get(s).unwrap_or(&default);
-                *count = perceive_one(i, world, agents, food, sense, relations, slots, summary);
+                let bearings = bearing_ranges.get(s).copied();
+                *count = perceive_one(
+                    i,
+                    world,
+                    bodies,
+                    agents,
+                    food,
+                    obstacle_grid,
+                    sense,
+                    relations,
+                    bearings,
+                    slots,
+                    summary,
+                );
             });
     }
 }
@@ -205,13 +316,29 @@ impl Perception {
         *summary = [Summary::default(); Category::COUNT];
         let mut len = 0;
         for p in percepts {
-            note(summary, p, pos + p.offset, Vec3::ZERO, Vec3::ZERO);
+            note(
+                summary,
+                p.category,
+                p.sense,
+                p.dist,
+                pos + p.offset,
+                Vec3::ZERO,
+                Vec3::ZERO,
+            );
             if p.category == Category::Mate {
                 let kin = Percept {
                     category: Category::Kin,
                     ..*p
                 };
-                note(summary, &kin, pos + p.offset, Vec3::ZERO, Vec3::ZERO);
+                note(
+                    summary,
+                    kin.category,
+                    kin.sense,
+                    kin.dist,
+                    pos + p.offset,
+                    Vec3::ZERO,
+                    Vec3::ZERO,
+                );
             }
             keep(slots, &mut len, *p);
         }
@@ -253,6 +380,88 @@ fn keep(slots: &mut [Percept], len: &mut usize, p: Percept) {
     }
 }
 
+/// The nearest `MAX_PERCEPTS` percepts of one agent: appends while there is room, else
+/// replaces the farthest when nearer. The farthest slot (the first one of the largest distance)
+/// is remembered between offers and looked for again only after a replacement.
+struct Kept<'a> {
+    slots: &'a mut [Percept],
+    /// Distances of `slots`, contiguous for the search of the farthest.
+    dists: [f32; MAX_PERCEPTS],
+    len: usize,
+    /// The first slot of the largest distance, when `far_valid`.
+    far: usize,
+    far_valid: bool,
+    /// The largest distance (when `far_valid`) or an upper bound of it.
+    bound: f32,
+}
+
+impl Kept<'_> {
+    /// The first slot of the largest distance (distances are finite: positions are kept
+    /// inside the world bounds).
+    #[inline]
+    fn find_far(&mut self) {
+        if self.len == MAX_PERCEPTS {
+            // Four independent running maxima and a mask of the slots equal to the largest: no
+            // serial chain of compares and branches.
+            let d = &self.dists;
+            let mut m = [f32::NEG_INFINITY; 4];
+            for c in d.chunks_exact(4) {
+                for l in 0..4 {
+                    m[l] = if c[l] > m[l] { c[l] } else { m[l] };
+                }
+            }
+            let m01 = if m[1] > m[0] { m[1] } else { m[0] };
+            let m23 = if m[3] > m[2] { m[3] } else { m[2] };
+            let max = if m23 > m01 { m23 } else { m01 };
+            let mut mask = 0u32;
+            for (k, &x) in d.iter().enumerate() {
+                mask |= ((x == max) as u32) << k;
+            }
+            self.far = (mask.trailing_zeros() as usize).min(MAX_PERCEPTS - 1);
+        } else {
+            let d = &self.dists[..self.len];
+            let max = d
+                .iter()
+                .fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
+            self.far = d.iter().position(|&x| x == max).unwrap_or(0);
+        }
+    }
+
+    /// Offers the percept `make()` builds, at distance `dist`; `make` runs only when it is kept.
+    /// After a replacement the farthest slot is looked for again only when an offer could beat
+    /// the distance just replaced (an upper bound of the new largest one).
+    #[inline(always)]
+    fn offer(&mut self, dist: f32, make: impl FnOnce() -> Percept) {
+        let cap = self.slots.len().min(MAX_PERCEPTS);
+        if self.len < cap {
+            self.slots[self.len] = make();
+            self.dists[self.len] = dist;
+            self.len += 1;
+            if self.len == cap {
+                self.find_far();
+                self.bound = self.dists[self.far];
+                self.far_valid = true;
+            }
+            return;
+        }
+        if cap == 0 || dist >= self.bound {
+            return;
+        }
+        if !self.far_valid {
+            self.find_far();
+            self.bound = self.dists[self.far];
+            self.far_valid = true;
+            if dist >= self.bound {
+                return;
+            }
+        }
+        // `far` is the first slot of the largest distance, and `dist` is nearer.
+        self.slots[self.far] = make();
+        self.dists[self.far] = dist;
+        self.far_valid = false;
+    }
+}
+
 /// Whether the segment from `from` to `to` passes through a sphere nearer than `to`.
 #[inline]
 fn occluded(from: Vec3, to: Vec3, occluders: &[(Vec3, f32)]) -> bool {
@@ -276,30 +485,57 @@ fn occluded(from: Vec3, to: Vec3, occluders: &[(Vec3, f32)]) -> bool {
     false
 }
 
+/// A perceiver's body frame and vision cone, computed once per agent.
+struct Eye {
+    fwd: Vec3,
+    left: Vec3,
+    up: Vec3,
+    /// Cosine bound of the vision cone (as [`volume::in_cone`] computes it).
+    cos_min: f32,
+    /// Whether the cone is the whole sphere.
+    full_circle: bool,
+}
+
 #[allow(clippy::too_many_arguments)]
 fn perceive_one(
     i: usize,
     world: &World,
+    bodies: &[Body],
     agents: &Grid,
     food: &Grid,
+    obstacle_grid: &ObstacleGrid,
     sense: &SenseParams,
     relations: &Relations,
+    bearing_range: Option<f32>,
     slots: &mut [Percept],
     summary: &mut [Summary; Category::COUNT],
 ) -> u16 {
     let me = &world.agents[i];
     let s = me.species.0 as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
-    let fwd = me.forward();
-    let left = frame::left(yaw);
-    let up = frame::dorsal(yaw, pitch);
+    let eye = Eye {
+        fwd: me.forward(),
+        left: frame::left(yaw),
+        up: frame::dorsal(yaw, pitch),
+        cos_min: sense.vision_half_angle.cos() - 1e-6,
+        full_circle: sense.vision_half_angle.cos() - 1e-6 < -1.000_000_5,
+    };
     let radius = sense.query_radius();
-    let mut len = 0usize;
+    let mut kept = Kept {
+        slots,
+        dists: [0.0; MAX_PERCEPTS],
+        len: 0,
+        far: 0,
+        far_valid: false,
+        bound: f32::INFINITY,
+    };
 
     // Nearby obstacles first: they are percepts and occluders.
     let mut occluders = [(Vec3::ZERO, 0.0f32); MAX_OCCLUDERS];
     let mut n_occ = 0;
-    for (k, o) in world.obstacles.iter().enumerate() {
+    // The grid lists, in index order, every active obstacle that may be within `radius`.
+    for &k in obstacle_grid.near(me.pos) {
+        let o = &world.obstacles[k as usize];
         if !o.active {
             continue;
         }
@@ -315,186 +551,209 @@ fn perceive_one(
         }
         let to_center = o.shape.center() - me.pos;
         let dir = if dist > 1e-6 { offset } else { to_center };
-        if let Some(p) = classify(
-            me.pos,
-            dir,
-            dist,
-            fwd,
-            left,
-            up,
-            yaw,
-            pitch,
-            sense,
-            Category::Obstacle,
-            &[],
-        ) {
-            let p = Percept {
-                source: Source::Obstacle(k as u32),
-                size: o.shape.diagonal(),
-                ..p
-            };
-            note(summary, &p, me.pos + offset, Vec3::ZERO, Vec3::ZERO);
-            keep(slots, &mut len, p);
+        if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense, &[]) {
+            let cat = Category::Obstacle;
+            note(
+                summary,
+                cat,
+                seen,
+                dist,
+                me.pos + offset,
+                Vec3::ZERO,
+                Vec3::ZERO,
+            );
+            kept.offer(dist, || {
+                percept(
+                    Source::Obstacle(k as u32),
+                    cat,
+                    seen,
+                    dir,
+                    dist,
+                    o.shape.diagonal(),
+                )
+            });
         }
     }
     let occ = &occluders[..n_occ];
 
-    agents.for_each_within(me.pos, radius, |j, pos, _| {
+    let mates = relations.mates.get(s).copied().unwrap_or(false);
+    let (here, my_sex) = (me.pos, me.attrs.sex);
+    let row = relations.row(s);
+    agents.for_each_within(here, radius, |j, pos, d2| {
         let j = j as usize;
         if j == i {
             return;
         }
-        let other = &world.agents[j];
-        let Some(mut cat) = relations.get(s, other.species.0 as usize) else {
+        let other = &bodies[j];
+        let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
             return;
         };
-        if cat == Category::Kin
-            && relations.mates.get(s).copied().unwrap_or(false)
-            && other.attrs.sex != me.attrs.sex
-        {
+        if cat == Category::Kin && mates && other.sex != my_sex {
             cat = Category::Mate;
         }
-        let offset = pos - me.pos;
-        let dist = offset.length();
-        if let Some(p) = classify(
-            me.pos, offset, dist, fwd, left, up, yaw, pitch, sense, cat, occ,
-        ) {
-            let p = Percept {
-                source: Source::Agent(j as u32),
-                size: other.diagonal(),
-                ..p
-            };
-            let heading = other.forward();
-            let vel = heading * other.speed;
-            note(summary, &p, pos, heading, vel);
-            if cat == Category::Mate {
-                note(
-                    summary,
-                    &Percept {
-                        category: Category::Kin,
-                        ..p
-                    },
-                    pos,
-                    heading,
-                    vel,
-                );
-            }
-            keep(slots, &mut len, p);
+        let offset = pos - here;
+        // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+        let dist = d2.sqrt();
+        let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) else {
+            return;
+        };
+        let heading = other.heading;
+        let vel = heading * other.speed;
+        note(summary, cat, seen, dist, pos, heading, vel);
+        if cat == Category::Mate {
+            note(summary, Category::Kin, seen, dist, pos, heading, vel);
         }
+        kept.offer(dist, || {
+            percept(
+                Source::Agent(j as u32),
+                cat,
+                seen,
+                offset,
+                dist,
+                other.diagonal,
+            )
+        });
     });
 
     if relations.eats_items(s) {
-        food.for_each_within(me.pos, radius, |j, pos, _| {
-            let offset = pos - me.pos;
-            let dist = offset.length();
-            if let Some(p) = classify(
-                me.pos,
-                offset,
-                dist,
-                fwd,
-                left,
-                up,
-                yaw,
-                pitch,
-                sense,
-                Category::Food,
-                occ,
-            ) {
-                let p = Percept {
-                    source: Source::Food(j),
-                    size: 0.0,
-                    ..p
-                };
-                note(summary, &p, pos, Vec3::ZERO, Vec3::ZERO);
-                keep(slots, &mut len, p);
+        food.for_each_within(here, radius, |j, pos, d2| {
+            let offset = pos - here;
+            let dist = d2.sqrt();
+            if let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) {
+                let cat = Category::Food;
+                note(summary, cat, seen, dist, pos, Vec3::ZERO, Vec3::ZERO);
+                kept.offer(dist, || {
+                    percept(Source::Food(j), cat, seen, offset, dist, 0.0)
+                });
             }
         });
     }
 
-    // Finish summaries: means, and the nearest among the kept percepts.
-    for (c, sm) in summary.iter_mut().enumerate() {
+    // Finish summaries: means, and the nearest among the kept percepts (the first of the
+    // smallest distance; mates also count as kin).
+    let len = kept.len;
+    let slots = &mut kept.slots[..len];
+    let mut best: [Option<(u16, f32)>; Category::COUNT] = [None; Category::COUNT];
+    for (k, p) in slots.iter().enumerate() {
+        let mut offer = |c: usize| {
+            if best[c].is_none_or(|(_, d)| p.dist < d) {
+                best[c] = Some((k as u16, p.dist));
+            }
+        };
+        offer(p.category as usize);
+        if p.category == Category::Mate {
+            offer(Category::Kin as usize);
+        }
+    }
+    let mut nearest = 0u32;
+    for (sm, b) in summary.iter_mut().zip(best) {
         if sm.count > 0 {
             let n = sm.count as f32;
             sm.centroid /= n;
             sm.mean_heading /= n;
             sm.mean_velocity /= n;
         }
-        let mut best: Option<(u16, f32)> = None;
-        for (k, p) in slots[..len].iter().enumerate() {
-            let matches = p.category as usize == c
-                || (c == Category::Kin as usize && p.category == Category::Mate);
-            if matches && best.is_none_or(|(_, d)| p.dist < d) {
-                best = Some((k as u16, p.dist));
-            }
+        sm.nearest = b.map(|b| b.0);
+        if let Some((k, _)) = b {
+            nearest |= 1 << k;
         }
-        sm.nearest = best.map(|b| b.0);
+    }
+
+    // Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
+    // those the species reads.
+    for (k, p) in slots.iter_mut().enumerate() {
+        let wanted = match bearing_range {
+            None => true,
+            Some(r) => nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r,
+        };
+        if wanted {
+            (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
+        }
     }
     len as u16
 }
 
 /// Adds a percept to its category's running sums.
-#[inline]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn note(
     summary: &mut [Summary; Category::COUNT],
-    p: &Percept,
+    category: Category,
+    sense: Sense,
+    dist: f32,
     pos: Vec3,
     heading: Vec3,
     vel: Vec3,
 ) {
-    let sm = &mut summary[p.category as usize];
+    let sm = &mut summary[category as usize];
     sm.count += 1;
-    if p.sense == Sense::Vision {
+    if sense == Sense::Vision {
         sm.seen += 1;
     }
-    if p.dist < sm.nearest_dist {
-        sm.nearest_dist = p.dist;
+    if dist < sm.nearest_dist {
+        sm.nearest_dist = dist;
     }
     sm.centroid += pos;
     sm.mean_heading += heading;
     sm.mean_velocity += vel;
 }
 
-/// Decides whether a target at `offset` is seen, smelt or missed, and builds its percept.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn classify(
-    from: Vec3,
+/// A percept without bearing and elevation (filled in for the percepts kept).
+#[inline(always)]
+fn percept(
+    source: Source,
+    category: Category,
+    sense: Sense,
     offset: Vec3,
     dist: f32,
-    fwd: Vec3,
-    left: Vec3,
-    up: Vec3,
-    yaw: f32,
-    pitch: f32,
-    sense: &SenseParams,
-    category: Category,
-    occluders: &[(Vec3, f32)],
-) -> Option<Percept> {
-    let in_vision = match &sense.volume {
-        Some(v) => v.contains(Vec3::new(offset.dot(left), offset.dot(up), offset.dot(fwd))),
-        None => {
-            dist <= sense.vision_radius && volume::in_cone(fwd, offset, sense.vision_half_angle)
-        }
-    };
-    let seen = in_vision && !occluded(from, from + offset, occluders);
-    let sense_used = if seen {
-        Sense::Vision
-    } else if dist <= sense.smell_radius {
-        Sense::Smell
-    } else {
-        return None;
-    };
-    let (bearing, elevation) = frame::bearing_elevation(yaw, pitch, offset);
-    Some(Percept {
-        source: Source::Food(0),
+    size: f32,
+) -> Percept {
+    Percept {
+        source,
         category,
-        sense: sense_used,
+        sense,
         offset,
         dist,
-        bearing,
-        elevation,
-        size: 0.0,
-    })
+        bearing: 0.0,
+        elevation: 0.0,
+        size,
+    }
+}
+
+/// Decides whether a target at `offset` (of length `offset_len`; `dist` is the distance the
+/// ranges apply to) is seen, smelt or missed.
+#[inline(always)]
+fn sense_of(
+    from: Vec3,
+    offset: Vec3,
+    offset_len: f32,
+    dist: f32,
+    eye: &Eye,
+    sense: &SenseParams,
+    occluders: &[(Vec3, f32)],
+) -> Option<Sense> {
+    let in_vision = match &sense.volume {
+        Some(v) => v.contains(Vec3::new(
+            offset.dot(eye.left),
+            offset.dot(eye.up),
+            offset.dot(eye.fwd),
+        )),
+        // `volume::in_cone` with the cosine computed once per perceiver; a full circle (±180°,
+        // bound below −1 by more than any rounding of a unit vector's dot product) needs no test.
+        None => {
+            dist <= sense.vision_radius
+                && (eye.full_circle
+                    || offset_len == 0.0
+                    || eye.fwd.dot(offset) / offset_len >= eye.cos_min)
+        }
+    };
+    if in_vision && !occluded(from, from + offset, occluders) {
+        Some(Sense::Vision)
+    } else if dist <= sense.smell_radius {
+        Some(Sense::Smell)
+    } else {
+        None
+    }
 }
 
 #[cfg(test)]

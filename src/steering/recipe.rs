@@ -14,8 +14,12 @@ use glam::Vec3;
 /// Scratch buffers reused across agents by one worker.
 #[derive(Debug, Default)]
 pub struct Scratch {
+    /// Velocities of every agent at the start of the tick, by agent index
+    /// ([`crate::perception::Perception::velocities`]); computed from the world when absent.
+    pub velocities: Option<std::sync::Arc<Vec<Vec3>>>,
     neighbors: Vec<Neighbor>,
     kin_ready: bool,
+    own_velocity: Option<Vec3>,
     filtered: Vec<Neighbor>,
     moving: Vec<MovingObstacle>,
     /// Position of a planned-path target, if the agent follows a plan.
@@ -26,18 +30,27 @@ impl Scratch {
     /// Clears per-agent state.
     pub fn reset(&mut self) {
         self.kin_ready = false;
+        self.own_velocity = None;
         self.plan_target = None;
+    }
+    /// The agent's own velocity (`kin.velocity()`, two `sin_cos`), computed once per agent.
+    fn velocity(&mut self, kin: &Kin) -> Vec3 {
+        *self.own_velocity.get_or_insert_with(|| kin.velocity())
     }
     fn kin<'a>(&'a mut self, ctx: &Ctx) -> &'a [Neighbor] {
         if !self.kin_ready {
             self.neighbors.clear();
             for p in ctx.percepts {
                 if let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) {
-                    let o = &ctx.world.agents[j as usize];
+                    let j = j as usize;
+                    let velocity = match self.velocities.as_deref() {
+                        Some(v) if j < v.len() => v[j],
+                        _ => ctx.world.agents[j].velocity(),
+                    };
                     self.neighbors.push(Neighbor {
                         offset: p.offset,
                         dist: p.dist,
-                        velocity: o.velocity(),
+                        velocity,
                     });
                 }
             }
@@ -58,11 +71,11 @@ fn target_point(t: &Target, ctx: &Ctx) -> Option<Vec3> {
     }
 }
 
-fn force(kin: &Kin, f: Vec3) -> Steer {
+fn force(velocity: Vec3, f: Vec3) -> Steer {
     if f == Vec3::ZERO || !f.is_finite() {
         Steer::None
     } else {
-        Steer::Velocity(kin.velocity() + f)
+        Steer::Velocity(velocity + f)
     }
 }
 
@@ -145,19 +158,26 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
             super::arrive(&kin, t, vmax * s.speed, s.slow_radius)
         }),
         Recipe::Separation(g) | Recipe::Alignment(g) | Recipe::Cohesion(g) => {
+            let scratch_velocity = scratch.velocity(&kin);
             let mut buf = std::mem::take(&mut scratch.filtered);
             let all = scratch.kin(ctx);
-            within(all, g.radius, &mut buf);
+            // Copy only when the radius leaves some neighbors out.
+            let near: &[Neighbor] = if all.iter().all(|x| x.dist <= g.radius) {
+                all
+            } else {
+                within(all, g.radius, &mut buf);
+                &buf
+            };
             let m1 = ctx.agent.attrs.mass;
             let f = match r {
                 Recipe::Separation(_) => {
-                    group::separation(&buf, m1, g.k, ctx.agent.size.z, g.factor)
+                    group::separation(near, m1, g.k, ctx.agent.size.z, g.factor)
                 }
-                Recipe::Alignment(_) => group::alignment(&buf, kin.velocity(), m1, g.k),
-                _ => group::cohesion(&buf, g.k),
+                Recipe::Alignment(_) => group::alignment(near, scratch_velocity, m1, g.k),
+                _ => group::cohesion(near, g.k),
             };
             scratch.filtered = buf;
-            force(&kin, f)
+            force(scratch_velocity, f)
         }
         Recipe::Zones(z) => group::ra_zones(scratch.kin(ctx), z, kin.speed.max(0.5 * vmax)),
         Recipe::Vicsek(v) => {

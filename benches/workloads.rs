@@ -1,0 +1,89 @@
+//! The standard workloads under divan (`cargo bench`): one tick of each world at 1k, 10k and
+//! 100k agents (50k for `reef`), and the stage workloads at 10k. Worlds are built and warmed up
+//! outside the timed region; each iteration is one tick (or one pass over every agent), so divan's
+//! "time per iteration" is ms/tick and ticks/s is its inverse. `SHOAL_BENCH_MAX` caps the agent
+//! counts (e.g. `SHOAL_BENCH_MAX=10000 cargo bench`).
+
+use shoal::bench::{self, BenchWorld, Workload};
+
+fn main() {
+    divan::main();
+}
+
+fn max_agents() -> usize {
+    std::env::var("SHOAL_BENCH_MAX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(usize::MAX)
+}
+
+fn warm(workload: Workload, n: usize) -> Option<BenchWorld> {
+    if n > max_agents() {
+        return None;
+    }
+    let mut w = bench::world_of(workload, n, &bench::default_behaviors_dir())
+        .unwrap_or_else(|d| panic!("{d}"));
+    bench::warm_up(&mut w, bench::WARMUP_TICKS);
+    Some(w)
+}
+
+fn ticks(bencher: divan::Bencher, workload: Workload, n: usize) {
+    let Some(mut w) = warm(workload, n) else {
+        return;
+    };
+    bencher
+        .counter(divan::counter::ItemsCount::new(w.run.world.agents.len()))
+        .bench_local(|| w.run.step());
+}
+
+/// Classic flocking at the peers' density.
+#[divan::bench(args = [1_000, 10_000, 100_000], sample_count = 20, sample_size = 5)]
+fn boids(bencher: divan::Bencher, n: usize) {
+    ticks(bencher, Workload::Boids, n);
+}
+
+/// 3D flocking with obstacle avoidance, ~20 neighbors (engine core).
+#[divan::bench(args = [1_000, 10_000, 100_000], sample_count = 20, sample_size = 5)]
+fn flock(bencher: divan::Bencher, n: usize) {
+    ticks(bencher, Workload::Flock, n);
+}
+
+/// Reef fish and sharks with their scripts.
+#[divan::bench(args = [1_000, 10_000, 50_000], sample_count = 20, sample_size = 5)]
+fn reef(bencher: divan::Bencher, n: usize) {
+    ticks(bencher, Workload::Reef, n);
+}
+
+/// The same reef with script conditions replaced by native ones.
+#[divan::bench(args = [1_000, 10_000, 50_000], sample_count = 20, sample_size = 5)]
+fn reef_native(bencher: divan::Bencher, n: usize) {
+    ticks(bencher, Workload::ReefNative, n);
+}
+
+/// The decision stage alone on a 10k reef, a script call per agent (items: agents).
+#[divan::bench(args = [true, false], sample_count = 20, sample_size = 5)]
+fn decide(bencher: divan::Bencher, scripted: bool) {
+    let Some(w) = warm(Workload::Decide, 10_000) else {
+        return;
+    };
+    bencher
+        .counter(divan::counter::ItemsCount::new(w.run.world.agents.len()))
+        .bench_local(|| bench::decide_timed(&w, 1, scripted));
+}
+
+/// Spatial index and perception alone on a 10k reef (items: agents).
+#[divan::bench(sample_count = 20, sample_size = 5)]
+fn perceive(bencher: divan::Bencher) {
+    let Some(mut w) = warm(Workload::Perceive, 10_000) else {
+        return;
+    };
+    bencher
+        .counter(divan::counter::ItemsCount::new(w.run.world.agents.len()))
+        .bench_local(|| w.run.pipeline.perceive(&w.run.world));
+}
+
+/// Formation A* on a 1024² terrain: skipped until the planner is wired (src/bench/plan.rs).
+#[divan::bench]
+fn plan() {
+    divan::black_box(bench::plan::measure(1));
+}
