@@ -564,7 +564,7 @@ fn perceive_one(
             );
             kept.offer(dist, || {
                 percept(
-                    Source::Obstacle(k as u32),
+                    Source::Obstacle(k),
                     cat,
                     seen,
                     dir,
