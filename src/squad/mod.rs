@@ -1,7 +1,8 @@
 //! Squads on terrain at run time: the runtime half of seed 004.
 //!
-//! Not a tick stage: a layer above the core that [`crate::scenario::Run`] drives between ticks,
-//! sequentially and in member order, so runs stay bit-identical whatever the thread count.
+//! Not a tick stage: a layer above the core that [`crate::scenario::Run`] (and the script-test
+//! world, [`crate::testing`]) drives between ticks, sequentially and in member order, so runs
+//! stay bit-identical whatever the thread count.
 //!
 //! - At load ([`setup`]): the terrain is read, each walking species gets its cost grid from its
 //!   `body.mobility`, and each squad is checked and planned (formation-aware A*, smoothing into
@@ -574,25 +575,8 @@ impl Squads {
             return out;
         };
         world.terrain = Some(g.terrain.clone());
-        for (k, s) in setups.iter().enumerate() {
-            let grid = g.grids[s.species].clone().expect("checked at load");
-            let h = key_headings(&s.plan.key_points)[0];
-            let yaw = crate::frame::heading_of(Vec3::new(h.x, 0.0, h.y)).map_or(0.0, |x| x.0);
-            let members = s
-                .plan
-                .member_paths
-                .iter()
-                .map(|mp| {
-                    let p = mp.waypoints[0];
-                    let p = if route::free_at(&grid, p) {
-                        p
-                    } else {
-                        route::nearest_free(&grid, p, route::NEAREST_FREE_RADIUS).unwrap_or(p)
-                    };
-                    pipeline.spawn(world, s.species, on_ground(&g.terrain, p), yaw, 0.0)
-                })
-                .collect();
-            out.squads.push(Squad::new(k, s, members, &g));
+        for s in setups {
+            out.add(s, world, pipeline);
         }
         let set = pipeline.species.clone();
         out.settle(world, &set, false);
@@ -600,6 +584,46 @@ impl Squads {
             a.prev_pos = a.pos;
         }
         out
+    }
+
+    /// Spawns the members of one more squad at its slots of the first key point, on the ground,
+    /// facing the first leg, and returns their ids by member index (what [`Squads::start`] does
+    /// for each squad). The squad's species needs a grid in `self.ground`; nothing happens
+    /// without ground.
+    pub fn add(
+        &mut self,
+        s: &SquadSetup,
+        world: &mut World,
+        pipeline: &mut Pipeline,
+    ) -> Vec<AgentId> {
+        let Some(g) = self.ground.clone() else {
+            return Vec::new();
+        };
+        let grid = g.grids[s.species].clone().expect("checked at load");
+        let h = key_headings(&s.plan.key_points)[0];
+        let yaw = crate::frame::heading_of(Vec3::new(h.x, 0.0, h.y)).map_or(0.0, |x| x.0);
+        let members: Vec<AgentId> = s
+            .plan
+            .member_paths
+            .iter()
+            .map(|mp| {
+                let p = mp.waypoints[0];
+                let p = if route::free_at(&grid, p) {
+                    p
+                } else {
+                    route::nearest_free(&grid, p, route::NEAREST_FREE_RADIUS).unwrap_or(p)
+                };
+                pipeline.spawn(world, s.species, on_ground(&g.terrain, p), yaw, 0.0)
+            })
+            .collect();
+        let k = self.squads.len();
+        self.squads.push(Squad::new(k, s, members.clone(), &g));
+        members
+    }
+
+    /// Puts every walking agent on the ground (their pitch along the slope), as at the start.
+    pub fn settle_all(&mut self, world: &mut World, set: &SpeciesSet) {
+        self.settle(world, set, false);
     }
 
     /// Puts every walking agent on the ground; with `cut_blocked`, steps that ended on a

@@ -13,8 +13,9 @@ use crate::events::{Cause, Event};
 use crate::frame;
 use crate::perception::{Category, Sense};
 use crate::species::SexDef;
+use crate::terrain::{load_asc, Cell, CellAttrs, Terrain};
 use crate::world::{Aabb, AgentId, MemValue, Sex, MEMORY_CAPACITY};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use rhai::{
     Array, Dynamic, Engine, EvalAltResult, FnPtr, ImmutableString, Map, NativeCallContext, FLOAT,
     INT,
@@ -156,15 +157,32 @@ fn category(name: &str) -> R<Category> {
 fn new_world(ctx: &Arc<TestCtx>, opts: &Map) -> R<WorldRef> {
     check_keys(
         opts,
-        &["min", "max", "seed", "dt", "max_ticks", "current"],
+        &[
+            "min",
+            "max",
+            "seed",
+            "dt",
+            "max_ticks",
+            "current",
+            "terrain",
+        ],
         "world",
     )?;
-    let min = opts
-        .get("min")
-        .map_or(Ok(DEFAULT_BOUNDS.0), |d| vec3(d, "min"))?;
-    let max = opts
-        .get("max")
-        .map_or(Ok(DEFAULT_BOUNDS.1), |d| vec3(d, "max"))?;
+    // A terrain file sets the default bounds to its extent.
+    let dem = match opts.get("terrain") {
+        Some(d) if d.is_string() => Some(load_dem(ctx, &string(d, "terrain")?)?),
+        _ => None,
+    };
+    let (dmin, dmax) = dem.as_ref().map_or(DEFAULT_BOUNDS, |t| {
+        let (lo, hi) = height_range(t);
+        let size = Vec2::new(t.cols as f32, t.rows as f32) * t.cell_size;
+        (
+            Vec3::new(t.origin.x, lo - 1.0, t.origin.y),
+            Vec3::new(t.origin.x + size.x, hi + 30.0, t.origin.y + size.y),
+        )
+    });
+    let min = opts.get("min").map_or(Ok(dmin), |d| vec3(d, "min"))?;
+    let max = opts.get("max").map_or(Ok(dmax), |d| vec3(d, "max"))?;
     if min.cmpge(max).any() {
         return Err(error(
             "world bounds: `min` must be below `max` on every axis",
@@ -190,9 +208,202 @@ fn new_world(ctx: &Arc<TestCtx>, opts: &Map) -> R<WorldRef> {
     if let Some(c) = opts.get("current") {
         tw.world.current = vec3(c, "current")?;
     }
+    let terrain = match (dem, opts.get("terrain")) {
+        (Some(t), _) => Some(t),
+        (None, Some(d)) => Some(flat_terrain(d, &tw.world.bounds)?),
+        (None, None) => None,
+    };
+    if let Some(t) = terrain {
+        let (lo, hi) = height_range(&t);
+        let b = tw.world.bounds;
+        if lo < b.min.y || hi > b.max.y {
+            return Err(error(format!(
+                "the world bounds must hold the terrain: its heights run from {lo} to {hi}, the bounds' y from {} to {}",
+                b.min.y, b.max.y
+            )));
+        }
+        tw.world.terrain = Some(Arc::new(t));
+    }
     let w = WorldRef(Arc::new(Mutex::new(tw)));
     lock(&ctx.worlds).push(w.clone());
     Ok(w)
+}
+
+fn height_range(t: &Terrain) -> (f32, f32) {
+    t.heights
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &h| {
+            (a.min(h), b.max(h))
+        })
+}
+
+/// An ESRI ASCII grid, the path relative to the behaviors folder.
+fn load_dem(ctx: &TestCtx, path: &str) -> R<Terrain> {
+    let p = ctx.library.root.join(path);
+    if !p.is_file() {
+        return Err(error(format!("terrain file \"{}\" not found", p.display())));
+    }
+    load_asc(&p).map_err(|d| error(format!("terrain file does not load:\n{d}")))
+}
+
+/// A terrain built in the test over the world's `x`/`z` extent: `#{ cell, height, slope, walls }`
+/// (cell size, height at `min.x`, rise per metre towards +x, and rectangles `[x0, z0, x1, z1]`
+/// of cells marked as buildings, which walkers cannot enter).
+fn flat_terrain(d: &Dynamic, b: &Aabb) -> R<Terrain> {
+    let m = d.clone().try_cast::<Map>().ok_or_else(|| {
+        error("`terrain` is a terrain file (\"x.asc\") or a map #{ cell, height, slope, walls }")
+    })?;
+    check_keys(&m, &["cell", "height", "slope", "walls"], "terrain")?;
+    let cell = m.get("cell").map_or(Ok(2.0), |d| num(d, "cell"))?;
+    if !(cell.is_finite() && cell > 0.0) {
+        return Err(error("a terrain's `cell` size must be positive"));
+    }
+    let height = m.get("height").map_or(Ok(0.0), |d| num(d, "height"))?;
+    let slope = m.get("slope").map_or(Ok(0.0), |d| num(d, "slope"))?;
+    let cols = ((b.max.x - b.min.x) / cell).ceil().max(1.0) as usize;
+    let rows = ((b.max.z - b.min.z) / cell).ceil().max(1.0) as usize;
+    if cols * rows > 1 << 20 {
+        return Err(error(format!(
+            "a terrain of {cols} × {rows} cells is too big for a test: give a larger `cell`"
+        )));
+    }
+    let origin = Vec2::new(b.min.x, b.min.z);
+    let heights = (0..rows * cols)
+        .map(|i| height + slope * ((i % cols) as f32 + 0.5) * cell)
+        .collect();
+    let mut t = Terrain::from_heights(cols, rows, cell, origin, heights);
+    let walls = match m.get("walls") {
+        None => Array::new(),
+        Some(w) => w
+            .clone()
+            .try_cast::<Array>()
+            .ok_or_else(|| error("`walls` must be an array of rectangles [x0, z0, x1, z1]"))?,
+    };
+    for w in walls {
+        let r = w
+            .try_cast::<Array>()
+            .filter(|r| r.len() == 4)
+            .ok_or_else(|| error("a wall is a rectangle [x0, z0, x1, z1]"))?;
+        let v: Vec<f32> = r.iter().map(|x| num(x, "wall")).collect::<R<_>>()?;
+        let (lo, hi) = (
+            Vec2::new(v[0].min(v[2]), v[1].min(v[3])),
+            Vec2::new(v[0].max(v[2]), v[1].max(v[3])),
+        );
+        for i in 0..rows * cols {
+            let c = t.center_of(Cell::new(i % cols, i / cols));
+            if c.cmpge(lo).all() && c.cmple(hi).all() {
+                t.attrs[i].flags |= CellAttrs::BUILDING;
+            }
+        }
+    }
+    Ok(t)
+}
+
+/// World `(x, z)` from a vec3 (its `y` ignored) or an array `[x, z]`.
+fn xz(d: &Dynamic, what: &str) -> R<Vec2> {
+    if let Some(v) = d.clone().try_cast::<Vec3>() {
+        return Ok(Vec2::new(v.x, v.z));
+    }
+    match d.clone().try_cast::<Array>() {
+        Some(a) if a.len() == 2 => Ok(Vec2::new(num(&a[0], what)?, num(&a[1], what)?)),
+        _ => Err(error(format!(
+            "`{what}` must be [x, z] or a vec3, not {}",
+            d.type_name()
+        ))),
+    }
+}
+
+fn add_squad(
+    w: &WorldRef,
+    species: &str,
+    count: INT,
+    start: &Dynamic,
+    goal: &Dynamic,
+    opts: &Map,
+) -> R<Array> {
+    check_keys(
+        opts,
+        &["formations", "task", "spacing", "names"],
+        "add_squad",
+    )?;
+    let (start, goal) = (xz(start, "start")?, xz(goal, "goal")?);
+    let formations = match opts.get("formations") {
+        None => vec!["line".to_string()],
+        Some(d) => strings(
+            &d.clone()
+                .try_cast::<Array>()
+                .ok_or_else(|| error("`formations` must be an array of names, e.g. [\"wedge\"]"))?,
+            "formations",
+        )?,
+    };
+    let task = opts
+        .get("task")
+        .map_or(Ok("MayChangeRarely".to_string()), |d| string(d, "task"))?;
+    let spacing = opts.get("spacing").map_or(Ok(3.0), |d| num(d, "spacing"))?;
+    let names = match opts.get("names") {
+        None => Vec::new(),
+        Some(d) => strings(
+            &d.clone()
+                .try_cast::<Array>()
+                .ok_or_else(|| error("`names` must be an array of names, by member"))?,
+            "names",
+        )?,
+    };
+    let mut tw = w.get();
+    for n in &names {
+        if tw.named(n).is_some() {
+            return Err(error(format!("an agent is already named \"{n}\"")));
+        }
+    }
+    let count = usize::try_from(count).map_err(|_| error("a squad needs at least 1 member"))?;
+    let ids = tw
+        .add_squad(species, count, start, goal, &formations, &task, spacing)
+        .map_err(error)?;
+    for (id, n) in ids.iter().zip(names) {
+        tw.names.insert(*id, n);
+    }
+    drop(tw);
+    Ok(ids
+        .into_iter()
+        .map(|id| {
+            Dynamic::from(AgentRef {
+                world: w.clone(),
+                id,
+            })
+        })
+        .collect())
+}
+
+/// What a squad member's script reads of its squad, now: `member`, `leader`, `slot`,
+/// `slot_dist`, `at_goal`, `formation`; `()` for an agent in no squad.
+fn squad_of(a: &AgentRef) -> R<Dynamic> {
+    a.with(|tw, i| {
+        let pos = tw.world.agents[i].pos;
+        let Some(sq) = tw.squads.squads.iter().find(|s| s.members.contains(&a.id)) else {
+            return Dynamic::UNIT;
+        };
+        let m = sq.members.iter().position(|x| *x == a.id).unwrap_or(0);
+        let slot = sq.slot(m);
+        let y = tw
+            .world
+            .terrain
+            .as_ref()
+            .map_or(pos.y, |t| t.height_at(slot.x, slot.y));
+        let mut out = Map::new();
+        out.insert("member".into(), Dynamic::from(m as INT));
+        out.insert("leader".into(), Dynamic::from(m == sq.leader));
+        out.insert("slot".into(), Dynamic::from(Vec3::new(slot.x, y, slot.y)));
+        out.insert(
+            "slot_dist".into(),
+            Dynamic::from(Vec2::new(pos.x, pos.z).distance(slot) as FLOAT),
+        );
+        out.insert("at_goal".into(), Dynamic::from(sq.progress.finished));
+        out.insert(
+            "formation".into(),
+            Dynamic::from(sq.formations[sq.formation_now()].name().to_string()),
+        );
+        Dynamic::from(out)
+    })
 }
 
 /// Sets hunger so that it stays there: the digestion model starts from the value given.
@@ -757,6 +968,18 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         o.active = false;
         Ok(())
     });
+    e.register_fn(
+        "add_squad",
+        |w: &mut WorldRef, species: &str, count: INT, start: Dynamic, goal: Dynamic| {
+            add_squad(w, species, count, &start, &goal, &Map::new())
+        },
+    );
+    e.register_fn(
+        "add_squad",
+        |w: &mut WorldRef, species: &str, count: INT, start: Dynamic, goal: Dynamic, opts: Map| {
+            add_squad(w, species, count, &start, &goal, &opts)
+        },
+    );
     e.register_fn("step", |w: &mut WorldRef| step_world(w, 1));
     e.register_fn("step", |w: &mut WorldRef, n: INT| step_world(w, n));
     e.register_fn("run", |w: &mut WorldRef, seconds: FLOAT| {
@@ -903,6 +1126,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         .register_get("mass", |a: &mut AgentRef| -> R<FLOAT> {
             a.with(|tw, i| tw.world.agents[i].attrs.mass)
         })
+        .register_get("squad", |a: &mut AgentRef| squad_of(a))
         .register_get("heard", |a: &mut AgentRef| -> R<String> {
             a.with(|tw, i| {
                 tw.world.agents[i]

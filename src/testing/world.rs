@@ -1,15 +1,18 @@
 //! The world a script test builds: a real [`World`] and [`Pipeline`] with real species loaded
 //! from the behaviors folder, an event log stamped with ticks, names for agents, percept
-//! injection, and the decision history failures print.
+//! injection, the decision history failures print, and squads on terrain driven around each
+//! tick as a scenario run drives them (seed 004).
 
 use super::coverage::Coverage;
 use crate::events::{Cause, Event};
+use crate::formation::{FormationDef, PlanRequest, Planner};
 use crate::frame;
 use crate::perception::{Category, Percept, Sense, Source};
 use crate::species::{load_species, Species, SpeciesSet};
+use crate::squad::{shape_named, task_named, Ground, SquadSetup, Squads, SHAPE_NAMES};
 use crate::tick::Pipeline;
 use crate::world::{Aabb, AgentId, World};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -115,6 +118,8 @@ pub struct TestWorld {
     pub max_ticks: u64,
     /// Percepts fed to agents instead of what they perceive, by agent.
     pub feeds: BTreeMap<AgentId, Vec<Feed>>,
+    /// The squads on the world's terrain, driven around each tick as a scenario run does.
+    pub squads: Squads,
     coverage: Arc<Coverage>,
 }
 
@@ -139,6 +144,7 @@ impl TestWorld {
             log: Vec::new(),
             max_ticks,
             feeds: BTreeMap::new(),
+            squads: Squads::default(),
             coverage,
         }
     }
@@ -207,7 +213,11 @@ impl TestWorld {
                 self.pipeline.injected.insert(*id, percepts);
             }
         }
+        // The squad layer around the pipeline, as `Run::step` does.
+        self.squads.before_tick(&mut self.world, &mut self.pipeline);
         self.pipeline.step(&mut self.world);
+        let set = self.pipeline.species.clone();
+        self.squads.after_tick(&mut self.world, &set);
         self.drain_events();
         for a in &self.world.agents {
             let sp = &self.species[a.species.0 as usize];
@@ -215,6 +225,116 @@ impl TestWorld {
                 .behavior(&sp.name, sp.behavior_name(a.mind.current));
         }
         Ok(())
+    }
+
+    /// Plans a squad of `count` members of `species` over the world's terrain from `start` to
+    /// `goal` (world `(x, z)`) and spawns it at its first formation, member 0 leading; the same
+    /// checks and planner as a scenario's `squads` entry. Returns the members by member index.
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_squad(
+        &mut self,
+        species: &str,
+        count: usize,
+        start: Vec2,
+        goal: Vec2,
+        formations: &[String],
+        task: &str,
+        spacing: f32,
+    ) -> Result<Vec<AgentId>, String> {
+        let terrain = self
+            .world
+            .terrain
+            .clone()
+            .ok_or("squads walk on terrain: build the world with `world(#{ terrain: ... })`")?;
+        let s = self.species_index(species)?;
+        if !self.species[s].def.body.on_ground {
+            return Err(format!(
+                "squad species \"{species}\" must walk: give it `body: (on_ground: true)`"
+            ));
+        }
+        if count == 0 {
+            return Err("a squad needs at least 1 member".into());
+        }
+        if !(spacing.is_finite() && spacing > 0.0) {
+            return Err(format!(
+                "`spacing` must be a positive number, not {spacing}"
+            ));
+        }
+        if formations.is_empty() {
+            return Err("a squad needs at least one formation".into());
+        }
+        let mut shapes = Vec::new();
+        for (i, name) in formations.iter().enumerate() {
+            let shape = shape_named(name).ok_or_else(|| {
+                format!(
+                    "unknown formation \"{name}\": expected one of {}",
+                    SHAPE_NAMES.join(", ")
+                )
+            })?;
+            let def = FormationDef {
+                name: Some(name.to_ascii_lowercase()),
+                shape,
+                spacing,
+            };
+            shapes.push(def.validate(count, i + 1).map_err(|e| e.to_string())?);
+        }
+        let task = task_named(task).ok_or_else(|| {
+            format!(
+                "unknown task class \"{task}\": expected MustKeep, MayChangeRarely, ShortestFirst or Custom(k1: …, k2: …, may_change: …)"
+            )
+        })?;
+        // Each walking species' grid, as a scenario's load builds them.
+        let old = self.squads.ground.clone();
+        let grids = self
+            .species
+            .iter()
+            .enumerate()
+            .map(|(i, sp)| {
+                old.as_ref()
+                    .and_then(|g| g.grids.get(i).cloned().flatten())
+                    .or_else(|| {
+                        sp.def
+                            .body
+                            .on_ground
+                            .then(|| Arc::new(terrain.cost_grid(&sp.def.body.mobility)))
+                    })
+            })
+            .collect::<Vec<_>>();
+        let grid = grids[s].clone().expect("a walking species has a grid");
+        let plan = Planner::new()
+            .plan(&PlanRequest {
+                grid: &grid,
+                start,
+                goal,
+                formations: &shapes,
+                leader: 0,
+                weights: task.weights(),
+            })
+            .map_err(|e| format!("squad of \"{species}\": {e}"))?;
+        self.squads.ground = Some(Arc::new(Ground {
+            terrain: terrain.clone(),
+            grids,
+        }));
+        let setup = SquadSetup {
+            species: s,
+            formations: shapes,
+            leader: 0,
+            task,
+            start,
+            goal,
+            plan,
+        };
+        let ids = self.squads.add(&setup, &mut self.world, &mut self.pipeline);
+        let set = self.pipeline.species.clone();
+        self.squads.settle_all(&mut self.world, &set);
+        for id in &ids {
+            if let Some(i) = self.world.agent_index(*id) {
+                let a = &mut self.world.agents[i];
+                a.prev_pos = a.pos;
+            }
+        }
+        self.drain_events();
+        Ok(ids)
     }
 
     /// Index of the agent in the world, or why it is not there.
