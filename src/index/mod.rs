@@ -27,8 +27,6 @@ pub struct Grid {
     positions: Vec<Vec3>,
     /// Scratch: cell of each input point.
     cell_of: Vec<u32>,
-    /// Scratch: input positions in input order.
-    scratch: Vec<Vec3>,
     /// Scratch: fill cursor per cell.
     cursor: Vec<u32>,
 }
@@ -47,13 +45,13 @@ impl Grid {
         self.cell
     }
 
-    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points.
-    /// Reuses its buffers: no allocation once warmed up.
+    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points (read
+    /// twice). Reuses its buffers: no allocation once warmed up.
     pub fn rebuild(
         &mut self,
         bounds: Aabb,
         cell: f32,
-        points: impl ExactSizeIterator<Item = Vec3>,
+        points: impl ExactSizeIterator<Item = Vec3> + Clone,
     ) {
         let size = bounds.size().max(Vec3::splat(1e-3));
         let mut cell = if cell.is_finite() && cell > 1e-3 {
@@ -83,29 +81,27 @@ impl Grid {
         self.starts.clear();
         self.starts.resize(ncells + 1, 0);
         self.cell_of.clear();
-        self.scratch.clear();
-        for p in points {
+        for p in points.clone() {
             let c = self.cell_index(self.cell_coord(p));
             self.cell_of.push(c as u32);
             self.starts[c + 1] += 1;
-            self.scratch.push(p);
         }
         for c in 0..ncells {
             self.starts[c + 1] += self.starts[c];
         }
         // Stable placement: entries of a cell stay in ascending index order.
-        let n = self.scratch.len();
+        let n = self.cell_of.len();
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.starts);
         self.entries.clear();
         self.entries.resize(n, 0);
         self.positions.clear();
         self.positions.resize(n, Vec3::ZERO);
-        for (i, &c) in self.cell_of.iter().enumerate() {
+        for (i, (&c, p)) in self.cell_of.iter().zip(points).enumerate() {
             let slot = self.cursor[c as usize] as usize;
             self.cursor[c as usize] += 1;
             self.entries[slot] = i as u32;
-            self.positions[slot] = self.scratch[i];
+            self.positions[slot] = p;
         }
     }
 
