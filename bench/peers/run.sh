@@ -43,10 +43,10 @@ for run in "${runs[@]}"; do
     m_k=$(sed -n 's/.*neighbors=\([^ ]*\).*/\1/p' <<<"$m")
     s=$("$shoal" bench boids --agents "$n" --ticks "$steps" | tail -1)
     s1=$("$shoal" bench boids --agents "$n" --ticks "$steps" --threads 1 | tail -1)
-    # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick nbrs B/agent.
+    # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick ns/upd nbrs B/agent.
     s_ups=$(awk '{print $5}' <<<"$s")
     s_ms=$(awk '{print $6}' <<<"$s")
-    s_k=$(awk '{print $7}' <<<"$s")
+    s_k=$(awk '{print $8}' <<<"$s")
     s1_ups=$(awk '{print $5}' <<<"$s1")
     python3 - "$n" "$side" "$steps" "$m_s" "$m_k" "$s_ups" "$s_ms" "$s_k" "$s1_ups" <<'PY'
 import sys
