@@ -109,9 +109,7 @@ impl Grid {
     fn cell_coord(&self, p: Vec3) -> IVec3 {
         let q = (p - self.origin) * self.inv_cell;
         let q = if q.is_finite() { q } else { Vec3::ZERO };
-        q.floor()
-            .as_ivec3()
-            .clamp(IVec3::ZERO, self.dims - IVec3::ONE)
+        floor_clamped(q, self.dims)
     }
 
     #[inline]
@@ -152,10 +150,36 @@ impl Grid {
     }
 }
 
+/// `q.floor().as_ivec3().clamp(0, dims − 1)` for finite `q`, without `floorf` (a library call
+/// on baseline x86-64): truncate (saturating), then step down where truncation rounded up.
+#[inline]
+pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
+    let t = q.as_ivec3();
+    let floor = IVec3::new(
+        t.x.saturating_sub((q.x < t.x as f32) as i32),
+        t.y.saturating_sub((q.y < t.y as f32) as i32),
+        t.z.saturating_sub((q.z < t.z as f32) as i32),
+    );
+    floor.clamp(IVec3::ZERO, dims - IVec3::ONE)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::world::Rng;
+
+    #[test]
+    fn floor_clamped_is_floor_then_clamp() {
+        let dims = IVec3::new(7, 300, 1 << 30);
+        let mut rng = Rng::new(9, 0);
+        let mut values = vec![0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 6.999, 7.0, 2.5e9, -2.5e9, 1e30];
+        values.extend((0..2000).map(|_| rng.range(-400.0, 400.0)));
+        for &x in &values {
+            let q = Vec3::new(x, x * 0.5, -x);
+            let expect = q.floor().as_ivec3().clamp(IVec3::ZERO, dims - IVec3::ONE);
+            assert_eq!(floor_clamped(q, dims), expect, "{q}");
+        }
+    }
 
     #[test]
     fn finds_exactly_the_points_a_brute_force_finds() {
