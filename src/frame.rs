@@ -59,7 +59,7 @@ pub fn wrap(a: f32) -> f32 {
 #[inline]
 pub fn heading_of(dir: Vec3) -> Option<(f32, f32)> {
     let len = dir.length();
-    if !(len > 1e-12) || !len.is_finite() {
+    if len.is_nan() || len <= 1e-12 || !len.is_finite() {
         return None;
     }
     let d = dir / len;

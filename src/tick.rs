@@ -131,7 +131,9 @@ pub fn bearing_range(sp: &Species) -> f32 {
     fn cond(c: &CondNode, sp: &Species) -> f32 {
         match c {
             CondNode::TrafficNear => of(&sp.def.avoid),
-            CondNode::All(v) | CondNode::Any(v) => v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max),
+            CondNode::All(v) | CondNode::Any(v) => {
+                v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max)
+            }
             CondNode::Not(c) => cond(c, sp),
             CondNode::Latch { on, off, .. } => cond(on, sp).max(cond(off, sp)),
             // Nearest percepts, obstacles or no percepts at all.
@@ -190,10 +192,11 @@ pub fn bearing_range(sp: &Species) -> f32 {
             RecipeNode::Script(_) => 0.0,
         }
     }
-    let behaviors = sp
-        .behaviors
-        .iter()
-        .map(|b| cond(&b.when, sp).max(cond(&b.done, sp)).max(recipe(&b.steer)));
+    let behaviors = sp.behaviors.iter().map(|b| {
+        cond(&b.when, sp)
+            .max(cond(&b.done, sp))
+            .max(recipe(&b.steer))
+    });
     let named = sp.recipes.iter().map(recipe);
     behaviors.chain(named).fold(0.0, f32::max)
 }
@@ -267,7 +270,11 @@ impl Pipeline {
         self.bearing_ranges = if self.full_bearings {
             Vec::new()
         } else {
-            self.species.species.iter().map(|s| bearing_range(s)).collect()
+            self.species
+                .species
+                .iter()
+                .map(|s| bearing_range(s))
+                .collect()
         };
     }
 

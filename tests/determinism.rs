@@ -18,7 +18,12 @@ fn run(threads: usize, ticks: u64) -> (Vec<(u32, [u32; 8])>, u64) {
         for _ in 0..ticks {
             w.run.step();
             for a in &w.run.world.agents {
-                for x in [a.id.0, a.pos.x.to_bits(), a.pos.y.to_bits(), a.pos.z.to_bits()] {
+                for x in [
+                    a.id.0,
+                    a.pos.x.to_bits(),
+                    a.pos.y.to_bits(),
+                    a.pos.z.to_bits(),
+                ] {
                     digest = (digest ^ x as u64).wrapping_mul(0x100_0000_01b3);
                 }
             }

@@ -199,12 +199,7 @@ fn group(species: &str, count: usize, region: Aabb) -> GroupDef {
     }
 }
 
-fn built(
-    name: &str,
-    def: ScenarioDef,
-    behaviors_dir: PathBuf,
-    species: SpeciesSet,
-) -> BenchWorld {
+fn built(name: &str, def: ScenarioDef, behaviors_dir: PathBuf, species: SpeciesSet) -> BenchWorld {
     let scenario = Scenario {
         name: name.into(),
         file: behaviors_dir.join(format!("bench_{name}.ron")),
@@ -221,8 +216,13 @@ fn built(
 
 fn embedded(file: &str, text: &str) -> SpeciesSet {
     let path = Path::new("bench").join(file);
-    let s = load_species_str(&path, text, Path::new("bench"), &crate::scenario::script_limits())
-        .unwrap_or_else(|d| panic!("embedded species {file} is invalid: {d}"));
+    let s = load_species_str(
+        &path,
+        text,
+        Path::new("bench"),
+        &crate::scenario::script_limits(),
+    )
+    .unwrap_or_else(|d| panic!("embedded species {file} is invalid: {d}"));
     SpeciesSet::new(vec![Arc::new(s)]).unwrap_or_else(|d| panic!("{d}"))
 }
 
@@ -264,7 +264,12 @@ pub fn flock(n: usize) -> BenchWorld {
         });
     }
     def.groups.push(group("flocker", n, bounds));
-    built("flock", def, "bench".into(), embedded("flocker.ron", FLOCKER_RON))
+    built(
+        "flock",
+        def,
+        "bench".into(),
+        embedded("flocker.ron", FLOCKER_RON),
+    )
 }
 
 /// Native conditions standing for the reef fish's script conditions in the `reef-native` world,
@@ -291,7 +296,9 @@ pub fn without_scripts(text: &str, notes: &mut Vec<String>) -> String {
         match NATIVE_EQUIVALENTS.iter().find(|(n, _)| *n == name) {
             Some((_, native)) => out.push_str(native),
             None => {
-                notes.push(format!("no native equivalent of `{name}()`: replaced by Never"));
+                notes.push(format!(
+                    "no native equivalent of `{name}()`: replaced by Never"
+                ));
                 out.push_str("Never");
             }
         }
@@ -377,7 +384,12 @@ pub fn memory() -> Option<(u64, u64)> {
     let s = std::fs::read_to_string("/proc/self/status").ok()?;
     let field = |name: &str| -> Option<u64> {
         let line = s.lines().find(|l| l.starts_with(name))?;
-        let kb: u64 = line[name.len()..].trim().trim_end_matches("kB").trim().parse().ok()?;
+        let kb: u64 = line[name.len()..]
+            .trim()
+            .trim_end_matches("kB")
+            .trim()
+            .parse()
+            .ok()?;
         Some(kb * 1024)
     };
     Some((field("VmRSS:")?, field("VmHWM:")?))

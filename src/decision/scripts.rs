@@ -15,7 +15,7 @@ use std::sync::Arc;
 /// Whether agent `id` runs its scripts on `tick` (staggered: one agent in `interval` per tick).
 #[inline]
 pub fn due(tick: u64, id: u32, interval: u32) -> bool {
-    interval <= 1 || (tick + id as u64) % interval as u64 == 0
+    interval <= 1 || (tick + id as u64).is_multiple_of(interval as u64)
 }
 
 /// Builds the script view of an agent.

@@ -126,7 +126,7 @@ impl Grid {
         radius: f32,
         mut visit: impl FnMut(u32, Vec3, f32),
     ) {
-        if self.entries.is_empty() || !(radius >= 0.0) {
+        if self.entries.is_empty() || radius.is_nan() || radius < 0.0 {
             return;
         }
         let r2 = radius * radius;
@@ -172,7 +172,9 @@ mod tests {
     fn floor_clamped_is_floor_then_clamp() {
         let dims = IVec3::new(7, 300, 1 << 30);
         let mut rng = Rng::new(9, 0);
-        let mut values = vec![0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 6.999, 7.0, 2.5e9, -2.5e9, 1e30];
+        let mut values = vec![
+            0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 6.999, 7.0, 2.5e9, -2.5e9, 1e30,
+        ];
         values.extend((0..2000).map(|_| rng.range(-400.0, 400.0)));
         for &x in &values {
             let q = Vec3::new(x, x * 0.5, -x);

@@ -39,7 +39,11 @@ impl ObstacleGrid {
                 return;
             }
         }
-        let reach = if reach.is_finite() { reach.max(0.0) } else { 0.0 };
+        let reach = if reach.is_finite() {
+            reach.max(0.0)
+        } else {
+            0.0
+        };
         let size = bounds.size().max(Vec3::splat(1e-3));
         let mut cell = reach.max(size.max_element() / 256.0).max(1e-3);
         let dims_for = |cell: f32| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);

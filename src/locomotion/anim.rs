@@ -55,6 +55,7 @@ pub fn tween(s: f32, max_bend: f32) -> f32 {
 
 /// Advances the channel by one step: `speed` over a body of `length`, `accel` the speed change
 /// per second, `dyaw` the turn applied this step (right positive) against `max_turn`.
+#[allow(clippy::too_many_arguments)]
 pub fn advance(
     anim: &mut Anim,
     p: &AnimParams,

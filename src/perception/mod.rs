@@ -343,7 +343,9 @@ impl Kept<'_> {
             self.far = (mask.trailing_zeros() as usize).min(MAX_PERCEPTS - 1);
         } else {
             let d = &self.dists[..self.len];
-            let max = d.iter().fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
+            let max = d
+                .iter()
+                .fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
             self.far = d.iter().position(|&x| x == max).unwrap_or(0);
         }
     }
@@ -478,9 +480,24 @@ fn perceive_one(
         let dir = if dist > 1e-6 { offset } else { to_center };
         if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense, &[]) {
             let cat = Category::Obstacle;
-            note(summary, cat, seen, dist, me.pos + offset, Vec3::ZERO, Vec3::ZERO);
+            note(
+                summary,
+                cat,
+                seen,
+                dist,
+                me.pos + offset,
+                Vec3::ZERO,
+                Vec3::ZERO,
+            );
             kept.offer(dist, || {
-                percept(Source::Obstacle(k as u32), cat, seen, dir, dist, o.shape.diagonal())
+                percept(
+                    Source::Obstacle(k),
+                    cat,
+                    seen,
+                    dir,
+                    dist,
+                    o.shape.diagonal(),
+                )
             });
         }
     }
@@ -514,7 +531,14 @@ fn perceive_one(
             note(summary, Category::Kin, seen, dist, pos, heading, vel);
         }
         kept.offer(dist, || {
-            percept(Source::Agent(j as u32), cat, seen, offset, dist, other.diagonal)
+            percept(
+                Source::Agent(j as u32),
+                cat,
+                seen,
+                offset,
+                dist,
+                other.diagonal,
+            )
         });
     });
 
@@ -525,7 +549,9 @@ fn perceive_one(
             if let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) {
                 let cat = Category::Food;
                 note(summary, cat, seen, dist, pos, Vec3::ZERO, Vec3::ZERO);
-                kept.offer(dist, || percept(Source::Food(j), cat, seen, offset, dist, 0.0));
+                kept.offer(dist, || {
+                    percept(Source::Food(j), cat, seen, offset, dist, 0.0)
+                });
             }
         });
     }
@@ -565,9 +591,7 @@ fn perceive_one(
     for (k, p) in slots.iter_mut().enumerate() {
         let wanted = match bearing_range {
             None => true,
-            Some(r) => {
-                nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r
-            }
+            Some(r) => nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r,
         };
         if wanted {
             (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);

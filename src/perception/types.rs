@@ -82,7 +82,7 @@ impl Sector {
             Sector::Front
         } else if theta <= -FRAC_PI_6 && theta > -FRAC_PI_2 {
             Sector::LeftFront
-        } else if theta >= FRAC_PI_6 && theta < FRAC_PI_2 {
+        } else if (FRAC_PI_6..FRAC_PI_2).contains(&theta) {
             Sector::RightFront
         } else if theta <= -FRAC_PI_2 && theta > -five_sixths {
             Sector::LeftRear

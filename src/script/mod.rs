@@ -335,17 +335,18 @@ fn register_imports(
             ));
             continue;
         }
-        if depth > 8 || !seen.insert(found.clone()) {
-            if depth > 8 {
-                diags.push(Diagnostic::new(
-                    file,
-                    line,
-                    col,
-                    "imports nested too deeply (a cycle?)",
-                    Some(text),
-                ));
-            }
-            // Already compiled (shared by two importers): register under this alias too.
+        if depth > 8 {
+            diags.push(Diagnostic::new(
+                file,
+                line,
+                col,
+                "imports nested too deeply (a cycle?)",
+                Some(text),
+            ));
+        } else {
+            // A module already compiled (shared by two importers) is registered under this
+            // alias too.
+            seen.insert(found.clone());
         }
         imports.push(found.clone());
         let sub_text = match std::fs::read_to_string(&found) {

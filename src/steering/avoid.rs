@@ -231,7 +231,7 @@ pub fn avoid_dynamic(
 /// `|b| < r`. Returns the lateral offset `b` of the predicted hit.
 pub fn path_test(pos: Vec3, look_ahead: Vec3, center: Vec3, radius: f32) -> Option<Vec3> {
     let len2 = look_ahead.length_squared();
-    if !(len2 > 1e-12) {
+    if len2.is_nan() || len2 <= 1e-12 {
         return None;
     }
     let a = center - pos;
