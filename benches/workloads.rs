@@ -17,6 +17,22 @@ fn max_agents() -> usize {
         .unwrap_or(usize::MAX)
 }
 
+/// The sizes of `workload` up to `SHOAL_BENCH_MAX`.
+fn sizes(workload: Workload) -> Vec<usize> {
+    let max = max_agents();
+    workload
+        .default_agents()
+        .iter()
+        .copied()
+        .filter(|&n| n <= max)
+        .collect()
+}
+
+/// Agents of the stage workloads: 10,000, or `SHOAL_BENCH_MAX` when lower.
+fn stage_size() -> usize {
+    max_agents().min(10_000)
+}
+
 fn warm(workload: Workload, n: usize) -> Option<BenchWorld> {
     if n > max_agents() {
         return None;
@@ -37,33 +53,33 @@ fn ticks(bencher: divan::Bencher, workload: Workload, n: usize) {
 }
 
 /// Classic flocking at the peers' density.
-#[divan::bench(args = [1_000, 10_000, 100_000], sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::Boids), sample_count = 20, sample_size = 5)]
 fn boids(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::Boids, n);
 }
 
 /// 3D flocking with obstacle avoidance, ~20 neighbors (engine core).
-#[divan::bench(args = [1_000, 10_000, 100_000], sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::Flock), sample_count = 20, sample_size = 5)]
 fn flock(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::Flock, n);
 }
 
 /// Reef fish and sharks with their scripts.
-#[divan::bench(args = [1_000, 10_000, 50_000], sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::Reef), sample_count = 20, sample_size = 5)]
 fn reef(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::Reef, n);
 }
 
 /// The same reef with script conditions replaced by native ones.
-#[divan::bench(args = [1_000, 10_000, 50_000], sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::ReefNative), sample_count = 20, sample_size = 5)]
 fn reef_native(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::ReefNative, n);
 }
 
-/// The decision stage alone on a 10k reef, a script call per agent (items: agents).
+/// The decision stage alone on a 10k reef (`stage_size`), a script call per agent (items: agents).
 #[divan::bench(args = [true, false], sample_count = 20, sample_size = 5)]
 fn decide(bencher: divan::Bencher, scripted: bool) {
-    let Some(w) = warm(Workload::Decide, 10_000) else {
+    let Some(w) = warm(Workload::Decide, stage_size()) else {
         return;
     };
     bencher
@@ -71,10 +87,10 @@ fn decide(bencher: divan::Bencher, scripted: bool) {
         .bench_local(|| bench::decide_timed(&w, 1, scripted));
 }
 
-/// Spatial index and perception alone on a 10k reef (items: agents).
+/// Spatial index and perception alone on a 10k reef (`stage_size`) (items: agents).
 #[divan::bench(sample_count = 20, sample_size = 5)]
 fn perceive(bencher: divan::Bencher) {
-    let Some(mut w) = warm(Workload::Perceive, 10_000) else {
+    let Some(mut w) = warm(Workload::Perceive, stage_size()) else {
         return;
     };
     bencher
@@ -82,8 +98,9 @@ fn perceive(bencher: divan::Bencher) {
         .bench_local(|| w.run.pipeline.perceive(&w.run.world));
 }
 
-/// Formation A* on a 1024² terrain: skipped until the planner is wired (src/bench/plan.rs).
-#[divan::bench]
+/// Formation A* on a 1024² terrain. HOOK(plan): ignored until the planner of `src/formation/` is
+/// wired into `shoal::bench::plan::measure` (see src/bench/plan.rs); then drop `ignore`.
+#[divan::bench(ignore)]
 fn plan() {
     divan::black_box(bench::plan::measure(1));
 }

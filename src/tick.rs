@@ -71,7 +71,8 @@ struct Outcome {
     transitions: Transitions,
     contact: Option<(Contact, Source)>,
     messages: [Option<(MessageKind, f32)>; 4],
-    error: Option<Diagnostic>,
+    /// Boxed: rare, and large next to the rest of an outcome (one per agent).
+    error: Option<Box<Diagnostic>>,
 }
 
 /// Counters a run summary reports.
@@ -495,6 +496,11 @@ impl Pipeline {
     }
 
     fn apply(&mut self, world: &mut World) {
+        // A spawn of many agents leaves a long event list behind: give the memory back once it
+        // is far larger than what ticks use.
+        if self.events.capacity() > 8 * (self.events.len() + 1024) {
+            self.events.shrink_to(2 * (self.events.len() + 1024));
+        }
         let set = self.species.clone();
         let n = world.agents.len();
         self.taken_food.clear();
@@ -941,7 +947,7 @@ fn agent_pass(
     out.anim = an;
     out.drives = me.drives;
     out.transitions = transitions;
-    out.error = error;
+    out.error = error.map(Box::new);
     brain.memory = me.memory;
 }
 

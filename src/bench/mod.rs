@@ -148,7 +148,8 @@ pub struct Sample {
     pub updates: u64,
     /// Mean number of kin each agent perceived at the end.
     pub neighbors: f32,
-    /// Peak resident memory added by the world, per agent (bytes), where measured.
+    /// Peak resident memory while running, above what the process held before the world was
+    /// built, per agent (bytes), where measured (Linux).
     pub bytes_per_agent: Option<f64>,
 }
 
@@ -458,11 +459,13 @@ pub fn measure(
     if workload == Workload::Plan {
         return Ok(plan::measure(ticks));
     }
-    let tracked = reset_peak_memory();
     let base = memory().map(|m| m.0);
     let mut w = world_of(workload, n, behaviors_dir)?;
     let agents = w.run.world.agents.len();
     warm_up(&mut w, WARMUP_TICKS);
+    // Peak while running: construction transients (spawning) are not counted, what the world
+    // keeps resident is.
+    let tracked = reset_peak_memory();
     let (seconds, updates) = match workload {
         Workload::Perceive => perceive_timed(&mut w, ticks),
         Workload::Decide => decide_timed(&w, ticks, true),

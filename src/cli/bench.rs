@@ -50,12 +50,21 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
     }
     let pool = pool.build()?;
     println!(
-        "threads: {}   (agent-updates/s = agents × ticks/s; memory = peak RSS added per agent)",
+        "threads: {}   agent-upd/s = agents × ticks/s; ns/upd = wall time per agent-update; \
+         nbrs = kin perceived per agent; B/agent = peak RSS while running, per agent",
         pool.current_num_threads()
     );
     println!(
-        "{:<14} {:>8} {:>6} {:>10} {:>14} {:>10} {:>8} {:>10}",
-        "workload", "agents", "ticks", "ticks/s", "agent-upd/s", "ms/tick", "nbrs", "B/agent"
+        "{:<14} {:>8} {:>6} {:>10} {:>14} {:>10} {:>9} {:>8} {:>10}",
+        "workload",
+        "agents",
+        "ticks",
+        "ticks/s",
+        "agent-upd/s",
+        "ms/tick",
+        "ns/upd",
+        "nbrs",
+        "B/agent"
     );
     for w in workloads {
         let sizes: Vec<usize> = if args.agents.is_empty() {
@@ -71,13 +80,14 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             };
             match sample {
                 Some(s) => println!(
-                    "{:<14} {:>8} {:>6} {:>10.1} {:>14.0} {:>10.3} {:>8.1} {:>10}",
+                    "{:<14} {:>8} {:>6} {:>10.1} {:>14.0} {:>10.3} {:>9.0} {:>8.1} {:>10}",
                     s.workload,
                     s.agents,
                     s.ticks,
                     s.ticks_per_s(),
                     s.updates_per_s(),
                     s.ms_per_tick(),
+                    1e9 / s.updates_per_s().max(1e-9),
                     s.neighbors,
                     s.bytes_per_agent
                         .map_or("-".to_string(), |b| format!("{b:.0}")),

@@ -27,8 +27,6 @@ pub struct Grid {
     positions: Vec<Vec3>,
     /// Scratch: cell of each input point.
     cell_of: Vec<u32>,
-    /// Scratch: input positions in input order.
-    scratch: Vec<Vec3>,
     /// Scratch: fill cursor per cell.
     cursor: Vec<u32>,
 }
@@ -47,13 +45,13 @@ impl Grid {
         self.cell
     }
 
-    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points.
-    /// Reuses its buffers: no allocation once warmed up.
+    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points (read
+    /// twice). Reuses its buffers: no allocation once warmed up.
     pub fn rebuild(
         &mut self,
         bounds: Aabb,
         cell: f32,
-        points: impl ExactSizeIterator<Item = Vec3>,
+        points: impl ExactSizeIterator<Item = Vec3> + Clone,
     ) {
         let size = bounds.size().max(Vec3::splat(1e-3));
         let mut cell = if cell.is_finite() && cell > 1e-3 {
@@ -83,29 +81,27 @@ impl Grid {
         self.starts.clear();
         self.starts.resize(ncells + 1, 0);
         self.cell_of.clear();
-        self.scratch.clear();
-        for p in points {
+        for p in points.clone() {
             let c = self.cell_index(self.cell_coord(p));
             self.cell_of.push(c as u32);
             self.starts[c + 1] += 1;
-            self.scratch.push(p);
         }
         for c in 0..ncells {
             self.starts[c + 1] += self.starts[c];
         }
         // Stable placement: entries of a cell stay in ascending index order.
-        let n = self.scratch.len();
+        let n = self.cell_of.len();
         self.cursor.clear();
         self.cursor.extend_from_slice(&self.starts);
         self.entries.clear();
         self.entries.resize(n, 0);
         self.positions.clear();
         self.positions.resize(n, Vec3::ZERO);
-        for (i, &c) in self.cell_of.iter().enumerate() {
+        for (i, (&c, p)) in self.cell_of.iter().zip(points).enumerate() {
             let slot = self.cursor[c as usize] as usize;
             self.cursor[c as usize] += 1;
             self.entries[slot] = i as u32;
-            self.positions[slot] = self.scratch[i];
+            self.positions[slot] = p;
         }
     }
 
@@ -113,9 +109,7 @@ impl Grid {
     fn cell_coord(&self, p: Vec3) -> IVec3 {
         let q = (p - self.origin) * self.inv_cell;
         let q = if q.is_finite() { q } else { Vec3::ZERO };
-        q.floor()
-            .as_ivec3()
-            .clamp(IVec3::ZERO, self.dims - IVec3::ONE)
+        floor_clamped(q, self.dims)
     }
 
     #[inline]
@@ -156,10 +150,38 @@ impl Grid {
     }
 }
 
+/// `q.floor().as_ivec3().clamp(0, dims − 1)` for finite `q`, without `floorf` (a library call
+/// on baseline x86-64): truncate (saturating), then step down where truncation rounded up.
+#[inline]
+pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
+    let t = q.as_ivec3();
+    let floor = IVec3::new(
+        t.x.saturating_sub((q.x < t.x as f32) as i32),
+        t.y.saturating_sub((q.y < t.y as f32) as i32),
+        t.z.saturating_sub((q.z < t.z as f32) as i32),
+    );
+    floor.clamp(IVec3::ZERO, dims - IVec3::ONE)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::world::Rng;
+
+    #[test]
+    fn floor_clamped_is_floor_then_clamp() {
+        let dims = IVec3::new(7, 300, 1 << 30);
+        let mut rng = Rng::new(9, 0);
+        let mut values = vec![
+            0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 6.999, 7.0, 2.5e9, -2.5e9, 1e30,
+        ];
+        values.extend((0..2000).map(|_| rng.range(-400.0, 400.0)));
+        for &x in &values {
+            let q = Vec3::new(x, x * 0.5, -x);
+            let expect = q.floor().as_ivec3().clamp(IVec3::ZERO, dims - IVec3::ONE);
+            assert_eq!(floor_clamped(q, dims), expect, "{q}");
+        }
+    }
 
     #[test]
     fn finds_exactly_the_points_a_brute_force_finds() {

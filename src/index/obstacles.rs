@@ -94,9 +94,7 @@ impl ObstacleGrid {
     fn cell_coord(&self, p: Vec3) -> IVec3 {
         let q = (p - self.origin) * self.inv_cell;
         let q = if q.is_finite() { q } else { Vec3::ZERO };
-        q.floor()
-            .as_ivec3()
-            .clamp(IVec3::ZERO, self.dims - IVec3::ONE)
+        super::floor_clamped(q, self.dims)
     }
 
     /// Indices (ascending) of the obstacles that may lie within the grid's reach of `p`: every

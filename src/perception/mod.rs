@@ -513,12 +513,16 @@ fn perceive_one(
     let me = &world.agents[i];
     let s = me.species.0 as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
+    // `frame::dorsal` is `forward × left`: reuse both (the forward vector is in the body cache).
+    let fwd = bodies[i].heading;
+    let left = frame::left(yaw);
+    let cos_min = sense.vision_half_angle.cos() - 1e-6;
     let eye = Eye {
-        fwd: me.forward(),
-        left: frame::left(yaw),
-        up: frame::dorsal(yaw, pitch),
-        cos_min: sense.vision_half_angle.cos() - 1e-6,
-        full_circle: sense.vision_half_angle.cos() - 1e-6 < -1.000_000_5,
+        fwd,
+        left,
+        up: fwd.cross(left),
+        cos_min,
+        full_circle: cos_min < -1.000_000_5,
     };
     let radius = sense.query_radius();
     let mut kept = Kept {

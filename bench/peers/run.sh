@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Peer comparison on one machine, in one run: Mesa's BoidFlockers example (Python) against
+# `shoal bench boids` on the same agent count, space, vision radius and step count.
+#
+#   bench/peers/run.sh                 # 1,000 agents × 100 steps and 10,000 agents × 10 steps
+#   bench/peers/run.sh 1000:100 2000:50
+#
+# Mesa is installed from PyPI into bench/peers/.venv on first use (MESA_VENV overrides the path).
+# Both sides: N agents, a square of side sqrt(N / 0.1) (0.1 agent per unit², Mesa's 1,000 on
+# 100×100), vision radius 10, the same number of steps, model construction not timed. Mesa runs
+# in one Python process (it is single-threaded); shoal runs on all cores and, for reference, on 1.
+set -euo pipefail
+
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+venv="${MESA_VENV:-$here/.venv}"
+mesa_version="3.3.1"
+seed=1
+
+if [ ! -x "$venv/bin/python" ] || ! "$venv/bin/python" -c "import mesa" 2>/dev/null; then
+    echo "installing mesa[network]==$mesa_version into $venv" >&2
+    python3 -m venv "$venv"
+    "$venv/bin/pip" install -q "mesa[network]==$mesa_version"
+fi
+(cd "$root" && cargo build --release -q)
+shoal="$root/target/release/shoal"
+
+runs=("$@")
+if [ ${#runs[@]} -eq 0 ]; then
+    runs=(1000:100 10000:10)
+fi
+
+echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')   machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p')"
+echo "mesa $("$venv/bin/python" -c 'import mesa; print(mesa.__version__)'), python $("$venv/bin/python" -c 'import sys; print(sys.version.split()[0])'); shoal $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')"
+printf '%-7s %-6s %-6s %-10s %-12s %-6s %-10s %-12s %-6s %-12s %-9s %-9s\n' \
+    agents side steps mesa_s mesa_upd/s m_nbrs shoal_s shoal_upd/s s_nbrs shoal1_upd/s ratio ratio_1t
+for run in "${runs[@]}"; do
+    n="${run%%:*}"
+    steps="${run##*:}"
+    side=$(python3 -c "import math; print(f'{max(math.sqrt($n / 0.1), 10.0):g}')")
+    m=$("$venv/bin/python" "$here/mesa_boids.py" "$n" "$side" 10 "$steps" "$seed")
+    m_s=$(sed -n 's/.*seconds=\([^ ]*\).*/\1/p' <<<"$m")
+    m_k=$(sed -n 's/.*neighbors=\([^ ]*\).*/\1/p' <<<"$m")
+    s=$("$shoal" bench boids --agents "$n" --ticks "$steps" | tail -1)
+    s1=$("$shoal" bench boids --agents "$n" --ticks "$steps" --threads 1 | tail -1)
+    # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick ns/upd nbrs B/agent.
+    s_ups=$(awk '{print $5}' <<<"$s")
+    s_ms=$(awk '{print $6}' <<<"$s")
+    s_k=$(awk '{print $8}' <<<"$s")
+    s1_ups=$(awk '{print $5}' <<<"$s1")
+    python3 - "$n" "$side" "$steps" "$m_s" "$m_k" "$s_ups" "$s_ms" "$s_k" "$s1_ups" <<'PY'
+import sys
+n, side, steps, m_s, m_k, s_ups, s_ms, s_k, s1_ups = sys.argv[1:]
+n, steps = int(n), int(steps)
+m_ups = n * steps / float(m_s)
+s_s = float(s_ms) * steps / 1e3
+print(f"{n:<7} {side:<6} {steps:<6} {float(m_s):<10.3f} {m_ups:<12.0f} {m_k:<6} {s_s:<10.4f} "
+      f"{float(s_ups):<12.0f} {s_k:<6} {float(s1_ups):<12.0f} {float(s_ups) / m_ups:<9.0f} "
+      f"{float(s1_ups) / m_ups:<9.0f}")
+PY
+done
