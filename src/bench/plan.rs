@@ -1,20 +1,69 @@
-//! The `plan` benchmark workload: formation-keeping A* on a 1024² terrain (seed 004).
-//!
-//! HOOK(plan): the formation planner lives in `src/formation/` (branch `terrain`) and is not part
-//! of this tree yet. Once merged, [`measure`] should build a 1024×1024 terrain (e.g. a smooth
-//! random height field with a few impassable features), plan one squad's formation path from one
-//! corner to the opposite one `passes` times, and return a [`Sample`] with `agents` = squad size,
-//! `ticks` = `passes` and `updates` = expanded search nodes. Until then `shoal bench plan` says
-//! the workload is not available and `cargo bench` skips it.
+//! The `plan` benchmark workload: formation-keeping A* + smoothing + follower paths (seed 004) on
+//! a 1024² procedural terrain (rolling hills, 2 m cells), a 5-member team (wedge, falling back to
+//! a column), task class "may change rarely", corner to opposite corner. `agents` is the team
+//! size, `ticks` the number of plans timed and `updates` the search nodes expanded.
 
 use super::Sample;
+use crate::formation::{Formation, PlanRequest, Planner, Shape, TaskClass};
+use crate::terrain::{Cell, CostGrid, Mobility, Terrain};
+use std::time::Instant;
 
 /// Side of the terrain grid the workload plans on.
 pub const TERRAIN_SIDE: usize = 1024;
 
-/// Measures `passes` formation plans; `None` while the planner is not wired (see the module
-/// header).
-pub fn measure(passes: u64) -> Option<Sample> {
-    let _ = passes;
+/// Team size.
+pub const MEMBERS: usize = 5;
+
+/// The free cell nearest to `c`, searching outwards in rings.
+fn free_near(grid: &CostGrid, c: Cell) -> Option<Cell> {
+    for radius in 0..grid.cols as i64 {
+        for dr in -radius..=radius {
+            for dc in -radius..=radius {
+                let (col, row) = (c.col as i64 + dc, c.row as i64 + dr);
+                if !grid.is_blocked(col, row) {
+                    return Some(Cell::new(col as usize, row as usize));
+                }
+            }
+        }
+    }
     None
+}
+
+/// Measures `passes` plans (at least one) on the workload's terrain; `None` if the map has no
+/// path (it always has one with the seed used).
+pub fn measure(passes: u64) -> Option<Sample> {
+    let n = TERRAIN_SIDE;
+    let grid = Terrain::procedural(n, n, 2.0, 60.0, 2007).cost_grid(&Mobility::default());
+    let formations = [
+        Formation::new(&Shape::Wedge, MEMBERS, 4.0).ok()?,
+        Formation::new(&Shape::Column, MEMBERS, 3.0).ok()?,
+    ];
+    let start = free_near(&grid, Cell::new(n / 16, n / 16))?;
+    let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12))?;
+    let req = PlanRequest {
+        grid: &grid,
+        start: grid.center_of(start),
+        goal: grid.center_of(goal),
+        formations: &formations,
+        leader: 0,
+        weights: TaskClass::MayChangeRarely.weights(),
+    };
+    let mut planner = Planner::new();
+    // One untimed plan warms the search buffers.
+    planner.plan(&req).ok()?;
+    let passes = passes.clamp(1, 20);
+    let t = Instant::now();
+    let mut expanded = 0u64;
+    for _ in 0..passes {
+        expanded += planner.plan(&req).ok()?.expanded as u64;
+    }
+    Some(Sample {
+        workload: "plan".into(),
+        agents: MEMBERS,
+        ticks: passes,
+        seconds: t.elapsed().as_secs_f64(),
+        updates: expanded,
+        neighbors: 0.0,
+        bytes_per_agent: None,
+    })
 }
