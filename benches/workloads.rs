@@ -1,7 +1,9 @@
 //! The standard workloads under divan (`cargo bench`): one tick of each world at 1k, 10k and
 //! 100k agents (50k for `reef`), and the stage workloads at 10k. Worlds are built and warmed up
 //! outside the timed region; each iteration is one tick (or one pass over every agent), so divan's
-//! "time per iteration" is ms/tick and ticks/s is its inverse. `SHOAL_BENCH_MAX` caps the agent
+//! "time per iteration" is ms/tick and ticks/s is its inverse. Each world is timed over 20
+//! consecutive ticks (10 samples of 2), like `shoal bench`'s first ticks: flocks condense over
+//! thousands of ticks, so longer runs measure a denser world. `SHOAL_BENCH_MAX` caps the agent
 //! counts (e.g. `SHOAL_BENCH_MAX=10000 cargo bench`).
 
 use shoal::bench::{self, BenchWorld, Workload};
@@ -53,31 +55,31 @@ fn ticks(bencher: divan::Bencher, workload: Workload, n: usize) {
 }
 
 /// Classic flocking at the peers' density.
-#[divan::bench(args = sizes(Workload::Boids), sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::Boids), sample_count = 10, sample_size = 2)]
 fn boids(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::Boids, n);
 }
 
 /// 3D flocking with obstacle avoidance, ~20 neighbors (engine core).
-#[divan::bench(args = sizes(Workload::Flock), sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::Flock), sample_count = 10, sample_size = 2)]
 fn flock(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::Flock, n);
 }
 
 /// Reef fish and sharks with their scripts.
-#[divan::bench(args = sizes(Workload::Reef), sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::Reef), sample_count = 10, sample_size = 2)]
 fn reef(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::Reef, n);
 }
 
 /// The same reef with script conditions replaced by native ones.
-#[divan::bench(args = sizes(Workload::ReefNative), sample_count = 20, sample_size = 5)]
+#[divan::bench(args = sizes(Workload::ReefNative), sample_count = 10, sample_size = 2)]
 fn reef_native(bencher: divan::Bencher, n: usize) {
     ticks(bencher, Workload::ReefNative, n);
 }
 
 /// The decision stage alone on a 10k reef (`stage_size`), a script call per agent (items: agents).
-#[divan::bench(args = [true, false], sample_count = 20, sample_size = 5)]
+#[divan::bench(args = [true, false], sample_count = 10, sample_size = 2)]
 fn decide(bencher: divan::Bencher, scripted: bool) {
     let Some(w) = warm(Workload::Decide, stage_size()) else {
         return;
@@ -88,7 +90,7 @@ fn decide(bencher: divan::Bencher, scripted: bool) {
 }
 
 /// Spatial index and perception alone on a 10k reef (`stage_size`) (items: agents).
-#[divan::bench(sample_count = 20, sample_size = 5)]
+#[divan::bench(sample_count = 10, sample_size = 2)]
 fn perceive(bencher: divan::Bencher) {
     let Some(mut w) = warm(Workload::Perceive, stage_size()) else {
         return;

@@ -146,9 +146,13 @@ pub struct Percept {
     pub offset: Vec3,
     /// Distance (for obstacles: to the surface).
     pub dist: f32,
-    /// Horizontal bearing θ (rad, right positive).
+    /// Horizontal bearing θ (rad, right positive). In the tick pipeline it is computed only
+    /// where the species' behaviors can read it (obstacles, the nearest of each category, agents
+    /// within its dynamic-avoidance range) and is 0 elsewhere, unless
+    /// `Pipeline::set_full_bearings(true)`; [`crate::frame::bearing_elevation`] gives it from
+    /// `offset` at any time.
     pub bearing: f32,
-    /// Elevation ω (rad, up positive).
+    /// Elevation ω (rad, up positive); computed where `bearing` is.
     pub elevation: f32,
     /// Size S: bounding-box diagonal.
     pub size: f32,
