@@ -100,9 +100,8 @@ fn perceive(bencher: divan::Bencher) {
         .bench_local(|| w.run.pipeline.perceive(&w.run.world));
 }
 
-/// Formation A* on a 1024² terrain. HOOK(plan): ignored until the planner of `src/formation/` is
-/// wired into `shoal::bench::plan::measure` (see src/bench/plan.rs); then drop `ignore`.
-#[divan::bench(ignore)]
+/// Formation A* + smoothing + follower paths on a 1024² terrain (see `src/bench/plan.rs`).
+#[divan::bench(sample_count = 5)]
 fn plan() {
     divan::black_box(bench::plan::measure(1));
 }
