@@ -121,7 +121,8 @@ fn clamp01(x: f32) -> f32 {
     if x.is_nan() {
         0.0
     } else {
-        x.clamp(0.0, 1.0)
+        // `+ 0.0` turns the −0.0 of an empty sum into 0.0, so recordings never print "-0".
+        x.clamp(0.0, 1.0) + 0.0
     }
 }
 
@@ -166,6 +167,7 @@ mod tests {
         // A predator nearer than D0 saturates.
         assert_eq!(fear([100.0], 200.0), 1.0);
         assert_eq!(fear([], 200.0), 0.0);
+        assert!(fear([], 200.0).is_sign_positive(), "no -0.0 in recordings");
         assert_eq!(fear([0.0], 200.0), 1.0);
     }
 
