@@ -8,7 +8,7 @@
 
 mod view;
 
-pub use view::{register_api, AgentView, CategoryView, ScriptSteer, SteerTerm};
+pub use view::{from_mem, register_api, to_mem, AgentView, CategoryView, ScriptSteer, SteerTerm};
 
 use crate::diag::{Diagnostic, Diagnostics};
 use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Module, Position, Scope, AST};

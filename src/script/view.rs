@@ -116,7 +116,8 @@ fn err(msg: impl Into<String>) -> Box<EvalAltResult> {
     ))
 }
 
-fn to_mem(v: Dynamic) -> Result<MemValue, Box<EvalAltResult>> {
+/// A script value as a blackboard entry (bools, ints, floats, vectors, strings up to 256 bytes).
+pub fn to_mem(v: Dynamic) -> Result<MemValue, Box<EvalAltResult>> {
     if let Some(b) = v.clone().try_cast::<bool>() {
         Ok(MemValue::Bool(b))
     } else if let Some(i) = v.clone().try_cast::<INT>() {
@@ -138,7 +139,8 @@ fn to_mem(v: Dynamic) -> Result<MemValue, Box<EvalAltResult>> {
     }
 }
 
-fn from_mem(v: &MemValue) -> Dynamic {
+/// A blackboard entry as a script value.
+pub fn from_mem(v: &MemValue) -> Dynamic {
     match v {
         MemValue::Bool(b) => Dynamic::from(*b),
         MemValue::Int(i) => Dynamic::from(*i),

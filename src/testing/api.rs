@@ -14,7 +14,7 @@ use crate::frame;
 use crate::perception::{Category, Sense};
 use crate::species::SexDef;
 use crate::terrain::{load_asc, Cell, CellAttrs, Terrain};
-use crate::world::{Aabb, AgentId, MemValue, Sex, MEMORY_CAPACITY};
+use crate::world::{Aabb, AgentId, Sex, MEMORY_CAPACITY};
 use glam::{Vec2, Vec3};
 use rhai::{
     Array, Dynamic, Engine, EvalAltResult, FnPtr, ImmutableString, Map, NativeCallContext, FLOAT,
@@ -114,34 +114,7 @@ fn check_keys(m: &Map, known: &[&str], what: &str) -> R<()> {
     Ok(())
 }
 
-fn to_mem(v: Dynamic) -> R<MemValue> {
-    if let Some(b) = v.clone().try_cast::<bool>() {
-        Ok(MemValue::Bool(b))
-    } else if let Some(i) = v.clone().try_cast::<INT>() {
-        Ok(MemValue::Int(i))
-    } else if let Some(f) = v.clone().try_cast::<FLOAT>() {
-        Ok(MemValue::Float(f))
-    } else if let Some(x) = v.clone().try_cast::<Vec3>() {
-        Ok(MemValue::Vec3(x))
-    } else if let Some(s) = v.clone().try_cast::<ImmutableString>() {
-        Ok(MemValue::Str(s.to_string()))
-    } else {
-        Err(error(format!(
-            "memory holds bools, ints, floats, vec3 and strings, not {}",
-            v.type_name()
-        )))
-    }
-}
-
-fn from_mem(v: &MemValue) -> Dynamic {
-    match v {
-        MemValue::Bool(b) => Dynamic::from(*b),
-        MemValue::Int(i) => Dynamic::from(*i),
-        MemValue::Float(f) => Dynamic::from(*f),
-        MemValue::Vec3(x) => Dynamic::from(*x),
-        MemValue::Str(s) => Dynamic::from(ImmutableString::from(s.as_str())),
-    }
-}
+use crate::script::{from_mem, to_mem};
 
 fn category(name: &str) -> R<Category> {
     Category::ALL
