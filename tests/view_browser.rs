@@ -2,59 +2,13 @@
 //! `tests/browser/view.test.mjs` (playwright-core). Under CI (`CI` set) a missing browser, node or
 //! `npm ci --prefix tests/browser` is a failure; locally the test skips with a visible message.
 
+mod browser_support;
 mod fixtures;
 
-use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use browser_support::{browser_available, repo};
 use std::process::Command;
 
 use fixtures::{write_run, FixtureSpec};
-
-const CHROMIUM: &str = "/usr/bin/chromium";
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// What is missing for the browser test, if anything.
-fn missing_prerequisites() -> Vec<String> {
-    let mut missing = Vec::new();
-    if !Path::new(CHROMIUM).exists() {
-        missing.push(format!("{CHROMIUM} (apt-get install -y chromium)"));
-    }
-    let node = Command::new("node").arg("--version").output();
-    if !matches!(node, Ok(ref o) if o.status.success()) {
-        missing.push("node (apt-get install -y nodejs npm)".to_string());
-    }
-    if !repo()
-        .join("tests/browser/node_modules/playwright-core")
-        .exists()
-    {
-        missing.push(
-            "tests/browser/node_modules/playwright-core (npm ci --prefix tests/browser)"
-                .to_string(),
-        );
-    }
-    missing
-}
-
-/// True when the test may run; under CI a missing prerequisite fails instead of skipping.
-fn browser_available(test: &str) -> bool {
-    let missing = missing_prerequisites();
-    if missing.is_empty() {
-        return true;
-    }
-    let what = missing.join(", ");
-    if std::env::var_os("CI").is_some() {
-        panic!("{test}: browser test prerequisites missing under CI: {what}; run `bash tests/browser/setup.sh`");
-    }
-    // Written to the process's stderr directly so the test harness does not capture it.
-    let _ = writeln!(
-        std::io::stderr().lock(),
-        "SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it"
-    );
-    false
-}
 
 /// Runs `node tests/browser/<script> <args…>` and fails with its output when it fails.
 fn run_node(script: &str, args: &[&std::ffi::OsStr]) {

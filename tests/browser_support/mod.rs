@@ -1,0 +1,54 @@
+//! Shared by the browser tests: whether headless Chromium, node and playwright-core are there.
+//! Under CI (`CI` set) a missing prerequisite fails the test; locally it skips with a visible
+//! message.
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Debian's Chromium.
+pub const CHROMIUM: &str = "/usr/bin/chromium";
+
+/// The repository root.
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// What is missing for a browser test, if anything.
+pub fn missing_prerequisites() -> Vec<String> {
+    let mut missing = Vec::new();
+    if !Path::new(CHROMIUM).exists() {
+        missing.push(format!("{CHROMIUM} (apt-get install -y chromium)"));
+    }
+    let node = Command::new("node").arg("--version").output();
+    if !matches!(node, Ok(ref o) if o.status.success()) {
+        missing.push("node (apt-get install -y nodejs npm)".to_string());
+    }
+    if !repo()
+        .join("tests/browser/node_modules/playwright-core")
+        .exists()
+    {
+        missing.push(
+            "tests/browser/node_modules/playwright-core (npm ci --prefix tests/browser)".into(),
+        );
+    }
+    missing
+}
+
+/// True when the test may run; under CI a missing prerequisite fails instead of skipping.
+pub fn browser_available(test: &str) -> bool {
+    let missing = missing_prerequisites();
+    if missing.is_empty() {
+        return true;
+    }
+    let what = missing.join(", ");
+    if std::env::var_os("CI").is_some() {
+        panic!("{test}: browser test prerequisites missing under CI: {what}; run `bash tests/browser/setup.sh`");
+    }
+    // Straight to the process's stderr so that the test harness does not capture it.
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it"
+    );
+    false
+}
