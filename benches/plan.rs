@@ -3,6 +3,7 @@
 //! column), task class "may change rarely". Run with `cargo bench --bench plan`.
 
 use divan::Bencher;
+use shoal::bench::plan::{self, hills};
 use shoal::formation::{Formation, PlanRequest, Planner, Shape, TaskClass, Weights};
 use shoal::terrain::{Cell, CostGrid, Mobility, Terrain};
 
@@ -10,24 +11,9 @@ fn main() {
     divan::main();
 }
 
-/// Rolling hills, 2 m cells, relief growing with the map so slopes look alike at every size.
-fn hills(n: usize) -> CostGrid {
-    Terrain::procedural(n, n, 2.0, 60.0, 2007).cost_grid(&Mobility::default())
-}
-
-/// The free cell nearest to `c` (searching outwards in rings).
+/// The free cell nearest to `c` (the benchmark maps always have one).
 fn free_near(grid: &CostGrid, c: Cell) -> Cell {
-    for radius in 0..grid.cols as i64 {
-        for dr in -radius..=radius {
-            for dc in -radius..=radius {
-                let (col, row) = (c.col as i64 + dc, c.row as i64 + dr);
-                if !grid.is_blocked(col, row) {
-                    return Cell::new(col as usize, row as usize);
-                }
-            }
-        }
-    }
-    panic!("no free cell");
+    plan::free_near(grid, c).expect("no free cell")
 }
 
 #[divan::bench(args = [256, 1024, 2048], consts = [5, 12], sample_count = 10, sample_size = 1)]

@@ -14,8 +14,14 @@ pub const TERRAIN_SIDE: usize = 1024;
 /// Team size.
 pub const MEMBERS: usize = 5;
 
+/// Rolling hills of `n × n` cells of 2 m, relief growing with the map so slopes look alike at
+/// every size (the map of this workload and of `benches/plan.rs`).
+pub fn hills(n: usize) -> CostGrid {
+    Terrain::procedural(n, n, 2.0, 60.0, 2007).cost_grid(&Mobility::default())
+}
+
 /// The free cell nearest to `c`, searching outwards in rings.
-fn free_near(grid: &CostGrid, c: Cell) -> Option<Cell> {
+pub fn free_near(grid: &CostGrid, c: Cell) -> Option<Cell> {
     for radius in 0..grid.cols as i64 {
         for dr in -radius..=radius {
             for dc in -radius..=radius {
@@ -33,7 +39,7 @@ fn free_near(grid: &CostGrid, c: Cell) -> Option<Cell> {
 /// path (it always has one with the seed used).
 pub fn measure(passes: u64) -> Option<Sample> {
     let n = TERRAIN_SIDE;
-    let grid = Terrain::procedural(n, n, 2.0, 60.0, 2007).cost_grid(&Mobility::default());
+    let grid = hills(n);
     let formations = [
         Formation::new(&Shape::Wedge, MEMBERS, 4.0).ok()?,
         Formation::new(&Shape::Column, MEMBERS, 3.0).ok()?,
