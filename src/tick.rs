@@ -11,12 +11,11 @@ use crate::drives::{self, Stimuli};
 use crate::events::{Cause, Event, MessageKind};
 use crate::index::Grid;
 use crate::locomotion::{self, anim, Motion};
-use crate::perception::{Category, Perception, Source};
+use crate::perception::{Category, GroupQueries, Perception, Reads, Source};
 use crate::script::AgentView;
 use crate::species::{
-    ActionNode, CondNode, Contact, Draw, Recipe, RecipeNode, SexDef, Species, SpeciesSet,
+    ActionNode, Contact, Draw, SexDef, SpeciesSet,
 };
-use crate::steering::avoid::AvoidParams;
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{
@@ -27,7 +26,9 @@ use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
 use std::sync::Arc;
 
+mod reads;
 mod remap;
+pub use reads::{bearing_range, group_query, reads};
 pub use remap::Remap;
 
 /// The parts of an agent the decision stage mutates, moved out of the world during the pass.
@@ -119,95 +120,12 @@ pub struct Pipeline {
     /// Run every agent's scripts every tick, whatever the species' decision interval (a dry
     /// run of a new version exercises every agent in one tick).
     pub scripts_every_tick: bool,
-    /// Per species: distance within which its behaviors read the bearings of agent percepts
-    /// (see [`bearing_range`]); empty when every percept gets its bearing.
-    bearing_ranges: Vec<f32>,
+    /// Per species: what its behaviors read of perception (see [`reads`]).
+    reads: Vec<Reads>,
     full_bearings: bool,
     species_counts: Vec<u32>,
     /// Per worker thread (by rayon thread index): buffers kept across ticks.
     workers: Vec<std::sync::Mutex<Worker>>,
-}
-
-/// Distance within which a species' behaviors read the bearing and elevation of agent percepts
-/// other than the nearest of their category: its dynamic-avoidance range (`TrafficNear`,
-/// `AvoidDynamic`), 0 when it has neither. Obstacles and the nearest percept of each category
-/// always get theirs. The matches are exhaustive so that a new primitive has to say what it
-/// reads.
-pub fn bearing_range(sp: &Species) -> f32 {
-    fn of(p: &AvoidParams) -> f32 {
-        p.range.unwrap_or(f32::INFINITY)
-    }
-    fn cond(c: &CondNode, sp: &Species) -> f32 {
-        match c {
-            CondNode::TrafficNear => of(&sp.def.avoid),
-            CondNode::All(v) | CondNode::Any(v) => {
-                v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max)
-            }
-            CondNode::Not(c) => cond(c, sp),
-            CondNode::Latch { on, off, .. } => cond(on, sp).max(cond(off, sp)),
-            // Nearest percepts, obstacles or no percepts at all.
-            CondNode::Always
-            | CondNode::Never
-            | CondNode::Above(..)
-            | CondNode::Below(..)
-            | CondNode::Sees(_)
-            | CondNode::Smells(_)
-            | CondNode::Perceives(_)
-            | CondNode::Within(..)
-            | CondNode::EscapeDone
-            | CondNode::ObstacleNear
-            | CondNode::Heard(_)
-            | CondNode::TimeIn(_)
-            | CondNode::Chance(_)
-            | CondNode::NearBounds(_)
-            | CondNode::Script(_) => 0.0,
-        }
-    }
-    fn leaf(r: &Recipe) -> f32 {
-        match r {
-            Recipe::AvoidDynamic(p) => of(p),
-            // Nearest percepts, obstacles, neighbors' offsets and velocities, or nothing.
-            Recipe::Priority(_)
-            | Recipe::Blend(_)
-            | Recipe::Script(_)
-            | Recipe::AvoidStatic(_)
-            | Recipe::PredictCollision(_)
-            | Recipe::Contain(_)
-            | Recipe::Chase(_)
-            | Recipe::Escape(_)
-            | Recipe::EscapeMirror(_)
-            | Recipe::Pursue(_)
-            | Recipe::Seek(_)
-            | Recipe::Flee(_)
-            | Recipe::Arrive(_)
-            | Recipe::Separation(_)
-            | Recipe::Alignment(_)
-            | Recipe::Cohesion(_)
-            | Recipe::Zones(_)
-            | Recipe::Vicsek(_)
-            | Recipe::Disperse(_)
-            | Recipe::Wander(_)
-            | Recipe::Cruise(_)
-            | Recipe::Stop
-            | Recipe::FollowPlan(_) => 0.0,
-        }
-    }
-    fn recipe(r: &RecipeNode) -> f32 {
-        match r {
-            RecipeNode::Leaf(l) => leaf(l),
-            RecipeNode::Priority(v) => v.iter().map(recipe).fold(0.0, f32::max),
-            RecipeNode::Blend(v) => v.iter().map(|(_, _, r)| recipe(r)).fold(0.0, f32::max),
-            // Script-built steering composes the named recipes, walked below.
-            RecipeNode::Script(_) => 0.0,
-        }
-    }
-    let behaviors = sp.behaviors.iter().map(|b| {
-        cond(&b.when, sp)
-            .max(cond(&b.done, sp))
-            .max(recipe(&b.steer))
-    });
-    let named = sp.recipes.iter().map(recipe);
-    behaviors.chain(named).fold(0.0, f32::max)
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -239,7 +157,7 @@ impl Pipeline {
             plan_targets: Vec::new(),
             injected: Default::default(),
             scripts_every_tick: false,
-            bearing_ranges: Vec::new(),
+            reads: Vec::new(),
             full_bearings: false,
             species_counts: Vec::new(),
             workers: Vec::new(),
@@ -267,27 +185,32 @@ impl Pipeline {
             self.stats.behavior_ticks[i].resize(s.behaviors.len(), 0);
         }
         self.species = species;
-        self.refresh_bearing_ranges();
+        self.refresh_reads();
     }
 
-    /// With `true`, every percept gets its bearing and elevation (for tools that show all of an
-    /// agent's percepts); by default only those the species' behaviors can read do (see
-    /// [`bearing_range`]).
+    /// With `true`, every agent keeps its percepts, each with its bearing and elevation (for
+    /// tools that show all of an agent's percepts); by default only what the species' behaviors
+    /// can read is kept (see [`reads`]).
     pub fn set_full_bearings(&mut self, on: bool) {
         self.full_bearings = on;
-        self.refresh_bearing_ranges();
+        self.refresh_reads();
     }
 
-    fn refresh_bearing_ranges(&mut self) {
-        self.bearing_ranges = if self.full_bearings {
-            Vec::new()
-        } else {
-            self.species
-                .species
-                .iter()
-                .map(|s| bearing_range(s))
-                .collect()
-        };
+    fn refresh_reads(&mut self) {
+        let full = self.full_bearings;
+        self.reads = self
+            .species
+            .species
+            .iter()
+            .map(|s| {
+                let mut r = reads(s);
+                if full {
+                    r.percepts = true;
+                    r.bearing_range = None;
+                }
+                r
+            })
+            .collect();
     }
 
     /// Percepts of the last tick's perception stage, by agent index.
@@ -395,14 +318,19 @@ impl Pipeline {
             .rebuild(world.bounds, cell, world.agents.iter().map(|a| a.pos));
         self.food_grid
             .rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
-        // 2. Perception.
+        // 2. Perception. Agents fed percepts need slots for them, whatever their species reads.
+        if !self.injected.is_empty() {
+            for r in &mut self.reads {
+                r.percepts = true;
+            }
+        }
         self.perception.run_selective(
             world,
             &self.agent_grid,
             &self.food_grid,
             &set.senses,
             &set.relations,
-            &self.bearing_ranges,
+            &self.reads,
         );
         for (id, percepts) in &self.injected {
             if let Some(i) = world.agent_index(*id) {
@@ -431,6 +359,7 @@ impl Pipeline {
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
         let every_tick = self.scripts_every_tick;
+        let reads = &self.reads[..];
         let velocities = perception.velocities();
         let threads = rayon::current_num_threads();
         if self.workers.len() < threads {
@@ -482,6 +411,7 @@ impl Pipeline {
                         &mut w.scratch,
                         &mut w.view,
                         every_tick,
+                        reads,
                     );
                 },
             );
@@ -704,6 +634,8 @@ impl Pipeline {
             agent: &agent,
             percepts,
             summaries,
+            group_queries: &GroupQueries::EMPTY,
+            group_sums: &[],
             tick,
             dt: world.dt,
         };
@@ -758,13 +690,16 @@ fn agent_pass(
     scratch: &mut Scratch,
     view: &mut Dynamic,
     scripts_every_tick: bool,
+    reads: &[Reads],
 ) {
     let base = &world.agents[i];
     let s = base.species.0 as usize;
+    let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
     let def = &sp.def;
     let percepts = perception.percepts(i);
     let summaries = perception.summaries(i);
+    let group_sums = perception.group_sums(i);
     let dt = world.dt;
     let tick = world.tick;
 
@@ -810,6 +745,8 @@ fn agent_pass(
                 agent: &me,
                 percepts,
                 summaries,
+                group_queries,
+                group_sums,
                 tick,
                 dt,
             };
@@ -843,6 +780,8 @@ fn agent_pass(
         agent: &me,
         percepts,
         summaries,
+        group_queries,
+        group_sums,
         tick,
         dt,
     };
@@ -885,6 +824,8 @@ fn agent_pass(
         agent: &me,
         percepts,
         summaries,
+        group_queries,
+        group_sums,
         tick,
         dt,
     };

@@ -540,6 +540,9 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
                     agent: a,
                     percepts: perception.percepts(i),
                     summaries: perception.summaries(i),
+                    // Decisions read no group sums.
+                    group_queries: &crate::perception::GroupQueries::EMPTY,
+                    group_sums: &[],
                     tick: world.tick,
                     dt: world.dt,
                 };

@@ -11,7 +11,9 @@
 pub mod scripts;
 
 use crate::events::{Cause, MessageKind};
-use crate::perception::{Category, Percept, Sense, Source, Summary};
+use crate::perception::{
+    Category, GroupQueries, GroupQuery, GroupSum, Percept, Sense, Source, Summary,
+};
 use crate::species::{AttrKind, CondNode, DriveKind, Species, ValueNode};
 use crate::steering::avoid::{self, PressureSource};
 use crate::steering::escape;
@@ -31,6 +33,10 @@ pub struct Ctx<'a> {
     pub percepts: &'a [Percept],
     /// Its summaries.
     pub summaries: &'a [Summary; Category::COUNT],
+    /// The neighborhood sums its species' group rules read ([`crate::perception::Reads`])...
+    pub group_queries: &'a GroupQueries,
+    /// ... and its sums of them, in the same order.
+    pub group_sums: &'a [GroupSum],
     /// Current tick.
     pub tick: u64,
     /// Time step.
@@ -46,6 +52,13 @@ impl Ctx<'_> {
             pitch: self.agent.pitch,
             speed: self.agent.speed,
         }
+    }
+    /// The agent's sums of a group query, if perception folded them.
+    #[inline]
+    pub fn group(&self, q: &GroupQuery) -> Option<&GroupSum> {
+        self.group_queries
+            .position(q)
+            .and_then(|k| self.group_sums.get(k))
     }
     /// Nearest percept of a category.
     pub fn nearest(&self, c: Category) -> Option<&Percept> {

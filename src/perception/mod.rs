@@ -12,9 +12,11 @@
 //! [`ObstacleGrid`], and the two inverse trigonometric calls of a bearing are spent only on the
 //! percepts kept (and, in the pipeline, only on those a behavior can read).
 
+pub mod group;
 mod types;
 pub mod volume;
 
+pub use group::{GroupQueries, GroupQuery, GroupSum};
 pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::Volume;
 
@@ -26,8 +28,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Percepts kept per agent (the nearest ones; summaries still count all of them).
-pub const MAX_PERCEPTS: usize = 24;
+/// Most percepts a species may keep per agent ([`SenseParams::max_percepts`]).
+pub const MAX_PERCEPTS: usize = 32;
+/// Percepts kept per agent unless the species says otherwise.
+pub const DEFAULT_PERCEPTS: usize = 16;
 // Kept percepts are flagged in a `u32` bit mask.
 const _: () = assert!(MAX_PERCEPTS <= 32);
 
@@ -48,6 +52,9 @@ pub struct SenseParams {
     pub volume: Option<Volume>,
     /// Whether obstacles' bounding spheres hide what lies behind them.
     pub occlusion: bool,
+    /// Percepts kept per agent (the nearest ones, and always the nearest of each category), at
+    /// most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
+    pub max_percepts: usize,
 }
 
 impl Default for SenseParams {
@@ -58,11 +65,16 @@ impl Default for SenseParams {
             smell_radius: 20.0,
             volume: None,
             occlusion: true,
+            max_percepts: DEFAULT_PERCEPTS,
         }
     }
 }
 
 impl SenseParams {
+    /// Percepts kept per agent, within `0..=MAX_PERCEPTS`.
+    pub fn slots(&self) -> usize {
+        self.max_percepts.min(MAX_PERCEPTS)
+    }
     /// The radius a spatial query must cover.
     pub fn query_radius(&self) -> f32 {
         let v = self.volume.map_or(self.vision_radius, |v| v.max_reach());
@@ -127,12 +139,42 @@ impl Relations {
     }
 }
 
+/// What a species' behaviors read of its perception, worked out at load time (see
+/// `tick::reads`), so that the stage does only that work.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reads {
+    /// Whether any behavior, condition, script or drive reads individual percepts. Without, the
+    /// agent keeps none (its summaries and group sums are still complete).
+    pub percepts: bool,
+    /// Distance within which agent percepts get their bearing and elevation (obstacles and the
+    /// nearest of each category always do); `None`: every percept kept.
+    pub bearing_range: Option<f32>,
+    /// Neighborhood sums its group rules read.
+    pub groups: GroupQueries,
+}
+
+impl Default for Reads {
+    /// Everything: every percept kept with its bearing, no group sums.
+    fn default() -> Self {
+        Reads {
+            percepts: true,
+            bearing_range: None,
+            groups: GroupQueries::new(),
+        }
+    }
+}
+
 /// Per-agent perception results of one tick.
 #[derive(Debug, Clone, Default)]
 pub struct Perception {
+    /// Percept slots of every agent, `slot_starts[i]..slot_starts[i + 1]` for agent `i`.
     percepts: Vec<Percept>,
+    slot_starts: Vec<u32>,
     counts: Vec<u16>,
     summaries: Vec<[Summary; Category::COUNT]>,
+    /// Group sums of every agent, `sum_starts[i]..sum_starts[i + 1]` for agent `i`.
+    sums: Vec<GroupSum>,
+    sum_starts: Vec<u32>,
     /// What a perceiver reads of each agent, by agent index, gathered once per tick so that a
     /// neighbor costs one small read instead of a walk into the full agent and two `sin_cos`.
     bodies: Vec<Body>,
@@ -181,22 +223,112 @@ const EMPTY: Percept = Percept {
     size: 0.0,
 };
 
+/// One agent's share of the stage's output buffers.
+struct AgentOut<'a> {
+    slots: &'a mut [Percept],
+    count: &'a mut u16,
+    summary: &'a mut [Summary; Category::COUNT],
+    sums: &'a mut [GroupSum],
+}
+
+/// The output buffers of agents `lo..lo + counts.len()`.
+struct Outs<'a> {
+    lo: usize,
+    percepts: &'a mut [Percept],
+    counts: &'a mut [u16],
+    summaries: &'a mut [[Summary; Category::COUNT]],
+    sums: &'a mut [GroupSum],
+}
+
+/// Agents per task of the parallel walk.
+const AGENTS_PER_TASK: usize = 64;
+
+impl<'a> Outs<'a> {
+    /// Calls `f(i, out)` for every agent, splitting the range in halves on rayon's pool (each
+    /// agent writes only its own slots: the result does not depend on the split).
+    fn for_each(
+        self,
+        slot_starts: &[u32],
+        sum_starts: &[u32],
+        f: &(impl Fn(usize, AgentOut) + Sync),
+    ) {
+        let n = self.counts.len();
+        if n <= AGENTS_PER_TASK {
+            let lo = self.lo;
+            let mut percepts = self.percepts;
+            let mut sums = self.sums;
+            for (k, (count, summary)) in self.counts.iter_mut().zip(self.summaries).enumerate() {
+                let i = lo + k;
+                let ns = (slot_starts[i + 1] - slot_starts[i]) as usize;
+                let ng = (sum_starts[i + 1] - sum_starts[i]) as usize;
+                let (slots, rest) = std::mem::take(&mut percepts).split_at_mut(ns);
+                percepts = rest;
+                let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
+                sums = rest;
+                f(
+                    i,
+                    AgentOut {
+                        slots,
+                        count,
+                        summary,
+                        sums: own_sums,
+                    },
+                );
+            }
+            return;
+        }
+        let mid = n / 2;
+        let at = |starts: &[u32]| (starts[self.lo + mid] - starts[self.lo]) as usize;
+        let (slot_mid, sum_mid) = (at(slot_starts), at(sum_starts));
+        let (p0, p1) = self.percepts.split_at_mut(slot_mid);
+        let (c0, c1) = self.counts.split_at_mut(mid);
+        let (s0, s1) = self.summaries.split_at_mut(mid);
+        let (g0, g1) = self.sums.split_at_mut(sum_mid);
+        let left = Outs {
+            lo: self.lo,
+            percepts: p0,
+            counts: c0,
+            summaries: s0,
+            sums: g0,
+        };
+        let right = Outs {
+            lo: self.lo + mid,
+            percepts: p1,
+            counts: c1,
+            summaries: s1,
+            sums: g1,
+        };
+        rayon::join(
+            || left.for_each(slot_starts, sum_starts, f),
+            || right.for_each(slot_starts, sum_starts, f),
+        );
+    }
+}
+
 impl Perception {
     /// Empty buffers.
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Percepts of agent `i` (nearest [`MAX_PERCEPTS`]).
+    /// Percepts of agent `i`: the nearest [`SenseParams::max_percepts`], and the nearest of each
+    /// category; none when its species reads no individual percept.
     #[inline]
     pub fn percepts(&self, i: usize) -> &[Percept] {
-        &self.percepts[i * MAX_PERCEPTS..i * MAX_PERCEPTS + self.counts[i] as usize]
+        let s = self.slot_starts[i] as usize;
+        &self.percepts[s..s + self.counts[i] as usize]
     }
 
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> &[Summary; Category::COUNT] {
         &self.summaries[i]
+    }
+
+    /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
+    #[inline]
+    pub fn group_sums(&self, i: usize) -> &[GroupSum] {
+        &self.sums[self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize]
     }
 
     /// Velocities of every agent at the start of the tick ([`crate::world::Agent::velocity`],
@@ -216,7 +348,7 @@ impl Perception {
     }
 
     /// Runs perception for every agent of `world`. `senses[s]` are species `s`'s senses. Every
-    /// percept kept gets its bearing and elevation.
+    /// agent keeps its percepts, each with its bearing and elevation.
     pub fn run(
         &mut self,
         world: &World,
@@ -228,11 +360,9 @@ impl Perception {
         self.run_selective(world, agents, food, senses, relations, &[]);
     }
 
-    /// Like [`Perception::run`], but bearing and elevation (two inverse trigonometric calls per
-    /// percept) are only computed where species `s` can read them: for obstacles, for the nearest
-    /// percept of each category, and for agents within `bearing_ranges[s]` (its dynamic-avoidance
-    /// range); other percepts keep a bearing and elevation of 0. A species without an entry gets
-    /// every bearing.
+    /// Like [`Perception::run`], but does for species `s` only what `reads[s]` says it reads:
+    /// percepts kept or not, bearings (two inverse trigonometric calls per percept) only within
+    /// a range, group sums. A species without an entry gets [`Reads::default`].
     pub fn run_selective(
         &mut self,
         world: &World,
@@ -240,11 +370,29 @@ impl Perception {
         food: &Grid,
         senses: &[SenseParams],
         relations: &Relations,
-        bearing_ranges: &[f32],
+        reads: &[Reads],
     ) {
         let n = world.agents.len();
-        // Every agent's slots and summaries are rewritten below: only the sizes change here.
-        self.percepts.resize(n * MAX_PERCEPTS, EMPTY);
+        let default = SenseParams::default();
+        let everything = Reads::default();
+        // Slot and sum layout of this tick: every agent's share is rewritten below.
+        self.slot_starts.clear();
+        self.sum_starts.clear();
+        let (mut slots, mut sums) = (0u32, 0u32);
+        for a in &world.agents {
+            self.slot_starts.push(slots);
+            self.sum_starts.push(sums);
+            let s = a.species.0 as usize;
+            let r = reads.get(s).unwrap_or(&everything);
+            if r.percepts {
+                slots += senses.get(s).unwrap_or(&default).slots() as u32;
+            }
+            sums += r.groups.len() as u32;
+        }
+        self.slot_starts.push(slots);
+        self.sum_starts.push(sums);
+        self.percepts.resize(slots as usize, EMPTY);
+        self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
         self.summaries
             .resize(n, [Summary::default(); Category::COUNT]);
@@ -269,7 +417,6 @@ impl Perception {
                 *v = b.heading * b.speed;
             });
         let bodies = &self.bodies[..];
-        let default = SenseParams::default();
         let unsensed = bodies.iter().any(|b| b.species as usize >= senses.len());
         let reach = senses
             .iter()
@@ -279,31 +426,30 @@ impl Perception {
         self.obstacle_grid
             .update(world.bounds, reach, &world.obstacles);
         let obstacle_grid = &self.obstacle_grid;
-        self.percepts
-            .par_chunks_mut(MAX_PERCEPTS)
-            .zip(self.counts.par_iter_mut())
-            .zip(self.summaries.par_iter_mut())
-            .enumerate()
-            .with_min_len(64)
-            .for_each(|(i, ((slots, count), summary))| {
-                *summary = [Summary::default(); Category::COUNT];
-                let s = world.agents[i].species.0 as usize;
-                let sense = senses.get(s).unwrap_or(&default);
-                let bearings = bearing_ranges.get(s).copied();
-                *count = perceive_one(
-                    i,
-                    world,
-                    bodies,
-                    agents,
-                    food,
-                    obstacle_grid,
-                    sense,
-                    relations,
-                    bearings,
-                    slots,
-                    summary,
-                );
-            });
+        let outs = Outs {
+            lo: 0,
+            percepts: &mut self.percepts,
+            counts: &mut self.counts,
+            summaries: &mut self.summaries,
+            sums: &mut self.sums,
+        };
+        let velocities = &self.velocities[..];
+        outs.for_each(&self.slot_starts, &self.sum_starts, &|i, out| {
+            *out.summary = [Summary::default(); Category::COUNT];
+            let s = world.agents[i].species.0 as usize;
+            let sense = senses.get(s).unwrap_or(&default);
+            let r = reads.get(s).unwrap_or(&everything);
+            let view = View {
+                world,
+                bodies,
+                velocities,
+                agents,
+                food,
+                obstacle_grid,
+                relations,
+            };
+            *out.count = perceive_one(i, &view, sense, r, out.slots, out.summary, out.sums);
+        });
     }
 }
 
@@ -315,7 +461,11 @@ impl Perception {
         if i >= self.counts.len() {
             return;
         }
-        let slots = &mut self.percepts[i * MAX_PERCEPTS..(i + 1) * MAX_PERCEPTS];
+        let range = self.slot_starts[i] as usize..self.slot_starts[i + 1] as usize;
+        let slots = &mut self.percepts[range];
+        // Fed percepts stand for no object of the world: no neighbor for the group rules.
+        let sums = self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize;
+        self.sums[sums].fill(GroupSum::default());
         let summary = &mut self.summaries[i];
         *summary = [Summary::default(); Category::COUNT];
         let mut len = 0;
@@ -384,12 +534,12 @@ fn keep(slots: &mut [Percept], len: &mut usize, p: Percept) {
     }
 }
 
-/// The nearest `MAX_PERCEPTS` percepts of one agent: appends while there is room, else
-/// replaces the farthest when nearer. The farthest slot (the first one of the largest distance)
-/// is remembered between offers and looked for again only after a replacement.
+/// The nearest percepts of one agent, as many as it has slots: appends while there is room,
+/// else replaces the farthest when nearer. The farthest slot (the first one of the largest
+/// distance) is remembered between offers and looked for again only after a replacement.
 struct Kept<'a> {
     slots: &'a mut [Percept],
-    /// Distances of `slots`, contiguous for the search of the farthest.
+    /// Distances of `slots`, contiguous for the search of the farthest; −∞ past the slots.
     dists: [f32; MAX_PERCEPTS],
     len: usize,
     /// The first slot of the largest distance, when `far_valid`.
@@ -400,35 +550,27 @@ struct Kept<'a> {
 }
 
 impl Kept<'_> {
-    /// The first slot of the largest distance (distances are finite: positions are kept
-    /// inside the world bounds).
+    /// The first slot of the largest distance, once every slot is used (distances are finite:
+    /// positions are kept inside the world bounds).
     #[inline]
     fn find_far(&mut self) {
-        if self.len == MAX_PERCEPTS {
-            // Four independent running maxima and a mask of the slots equal to the largest: no
-            // serial chain of compares and branches.
-            let d = &self.dists;
-            let mut m = [f32::NEG_INFINITY; 4];
-            for c in d.chunks_exact(4) {
-                for l in 0..4 {
-                    m[l] = if c[l] > m[l] { c[l] } else { m[l] };
-                }
+        // Four independent running maxima and a mask of the slots equal to the largest: no
+        // serial chain of compares and branches. Entries past the slots are −∞.
+        let d = &self.dists;
+        let mut m = [f32::NEG_INFINITY; 4];
+        for c in d.chunks_exact(4) {
+            for l in 0..4 {
+                m[l] = if c[l] > m[l] { c[l] } else { m[l] };
             }
-            let m01 = if m[1] > m[0] { m[1] } else { m[0] };
-            let m23 = if m[3] > m[2] { m[3] } else { m[2] };
-            let max = if m23 > m01 { m23 } else { m01 };
-            let mut mask = 0u32;
-            for (k, &x) in d.iter().enumerate() {
-                mask |= ((x == max) as u32) << k;
-            }
-            self.far = (mask.trailing_zeros() as usize).min(MAX_PERCEPTS - 1);
-        } else {
-            let d = &self.dists[..self.len];
-            let max = d
-                .iter()
-                .fold(f32::NEG_INFINITY, |m, &x| if x > m { x } else { m });
-            self.far = d.iter().position(|&x| x == max).unwrap_or(0);
         }
+        let m01 = if m[1] > m[0] { m[1] } else { m[0] };
+        let m23 = if m[3] > m[2] { m[3] } else { m[2] };
+        let max = if m23 > m01 { m23 } else { m01 };
+        let mut mask = 0u32;
+        for (k, &x) in d.iter().enumerate() {
+            mask |= ((x == max) as u32) << k;
+        }
+        self.far = (mask.trailing_zeros() as usize).min(self.len.saturating_sub(1));
     }
 
     /// Offers the percept `make()` builds, at distance `dist`; `make` runs only when it is kept.
@@ -436,7 +578,7 @@ impl Kept<'_> {
     /// the distance just replaced (an upper bound of the new largest one).
     #[inline(always)]
     fn offer(&mut self, dist: f32, make: impl FnOnce() -> Percept) {
-        let cap = self.slots.len().min(MAX_PERCEPTS);
+        let cap = self.slots.len();
         if self.len < cap {
             self.slots[self.len] = make();
             self.dists[self.len] = dist;
@@ -463,6 +605,69 @@ impl Kept<'_> {
         self.slots[self.far] = make();
         self.dists[self.far] = dist;
         self.far_valid = false;
+    }
+}
+
+/// For each category, the first kept slot of the smallest distance (mates also count as kin).
+fn nearest_kept(slots: &[Percept]) -> [Option<(u16, f32)>; Category::COUNT] {
+    let mut best: [Option<(u16, f32)>; Category::COUNT] = [None; Category::COUNT];
+    for (k, p) in slots.iter().enumerate() {
+        let mut offer = |c: usize| {
+            if best[c].is_none_or(|(_, d)| p.dist < d) {
+                best[c] = Some((k as u16, p.dist));
+            }
+        };
+        offer(p.category as usize);
+        if p.category == Category::Mate {
+            offer(Category::Kin as usize);
+        }
+    }
+    best
+}
+
+/// What one agent has perceived so far: summaries, kept percepts, group sums and, per category,
+/// the nearest percept (kept even when nearer ones of other categories fill the slots).
+struct Fold<'a, 'b> {
+    summary: &'b mut [Summary; Category::COUNT],
+    kept: Kept<'a>,
+    /// Whether the agent keeps percepts at all.
+    keep: bool,
+    nearest: [Percept; Category::COUNT],
+}
+
+impl Fold<'_, '_> {
+    /// Notes one percept of category `cat`, which `make()` builds if it is kept.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn take(
+        &mut self,
+        cat: Category,
+        seen: Sense,
+        dist: f32,
+        pos: Vec3,
+        heading: Vec3,
+        vel: Vec3,
+        make: impl Fn() -> Percept,
+    ) {
+        if self.keep {
+            let nearer = dist < self.summary[cat as usize].nearest_dist;
+            let nearer_kin =
+                cat == Category::Mate && dist < self.summary[Category::Kin as usize].nearest_dist;
+            if nearer || nearer_kin {
+                let p = make();
+                if nearer {
+                    self.nearest[cat as usize] = p;
+                }
+                if nearer_kin {
+                    self.nearest[Category::Kin as usize] = p;
+                }
+            }
+            self.kept.offer(dist, &make);
+        }
+        note(self.summary, cat, seen, dist, pos, heading, vel);
+        if cat == Category::Mate {
+            note(self.summary, Category::Kin, seen, dist, pos, heading, vel);
+        }
     }
 }
 
@@ -500,25 +705,34 @@ struct Eye {
     full_circle: bool,
 }
 
-#[allow(clippy::too_many_arguments)]
+/// What every perceiver reads: the world at the start of the tick and this tick's indexes.
+struct View<'a> {
+    world: &'a World,
+    bodies: &'a [Body],
+    velocities: &'a [Vec3],
+    agents: &'a Grid,
+    food: &'a Grid,
+    obstacle_grid: &'a ObstacleGrid,
+    relations: &'a Relations,
+}
+
+/// Perceives for agent `i`: fills its slots, summaries and group sums; returns the number of
+/// percepts kept.
 fn perceive_one(
     i: usize,
-    world: &World,
-    bodies: &[Body],
-    agents: &Grid,
-    food: &Grid,
-    obstacle_grid: &ObstacleGrid,
+    view: &View,
     sense: &SenseParams,
-    relations: &Relations,
-    bearing_range: Option<f32>,
+    reads: &Reads,
     slots: &mut [Percept],
     summary: &mut [Summary; Category::COUNT],
+    sums: &mut [GroupSum],
 ) -> u16 {
+    let world = view.world;
     let me = &world.agents[i];
     let s = me.species.0 as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
     // `frame::dorsal` is `forward × left`: reuse both (the forward vector is in the body cache).
-    let fwd = bodies[i].heading;
+    let fwd = view.bodies[i].heading;
     let left = frame::left(yaw);
     let cos_min = sense.vision_half_angle.cos() - 1e-6;
     let eye = Eye {
@@ -529,20 +743,28 @@ fn perceive_one(
         full_circle: cos_min < -1.000_000_5,
     };
     let radius = sense.query_radius();
-    let mut kept = Kept {
-        slots,
-        dists: [0.0; MAX_PERCEPTS],
-        len: 0,
-        far: 0,
-        far_valid: false,
-        bound: f32::INFINITY,
+    let keep = !slots.is_empty();
+    let mut fold = Fold {
+        summary,
+        kept: Kept {
+            slots,
+            dists: [f32::NEG_INFINITY; MAX_PERCEPTS],
+            len: 0,
+            far: 0,
+            far_valid: false,
+            bound: f32::INFINITY,
+        },
+        keep,
+        nearest: [EMPTY; Category::COUNT],
     };
+    sums.fill(GroupSum::default());
+    let groups = &reads.groups;
 
     // Nearby obstacles first: they are percepts and occluders.
     let mut occluders = [(Vec3::ZERO, 0.0f32); MAX_OCCLUDERS];
     let mut n_occ = 0;
     // The grid lists, in index order, every active obstacle that may be within `radius`.
-    for &k in obstacle_grid.near(me.pos) {
+    for &k in view.obstacle_grid.near(me.pos) {
         let o = &world.obstacles[k as usize];
         if !o.active {
             continue;
@@ -561,38 +783,38 @@ fn perceive_one(
         let dir = if dist > 1e-6 { offset } else { to_center };
         if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense, &[]) {
             let cat = Category::Obstacle;
-            note(
-                summary,
+            fold.take(
                 cat,
                 seen,
                 dist,
                 me.pos + offset,
                 Vec3::ZERO,
                 Vec3::ZERO,
+                || {
+                    percept(
+                        Source::Obstacle(k),
+                        cat,
+                        seen,
+                        dir,
+                        dist,
+                        o.shape.diagonal(),
+                    )
+                },
             );
-            kept.offer(dist, || {
-                percept(
-                    Source::Obstacle(k),
-                    cat,
-                    seen,
-                    dir,
-                    dist,
-                    o.shape.diagonal(),
-                )
-            });
         }
     }
     let occ = &occluders[..n_occ];
 
+    let relations = view.relations;
     let mates = relations.mates.get(s).copied().unwrap_or(false);
     let (here, my_sex) = (me.pos, me.attrs.sex);
     let row = relations.row(s);
-    agents.for_each_within(here, radius, |j, pos, d2| {
+    view.agents.for_each_within(here, radius, |j, pos, d2| {
         let j = j as usize;
         if j == i {
             return;
         }
-        let other = &bodies[j];
+        let other = &view.bodies[j];
         let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
             return;
         };
@@ -605,13 +827,11 @@ fn perceive_one(
         let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) else {
             return;
         };
-        let heading = other.heading;
-        let vel = heading * other.speed;
-        note(summary, cat, seen, dist, pos, heading, vel);
-        if cat == Category::Mate {
-            note(summary, Category::Kin, seen, dist, pos, heading, vel);
+        let vel = view.velocities[j];
+        if matches!(cat, Category::Kin | Category::Mate) {
+            groups.add(sums, offset, dist, vel);
         }
-        kept.offer(dist, || {
+        fold.take(cat, seen, dist, pos, other.heading, vel, || {
             percept(
                 Source::Agent(j as u32),
                 cat,
@@ -624,35 +844,71 @@ fn perceive_one(
     });
 
     if relations.eats_items(s) {
-        food.for_each_within(here, radius, |j, pos, d2| {
+        view.food.for_each_within(here, radius, |j, pos, d2| {
             let offset = pos - here;
             let dist = d2.sqrt();
             if let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) {
                 let cat = Category::Food;
-                note(summary, cat, seen, dist, pos, Vec3::ZERO, Vec3::ZERO);
-                kept.offer(dist, || {
+                fold.take(cat, seen, dist, pos, Vec3::ZERO, Vec3::ZERO, || {
                     percept(Source::Food(j), cat, seen, offset, dist, 0.0)
                 });
             }
         });
     }
 
-    // Finish summaries: means, and the nearest among the kept percepts (the first of the
-    // smallest distance; mates also count as kin).
-    let len = kept.len;
-    let slots = &mut kept.slots[..len];
-    let mut best: [Option<(u16, f32)>; Category::COUNT] = [None; Category::COUNT];
-    for (k, p) in slots.iter().enumerate() {
-        let mut offer = |c: usize| {
-            if best[c].is_none_or(|(_, d)| p.dist < d) {
-                best[c] = Some((k as u16, p.dist));
+    let Fold {
+        summary,
+        kept,
+        nearest: candidates,
+        ..
+    } = fold;
+    let mut len = kept.len;
+    let slots = kept.slots;
+    // The nearest of each category is always kept: put back any that nearer percepts of other
+    // categories pushed out, in place of the farthest percept that is nobody's nearest.
+    if keep {
+        const ORDER: [Category; Category::COUNT] = [
+            Category::Food,
+            Category::Predator,
+            Category::Mate,
+            Category::Kin,
+            Category::Obstacle,
+            Category::Other,
+        ];
+        for c in ORDER {
+            let sm = &summary[c as usize];
+            if sm.count == 0 {
+                continue;
             }
-        };
-        offer(p.category as usize);
-        if p.category == Category::Mate {
-            offer(Category::Kin as usize);
+            let best = nearest_kept(&slots[..len]);
+            if best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist) {
+                continue;
+            }
+            if len < slots.len() {
+                slots[len] = candidates[c as usize];
+                len += 1;
+                continue;
+            }
+            let protected = best
+                .iter()
+                .flatten()
+                .fold(0u32, |m, &(k, _)| m | 1 << k);
+            let far = (0..len)
+                .filter(|&k| protected & (1 << k) == 0)
+                .fold(None, |f: Option<usize>, k| match f {
+                    Some(f) if slots[f].dist >= slots[k].dist => Some(f),
+                    _ => Some(k),
+                });
+            if let Some(k) = far {
+                slots[k] = candidates[c as usize];
+            }
         }
     }
+
+    // Finish summaries: means, and the nearest among the kept percepts (the first of the
+    // smallest distance; mates also count as kin).
+    let slots = &mut slots[..len];
+    let best = nearest_kept(slots);
     let mut nearest = 0u32;
     for (sm, b) in summary.iter_mut().zip(best) {
         if sm.count > 0 {
@@ -670,7 +926,7 @@ fn perceive_one(
     // Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
     // those the species reads.
     for (k, p) in slots.iter_mut().enumerate() {
-        let wanted = match bearing_range {
+        let wanted = match reads.bearing_range {
             None => true,
             Some(r) => nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r,
         };
@@ -953,9 +1209,108 @@ mod tests {
             ));
         }
         let p = run(&w, &rel(), SenseParams::default());
-        assert_eq!(p.percepts(0).len(), MAX_PERCEPTS);
+        assert_eq!(p.percepts(0).len(), DEFAULT_PERCEPTS);
         assert_eq!(p.summaries(0)[Category::Kin as usize].count, 40);
         let maxd = p.percepts(0).iter().map(|q| q.dist).fold(0.0, f32::max);
-        assert!((maxd - 0.2 * MAX_PERCEPTS as f32).abs() < 1e-4);
+        assert!((maxd - 0.2 * DEFAULT_PERCEPTS as f32).abs() < 1e-4);
+        // A species may keep more.
+        let more = SenseParams {
+            max_percepts: 20,
+            ..SenseParams::default()
+        };
+        assert_eq!(run(&w, &rel(), more).percepts(0).len(), 20);
+    }
+
+    #[test]
+    fn the_nearest_of_each_category_survives_a_crowd() {
+        // 30 kin within 6 m, then food at 7 m and a predator at 8 m: the 16 slots would hold
+        // only kin by distance, but the nearest food and predator replace the farthest kin.
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 2);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        for k in 0..30 {
+            w.agents.push(agent(k + 1, 0, Vec3::new(0.0, 0.0, 0.2 * (k + 1) as f32), 0.0));
+        }
+        w.agents.push(agent(31, 1, Vec3::new(0.0, 0.0, 8.0), 0.0));
+        w.add_food(Vec3::new(0.0, 0.0, 7.0));
+        let p = run(&w, &rel(), SenseParams::default());
+        let kept = p.percepts(0);
+        assert_eq!(kept.len(), DEFAULT_PERCEPTS);
+        let sm = p.summaries(0);
+        for (c, d) in [(Category::Food, 7.0), (Category::Predator, 8.0), (Category::Kin, 0.2)] {
+            let near = &kept[sm[c as usize].nearest.expect("kept") as usize];
+            assert_eq!(near.category, c);
+            assert!((near.dist - d).abs() < 1e-5, "{c:?} {}", near.dist);
+        }
+        // They took the places of the two farthest kin: the nearest 14 kin stay (0.2 … 2.8 m).
+        let far_kin = kept
+            .iter()
+            .filter(|q| q.category == Category::Kin)
+            .map(|q| q.dist)
+            .fold(0.0, f32::max);
+        assert!((far_kin - 2.8).abs() < 1e-5, "{far_kin}");
+        assert_eq!(kept.iter().filter(|q| q.category == Category::Kin).count(), 14);
+    }
+
+    #[test]
+    fn group_sums_cover_every_kin_perceived_and_need_no_slots() {
+        // 40 kin around the perceiver, a predator among them; a species reading only group
+        // rules keeps no percept, and its sums are those of the whole neighbor list.
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 3);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        let mut rng = Rng::new(4, 0);
+        for k in 0..40 {
+            let pos = Vec3::new(rng.range(-6.0, 6.0), rng.range(-6.0, 6.0), rng.range(-6.0, 6.0));
+            let mut a = agent(k + 1, 0, pos, rng.range(-3.0, 3.0));
+            a.speed = rng.range(0.0, 2.0);
+            w.agents.push(a);
+        }
+        w.agents.push(agent(41, 1, Vec3::new(1.0, 0.0, 0.0), 0.0));
+        let sense = SenseParams {
+            vision_half_angle: std::f32::consts::PI,
+            ..SenseParams::default()
+        };
+        let mut groups = GroupQueries::new();
+        let queries = [
+            GroupQuery::Separation { radius: 3.0 },
+            GroupQuery::Mean { radius: 5.0 },
+            GroupQuery::Zones {
+                repulsion: 1.0,
+                matching: 3.0,
+                attraction: 6.0,
+            },
+            GroupQuery::Headings { radius: 4.0 },
+        ];
+        for q in queries {
+            groups.insert(q);
+        }
+        let reads = Reads {
+            percepts: false,
+            bearing_range: Some(0.0),
+            groups,
+        };
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 3.0, w.agents.iter().map(|a| a.pos));
+        let mut p = Perception::new();
+        p.run_selective(&w, &ag, &Grid::new(), &[sense, sense], &rel(), &[reads, reads]);
+        assert!(p.percepts(0).is_empty());
+        assert_eq!(p.summaries(0)[Category::Kin as usize].count, 40);
+        // The same sums from the full neighbor list, in the index's order.
+        let mut neighbors = Vec::new();
+        ag.for_each_within(Vec3::ZERO, sense.query_radius(), |j, pos, d2| {
+            if j != 0 && j != 41 {
+                let a = &w.agents[j as usize];
+                neighbors.push(crate::steering::group::Neighbor {
+                    offset: pos,
+                    dist: d2.sqrt(),
+                    velocity: a.velocity(),
+                });
+            }
+        });
+        assert_eq!(neighbors.len(), 40);
+        for (k, q) in queries.iter().enumerate() {
+            let want = crate::steering::group::fold(&neighbors, q);
+            assert_eq!(p.group_sums(0)[k], want, "{q:?}");
+            assert!(want.n + want.m > 0, "{q:?} sums something");
+        }
     }
 }

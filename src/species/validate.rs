@@ -587,6 +587,16 @@ impl Builder<'_> {
                 "`decision_interval` must be at least 1 tick".into(),
             );
         }
+        let kept = def.senses.max_percepts;
+        if !(1..=crate::perception::MAX_PERCEPTS).contains(&kept) {
+            self.error_at(
+                "max_percepts",
+                format!(
+                    "`max_percepts` must be between 1 and {}, not {kept}",
+                    crate::perception::MAX_PERCEPTS
+                ),
+            );
+        }
         if !self.diags.is_empty() {
             return Err(Diagnostics(self.diags));
         }

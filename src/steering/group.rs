@@ -1,10 +1,12 @@
 //! Group motion: separation (inverse distance) and alignment (difference from the neighbors' mean
 //! velocity) of seed 001, cohesion, seed 003's R–A zones and Vicsek alignment.
 //!
-//! The functions take the neighbors as plain slices and return forces or desired velocities; the
-//! recipe layer turns forces into [`Steer::Velocity`]`(v + F)`.
+//! Each rule reads neighborhood sums ([`GroupSum`]) that perception folds over every kin it
+//! notes (`*_of`); the slice forms fold a list of neighbors the same way, for tests and tools.
+//! Forces are turned into [`Steer::Velocity`]`(v + F)` by the recipe layer.
 
 use super::Steer;
+use crate::perception::{GroupQuery, GroupSum};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -19,34 +21,57 @@ pub struct Neighbor {
     pub velocity: Vec3,
 }
 
+/// Folds `neighbors` into the sums of `q`, as perception does for every kin it notes.
+pub fn fold(neighbors: &[Neighbor], q: &GroupQuery) -> GroupSum {
+    let mut s = GroupSum::default();
+    for n in neighbors {
+        s.add(q, n.offset, n.dist, n.velocity);
+    }
+    s
+}
+
 /// Separation of seed 001: each neighbor pushes with `m1·k·(length·factor)/|d|` directly away
 /// from it. Coincident neighbors (d = 0) are skipped: they have no direction.
 pub fn separation(neighbors: &[Neighbor], m1: f32, k: f32, length: f32, factor: f32) -> Vec3 {
-    let mut f = Vec3::ZERO;
-    for n in neighbors {
-        if n.dist > 1e-6 {
-            f -= n.offset / n.dist * (m1 * k * length * factor / n.dist);
-        }
-    }
-    f
+    let sum = fold(neighbors, &GroupQuery::Separation { radius: f32::INFINITY });
+    separation_of(&sum, m1, k, length, factor)
+}
+
+/// Separation from the sums of a [`GroupQuery::Separation`]: `−m1·k·length·factor · Σ d/|d|²`.
+#[inline]
+pub fn separation_of(sum: &GroupSum, m1: f32, k: f32, length: f32, factor: f32) -> Vec3 {
+    -sum.a * (m1 * k * length * factor)
 }
 
 /// Alignment of seed 001: `m1·k·(v_avg − v)`, proportional to the difference from the
 /// neighbors' mean velocity. Zero without neighbors.
 pub fn alignment(neighbors: &[Neighbor], own_velocity: Vec3, m1: f32, k: f32) -> Vec3 {
-    if neighbors.is_empty() {
-        return Vec3::ZERO;
-    }
-    let avg = neighbors.iter().map(|n| n.velocity).sum::<Vec3>() / neighbors.len() as f32;
-    m1 * k * (avg - own_velocity)
+    let sum = fold(neighbors, &GroupQuery::Mean { radius: f32::INFINITY });
+    alignment_of(mean(sum.b, sum.n), own_velocity, m1, k)
+}
+
+/// Alignment from the neighbors' mean velocity (`None` without neighbors).
+#[inline]
+pub fn alignment_of(mean_velocity: Option<Vec3>, own_velocity: Vec3, m1: f32, k: f32) -> Vec3 {
+    mean_velocity.map_or(Vec3::ZERO, |avg| m1 * k * (avg - own_velocity))
 }
 
 /// Cohesion: `k·(centroid − position)`, toward the neighbors' mean position.
 pub fn cohesion(neighbors: &[Neighbor], k: f32) -> Vec3 {
-    if neighbors.is_empty() {
-        return Vec3::ZERO;
-    }
-    k * neighbors.iter().map(|n| n.offset).sum::<Vec3>() / neighbors.len() as f32
+    let sum = fold(neighbors, &GroupQuery::Mean { radius: f32::INFINITY });
+    cohesion_of(mean(sum.a, sum.n), k)
+}
+
+/// Cohesion from the neighbors' mean offset (`None` without neighbors).
+#[inline]
+pub fn cohesion_of(mean_offset: Option<Vec3>, k: f32) -> Vec3 {
+    mean_offset.map_or(Vec3::ZERO, |c| k * c)
+}
+
+/// `sum / count`, `None` when the count is 0.
+#[inline]
+pub fn mean(sum: Vec3, count: u32) -> Option<Vec3> {
+    (count > 0).then(|| sum / count as f32)
 }
 
 /// Radii of seed 003's zones, `r_r < r_m < r_a`.
@@ -59,6 +84,17 @@ pub struct Zones {
     pub matching: f32,
     /// Attraction radius r_a.
     pub attraction: f32,
+}
+
+impl Zones {
+    /// The neighborhood sums these zones read.
+    pub fn query(&self) -> GroupQuery {
+        GroupQuery::Zones {
+            repulsion: self.repulsion,
+            matching: self.matching,
+            attraction: self.attraction,
+        }
+    }
 }
 
 impl Default for Zones {
@@ -76,32 +112,16 @@ impl Default for Zones {
 /// while any neighbor is inside `r_r` only repulsion acts. Returns a desired velocity of `speed`
 /// along the resulting direction, or [`Steer::None`] when no neighbor is in any zone.
 pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
-    let mut repel = Vec3::ZERO;
-    let mut n_repel = 0;
-    let mut matching = Vec3::ZERO;
-    let mut attract = Vec3::ZERO;
-    let mut n_other = 0;
-    for n in neighbors {
-        if n.dist > zones.attraction {
-            continue;
-        }
-        if n.dist < zones.repulsion {
-            n_repel += 1;
-            if n.dist > 1e-6 {
-                repel -= n.offset / n.dist;
-            }
-        } else if n.dist < zones.matching {
-            n_other += 1;
-            matching += n.velocity.normalize_or_zero();
-        } else {
-            n_other += 1;
-            attract += n.offset / n.dist;
-        }
-    }
-    let dir = if n_repel > 0 {
-        repel
-    } else if n_other > 0 {
-        matching + attract
+    ra_zones_of(&fold(neighbors, &zones.query()), speed)
+}
+
+/// R–A zones from the sums of a [`GroupQuery::Zones`].
+#[inline]
+pub fn ra_zones_of(sum: &GroupSum, speed: f32) -> Steer {
+    let dir = if sum.n > 0 {
+        sum.a
+    } else if sum.m > 0 {
+        sum.b + sum.c
     } else {
         return Steer::None;
     };
@@ -123,11 +143,15 @@ pub fn vicsek(
     noise: f32,
     u: (f32, f32),
 ) -> Steer {
-    let mut sum = own_forward.normalize_or_zero();
-    for n in neighbors.iter().filter(|n| n.dist <= radius) {
-        sum += n.velocity.normalize_or_zero();
-    }
-    let dir = sum.try_normalize().unwrap_or(own_forward);
+    let sum = fold(neighbors, &GroupQuery::Headings { radius });
+    vicsek_of(own_forward, &sum, speed, noise, u)
+}
+
+/// Vicsek alignment from the sums of a [`GroupQuery::Headings`].
+pub fn vicsek_of(own_forward: Vec3, sum: &GroupSum, speed: f32, noise: f32, u: (f32, f32)) -> Steer {
+    let dir = (own_forward.normalize_or_zero() + sum.a)
+        .try_normalize()
+        .unwrap_or(own_forward);
     let Some((yaw, pitch)) = crate::frame::heading_of(dir) else {
         return Steer::None;
     };

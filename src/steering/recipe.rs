@@ -6,7 +6,7 @@ use super::avoid::{self, MovingObstacle};
 use super::group::{self, Neighbor};
 use super::{blend, escape, goal, wander, Kin, Steer, Term};
 use crate::decision::{self, Ctx};
-use crate::perception::{Category, Sense, Source};
+use crate::perception::{Category, GroupQuery, GroupSum, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
 use crate::world::{Mind, Rng};
 use glam::Vec3;
@@ -20,7 +20,6 @@ pub struct Scratch {
     neighbors: Vec<Neighbor>,
     kin_ready: bool,
     own_velocity: Option<Vec3>,
-    filtered: Vec<Neighbor>,
     moving: Vec<MovingObstacle>,
     /// Position of a planned-path target, if the agent follows a plan.
     pub plan_target: Option<Vec3>,
@@ -79,9 +78,13 @@ fn force(velocity: Vec3, f: Vec3) -> Steer {
     }
 }
 
-fn within(n: &[Neighbor], r: f32, buf: &mut Vec<Neighbor>) {
-    buf.clear();
-    buf.extend(n.iter().copied().filter(|x| x.dist <= r));
+/// The agent's sums of `q`: folded by perception over every kin perceived, or (for a context
+/// built without them) over the kin among its kept percepts.
+fn group_sum(ctx: &Ctx, scratch: &mut Scratch, q: &GroupQuery) -> GroupSum {
+    match ctx.group(q) {
+        Some(s) => *s,
+        None => group::fold(scratch.kin(ctx), q),
+    }
 }
 
 /// Evaluates a leaf primitive.
@@ -158,38 +161,45 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
             super::arrive(&kin, t, vmax * s.speed, s.slow_radius)
         }),
         Recipe::Separation(g) | Recipe::Alignment(g) | Recipe::Cohesion(g) => {
-            let scratch_velocity = scratch.velocity(&kin);
-            let mut buf = std::mem::take(&mut scratch.filtered);
-            let all = scratch.kin(ctx);
-            // Copy only when the radius leaves some neighbors out.
-            let near: &[Neighbor] = if all.iter().all(|x| x.dist <= g.radius) {
-                all
-            } else {
-                within(all, g.radius, &mut buf);
-                &buf
-            };
+            let own_velocity = scratch.velocity(&kin);
             let m1 = ctx.agent.attrs.mass;
-            let f = match r {
-                Recipe::Separation(_) => {
-                    group::separation(near, m1, g.k, ctx.agent.size.z, g.factor)
+            let reach = ctx.species.senses.query_radius();
+            let f = match (r, crate::tick::group_query(r, reach)) {
+                // Over every kin perceived: the kin summary's means.
+                (Recipe::Alignment(_), None) => {
+                    let sm = &ctx.summaries[Category::Kin as usize];
+                    let mean = (sm.count > 0).then_some(sm.mean_velocity);
+                    group::alignment_of(mean, own_velocity, m1, g.k)
                 }
-                Recipe::Alignment(_) => group::alignment(near, scratch_velocity, m1, g.k),
-                _ => group::cohesion(near, g.k),
+                (Recipe::Cohesion(_), None) => {
+                    let sm = &ctx.summaries[Category::Kin as usize];
+                    let mean = (sm.count > 0).then(|| sm.centroid - ctx.agent.pos);
+                    group::cohesion_of(mean, g.k)
+                }
+                (_, Some(q)) => {
+                    let sum = group_sum(ctx, scratch, &q);
+                    match r {
+                        Recipe::Separation(_) => {
+                            group::separation_of(&sum, m1, g.k, ctx.agent.size.z, g.factor)
+                        }
+                        Recipe::Alignment(_) => {
+                            group::alignment_of(group::mean(sum.b, sum.n), own_velocity, m1, g.k)
+                        }
+                        _ => group::cohesion_of(group::mean(sum.a, sum.n), g.k),
+                    }
+                }
+                (_, None) => Vec3::ZERO,
             };
-            scratch.filtered = buf;
-            force(scratch_velocity, f)
+            force(own_velocity, f)
         }
-        Recipe::Zones(z) => group::ra_zones(scratch.kin(ctx), z, kin.speed.max(0.5 * vmax)),
+        Recipe::Zones(z) => {
+            let sum = group_sum(ctx, scratch, &z.query());
+            group::ra_zones_of(&sum, kin.speed.max(0.5 * vmax))
+        }
         Recipe::Vicsek(v) => {
             let u = (rng.next_f32(), rng.next_f32());
-            group::vicsek(
-                kin.forward(),
-                scratch.kin(ctx),
-                v.radius,
-                v.speed * vmax,
-                v.noise,
-                u,
-            )
+            let sum = group_sum(ctx, scratch, &GroupQuery::Headings { radius: v.radius });
+            group::vicsek_of(kin.forward(), &sum, v.speed * vmax, v.noise, u)
         }
         Recipe::Disperse(d) => {
             // Seed 003 group escape (1): a fish slower than v_d re-draws its speed in

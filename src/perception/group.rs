@@ -1,0 +1,213 @@
+//! Stage 2 of the tick: neighborhood sums for the group rules (separation and alignment of
+//! seed 001, cohesion, R–A zones and Vicsek alignment of seed 003).
+//!
+//! Every kin an agent perceives (seen or smelt) is folded into the running sums its species'
+//! group rules read, while perception walks the neighbors anyway. The rules therefore see every
+//! kin perceived, not only the percepts kept, and cost O(1) in the steering stage. The sums are
+//! plain accumulations in the spatial index's fixed order, so they are bit-identical whatever
+//! the thread count.
+
+use glam::Vec3;
+
+/// Most distinct group queries one species may have (more are folded from the kept percepts).
+pub const MAX_GROUP_QUERIES: usize = 8;
+
+/// What one group rule needs summed over the neighbors (kin and mates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GroupQuery {
+    /// Separation: `a = Σ offset / d²` over neighbors with `1e-6 < d ≤ radius`.
+    Separation {
+        /// Only neighbors this close count.
+        radius: f32,
+    },
+    /// Alignment and cohesion: `a = Σ offset`, `b = Σ velocity`, `n` = count over neighbors
+    /// with `d ≤ radius`.
+    Mean {
+        /// Only neighbors this close count.
+        radius: f32,
+    },
+    /// R–A zones: within `repulsion`, `n` = count and `a = −Σ offset / d` (d > 1e-6); between
+    /// `repulsion` and `matching`, `b = Σ unit velocity`; between `matching` and `attraction`,
+    /// `c = Σ offset / d`; `m` counts both outer zones.
+    Zones {
+        /// Repulsion radius r_r.
+        repulsion: f32,
+        /// Velocity-matching radius r_m.
+        matching: f32,
+        /// Attraction radius r_a.
+        attraction: f32,
+    },
+    /// Vicsek: `a = Σ unit velocity` over neighbors with `d ≤ radius`.
+    Headings {
+        /// Neighborhood radius r_n.
+        radius: f32,
+    },
+}
+
+/// The running sums of one [`GroupQuery`] (what each field holds depends on the query).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GroupSum {
+    /// First vector sum.
+    pub a: Vec3,
+    /// Second vector sum.
+    pub b: Vec3,
+    /// Third vector sum.
+    pub c: Vec3,
+    /// First count.
+    pub n: u32,
+    /// Second count.
+    pub m: u32,
+}
+
+impl GroupSum {
+    /// Folds one neighbor at `offset` (length `dist`) moving at `velocity` into the sums of `q`.
+    #[inline(always)]
+    pub fn add(&mut self, q: &GroupQuery, offset: Vec3, dist: f32, velocity: Vec3) {
+        match *q {
+            GroupQuery::Separation { radius } => {
+                if dist <= radius && dist > 1e-6 {
+                    self.a += offset / (dist * dist);
+                    self.n += 1;
+                }
+            }
+            GroupQuery::Mean { radius } => {
+                if dist <= radius {
+                    self.a += offset;
+                    self.b += velocity;
+                    self.n += 1;
+                }
+            }
+            GroupQuery::Zones {
+                repulsion,
+                matching,
+                attraction,
+            } => {
+                if dist > attraction {
+                } else if dist < repulsion {
+                    self.n += 1;
+                    if dist > 1e-6 {
+                        self.a -= offset / dist;
+                    }
+                } else if dist < matching {
+                    self.m += 1;
+                    self.b += velocity.normalize_or_zero();
+                } else {
+                    self.m += 1;
+                    self.c += offset / dist;
+                }
+            }
+            GroupQuery::Headings { radius } => {
+                if dist <= radius {
+                    self.a += velocity.normalize_or_zero();
+                    self.n += 1;
+                }
+            }
+        }
+    }
+}
+
+/// The distinct group queries of one species, in a fixed-size list (no allocation per agent).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GroupQueries {
+    items: [Option<GroupQuery>; MAX_GROUP_QUERIES],
+    len: usize,
+}
+
+impl GroupQueries {
+    /// No queries.
+    pub const EMPTY: GroupQueries = GroupQueries {
+        items: [None; MAX_GROUP_QUERIES],
+        len: 0,
+    };
+    /// An empty list.
+    pub fn new() -> Self {
+        Self::EMPTY
+    }
+    /// Adds `q` unless it is already there or the list is full.
+    pub fn insert(&mut self, q: GroupQuery) {
+        if self.position(&q).is_none() && self.len < MAX_GROUP_QUERIES {
+            self.items[self.len] = Some(q);
+            self.len += 1;
+        }
+    }
+    /// Index of `q`, if listed.
+    #[inline]
+    pub fn position(&self, q: &GroupQuery) -> Option<usize> {
+        self.iter().position(|x| x == q)
+    }
+    /// The queries, in insertion order.
+    #[inline]
+    pub fn iter(&self) -> impl Iterator<Item = &GroupQuery> + '_ {
+        self.items[..self.len].iter().flatten()
+    }
+    /// Number of queries.
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+    /// Whether there are none.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+    /// Folds one neighbor into `sums` (one per query, in order).
+    #[inline(always)]
+    pub fn add(&self, sums: &mut [GroupSum], offset: Vec3, dist: f32, velocity: Vec3) {
+        for (q, s) in self.items[..self.len].iter().zip(sums) {
+            if let Some(q) = q {
+                s.add(q, offset, dist, velocity);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn separation_sums_inverse_square_offsets_within_the_radius() {
+        let q = GroupQuery::Separation { radius: 3.0 };
+        let mut s = GroupSum::default();
+        // (2,0,0)/4 + (0,0,1)/1; the one at 4 is out of range, the coincident one has no
+        // direction.
+        s.add(&q, Vec3::new(2.0, 0.0, 0.0), 2.0, Vec3::ZERO);
+        s.add(&q, Vec3::Z, 1.0, Vec3::ZERO);
+        s.add(&q, Vec3::new(4.0, 0.0, 0.0), 4.0, Vec3::ZERO);
+        s.add(&q, Vec3::ZERO, 0.0, Vec3::ZERO);
+        assert_eq!(s.a, Vec3::new(0.5, 0.0, 1.0));
+        assert_eq!(s.n, 2);
+    }
+
+    #[test]
+    fn zones_sort_neighbors_by_distance() {
+        let q = GroupQuery::Zones {
+            repulsion: 1.0,
+            matching: 3.0,
+            attraction: 6.0,
+        };
+        let mut s = GroupSum::default();
+        s.add(&q, Vec3::new(0.5, 0.0, 0.0), 0.5, Vec3::Z);
+        s.add(&q, Vec3::new(0.0, 2.0, 0.0), 2.0, Vec3::X * 4.0);
+        s.add(&q, Vec3::new(0.0, 0.0, 5.0), 5.0, Vec3::ZERO);
+        s.add(&q, Vec3::new(9.0, 0.0, 0.0), 9.0, Vec3::ZERO);
+        assert_eq!((s.n, s.m), (1, 2));
+        assert_eq!(s.a, Vec3::new(-1.0, 0.0, 0.0));
+        assert_eq!(s.b, Vec3::X);
+        assert_eq!(s.c, Vec3::Z);
+    }
+
+    #[test]
+    fn queries_are_listed_once() {
+        let mut qs = GroupQueries::new();
+        qs.insert(GroupQuery::Mean { radius: 2.0 });
+        qs.insert(GroupQuery::Headings { radius: 2.0 });
+        qs.insert(GroupQuery::Mean { radius: 2.0 });
+        assert_eq!(qs.len(), 2);
+        assert_eq!(qs.position(&GroupQuery::Headings { radius: 2.0 }), Some(1));
+        let mut sums = [GroupSum::default(); 2];
+        qs.add(&mut sums, Vec3::X, 1.0, Vec3::Z * 2.0);
+        assert_eq!((sums[0].a, sums[0].b, sums[0].n), (Vec3::X, Vec3::Z * 2.0, 1));
+        assert_eq!((sums[1].a, sums[1].n), (Vec3::Z, 1));
+    }
+}

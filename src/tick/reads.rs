@@ -1,0 +1,202 @@
+//! What each species reads of its perception, worked out from its behaviors at load time, so
+//! that the perception stage does only that work (seed 000 §1: a fish perceives what its
+//! behaviors use). The matches are exhaustive so that a new primitive has to say what it reads.
+
+use crate::perception::{GroupQueries, GroupQuery, Reads};
+use crate::species::{CondNode, Recipe, RecipeNode, Species};
+use crate::steering::avoid::AvoidParams;
+
+/// What species `sp` reads: whether it keeps individual percepts, the range of the bearings it
+/// reads, and the neighborhood sums of its group rules.
+pub fn reads(sp: &Species) -> Reads {
+    let mut groups = GroupQueries::new();
+    let reach = sp.senses.query_radius();
+    for r in sp.behaviors.iter().map(|b| &b.steer).chain(&sp.recipes) {
+        walk(r, &mut |l| {
+            if let Some(q) = group_query(l, reach) {
+                groups.insert(q);
+            }
+        });
+    }
+    Reads {
+        percepts: reads_percepts(sp),
+        bearing_range: Some(bearing_range(sp)),
+        groups,
+    }
+}
+
+/// The neighborhood sums a group rule reads, for a species whose perception reaches `reach`;
+/// `None` for other primitives, and for alignment and cohesion over every neighbor perceived
+/// (the kin summary's means give them).
+pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
+    match r {
+        Recipe::Separation(g) => Some(GroupQuery::Separation { radius: g.radius }),
+        Recipe::Alignment(g) | Recipe::Cohesion(g) => {
+            (g.radius < reach).then_some(GroupQuery::Mean { radius: g.radius })
+        }
+        Recipe::Zones(z) => Some(z.query()),
+        Recipe::Vicsek(v) => Some(GroupQuery::Headings { radius: v.radius }),
+        _ => None,
+    }
+}
+
+fn walk(r: &RecipeNode, f: &mut impl FnMut(&Recipe)) {
+    match r {
+        RecipeNode::Leaf(l) => f(l),
+        RecipeNode::Priority(v) => v.iter().for_each(|r| walk(r, f)),
+        RecipeNode::Blend(v) => v.iter().for_each(|(_, _, r)| walk(r, f)),
+        // Script-built steering composes the named recipes, walked with the behaviors.
+        RecipeNode::Script(_) => {}
+    }
+}
+
+/// Whether anything of the species reads individual percepts (rather than summaries and group
+/// sums): scripts, native drives (predator distances), contacts, and the primitives and
+/// conditions below.
+fn reads_percepts(sp: &Species) -> bool {
+    fn cond(c: &CondNode) -> bool {
+        match c {
+            CondNode::All(v) | CondNode::Any(v) => v.iter().any(cond),
+            CondNode::Not(c) => cond(c),
+            CondNode::Latch { on, off, .. } => cond(on) || cond(off),
+            CondNode::EscapeDone | CondNode::ObstacleNear | CondNode::TrafficNear => true,
+            // Summaries, the agent's own state, or scripts (which keep percepts anyway).
+            CondNode::Always
+            | CondNode::Never
+            | CondNode::Above(..)
+            | CondNode::Below(..)
+            | CondNode::Sees(_)
+            | CondNode::Smells(_)
+            | CondNode::Perceives(_)
+            | CondNode::Within(..)
+            | CondNode::Heard(_)
+            | CondNode::TimeIn(_)
+            | CondNode::Chance(_)
+            | CondNode::NearBounds(_)
+            | CondNode::Script(_) => false,
+        }
+    }
+    fn leaf(r: &Recipe) -> bool {
+        use crate::species::Target;
+        let point = |t: &Target| matches!(t, Target::Nearest(_));
+        match r {
+            Recipe::AvoidStatic(_)
+            | Recipe::AvoidDynamic(_)
+            | Recipe::PredictCollision(_)
+            | Recipe::Chase(_)
+            | Recipe::Escape(_)
+            | Recipe::EscapeMirror(_)
+            | Recipe::Pursue(_) => true,
+            Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => point(&s.target),
+            // Group sums, summaries, bounds, the plan or nothing.
+            Recipe::Priority(_)
+            | Recipe::Blend(_)
+            | Recipe::Script(_)
+            | Recipe::Contain(_)
+            | Recipe::Separation(_)
+            | Recipe::Alignment(_)
+            | Recipe::Cohesion(_)
+            | Recipe::Zones(_)
+            | Recipe::Vicsek(_)
+            | Recipe::Disperse(_)
+            | Recipe::Wander(_)
+            | Recipe::Cruise(_)
+            | Recipe::Stop
+            | Recipe::FollowPlan(_) => false,
+        }
+    }
+    if sp.script.is_some() || sp.def.drives.native {
+        return true;
+    }
+    let mut any = false;
+    for r in sp.behaviors.iter().map(|b| &b.steer).chain(&sp.recipes) {
+        walk(r, &mut |l| any |= leaf(l));
+    }
+    any || sp
+        .behaviors
+        .iter()
+        .any(|b| b.contact.is_some() || cond(&b.when) || cond(&b.done))
+}
+
+/// Distance within which a species' behaviors read the bearing and elevation of agent percepts
+/// other than the nearest of their category: its dynamic-avoidance range (`TrafficNear`,
+/// `AvoidDynamic`), 0 when it has neither. Obstacles and the nearest percept of each category
+/// always get theirs. The matches are exhaustive so that a new primitive has to say what it
+/// reads.
+pub fn bearing_range(sp: &Species) -> f32 {
+    fn of(p: &AvoidParams) -> f32 {
+        p.range.unwrap_or(f32::INFINITY)
+    }
+    fn cond(c: &CondNode, sp: &Species) -> f32 {
+        match c {
+            CondNode::TrafficNear => of(&sp.def.avoid),
+            CondNode::All(v) | CondNode::Any(v) => {
+                v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max)
+            }
+            CondNode::Not(c) => cond(c, sp),
+            CondNode::Latch { on, off, .. } => cond(on, sp).max(cond(off, sp)),
+            // Nearest percepts, obstacles or no percepts at all.
+            CondNode::Always
+            | CondNode::Never
+            | CondNode::Above(..)
+            | CondNode::Below(..)
+            | CondNode::Sees(_)
+            | CondNode::Smells(_)
+            | CondNode::Perceives(_)
+            | CondNode::Within(..)
+            | CondNode::EscapeDone
+            | CondNode::ObstacleNear
+            | CondNode::Heard(_)
+            | CondNode::TimeIn(_)
+            | CondNode::Chance(_)
+            | CondNode::NearBounds(_)
+            | CondNode::Script(_) => 0.0,
+        }
+    }
+    fn leaf(r: &Recipe) -> f32 {
+        match r {
+            Recipe::AvoidDynamic(p) => of(p),
+            // Nearest percepts, obstacles, neighbors' offsets and velocities, or nothing.
+            Recipe::Priority(_)
+            | Recipe::Blend(_)
+            | Recipe::Script(_)
+            | Recipe::AvoidStatic(_)
+            | Recipe::PredictCollision(_)
+            | Recipe::Contain(_)
+            | Recipe::Chase(_)
+            | Recipe::Escape(_)
+            | Recipe::EscapeMirror(_)
+            | Recipe::Pursue(_)
+            | Recipe::Seek(_)
+            | Recipe::Flee(_)
+            | Recipe::Arrive(_)
+            | Recipe::Separation(_)
+            | Recipe::Alignment(_)
+            | Recipe::Cohesion(_)
+            | Recipe::Zones(_)
+            | Recipe::Vicsek(_)
+            | Recipe::Disperse(_)
+            | Recipe::Wander(_)
+            | Recipe::Cruise(_)
+            | Recipe::Stop
+            | Recipe::FollowPlan(_) => 0.0,
+        }
+    }
+    fn recipe(r: &RecipeNode) -> f32 {
+        match r {
+            RecipeNode::Leaf(l) => leaf(l),
+            RecipeNode::Priority(v) => v.iter().map(recipe).fold(0.0, f32::max),
+            RecipeNode::Blend(v) => v.iter().map(|(_, _, r)| recipe(r)).fold(0.0, f32::max),
+            // Script-built steering composes the named recipes, walked below.
+            RecipeNode::Script(_) => 0.0,
+        }
+    }
+    let behaviors = sp.behaviors.iter().map(|b| {
+        cond(&b.when, sp)
+            .max(cond(&b.done, sp))
+            .max(recipe(&b.steer))
+    });
+    let named = sp.recipes.iter().map(recipe);
+    behaviors.chain(named).fold(0.0, f32::max)
+}
+
