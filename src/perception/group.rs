@@ -7,7 +7,7 @@
 //! plain accumulations in the spatial index's fixed order, so they are bit-identical whatever
 //! the thread count.
 
-use glam::Vec3;
+use glam::Vec3A;
 
 /// Most distinct group queries one species may have (more are folded from the kept percepts).
 pub const MAX_GROUP_QUERIES: usize = 8;
@@ -44,15 +44,55 @@ pub enum GroupQuery {
     },
 }
 
+/// One neighbor as the sums see it. Distances are squared: the common rules need no square
+/// root, and a division only for the neighbors they weigh by distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Near {
+    /// Neighbor position minus own position.
+    pub offset: Vec3A,
+    /// `offset.length_squared()`.
+    pub d2: f32,
+    /// Neighbor velocity.
+    pub velocity: Vec3A,
+    /// `velocity.normalize_or_zero()` where a query reads it ([`GroupQuery::reads_unit`]),
+    /// else zero.
+    pub unit: Vec3A,
+}
+
+impl Near {
+    /// A neighbor at `offset` (squared length `d2`) moving at `velocity`; its unit velocity
+    /// is computed only when `unit`.
+    #[inline(always)]
+    pub fn new(offset: Vec3A, d2: f32, velocity: Vec3A, unit: bool) -> Near {
+        Near {
+            offset,
+            d2,
+            velocity,
+            unit: if unit {
+                velocity.normalize_or_zero()
+            } else {
+                Vec3A::ZERO
+            },
+        }
+    }
+}
+
+impl GroupQuery {
+    /// Whether the sums need each neighbor's unit velocity.
+    pub fn reads_unit(&self) -> bool {
+        matches!(self, GroupQuery::Zones { .. } | GroupQuery::Headings { .. })
+    }
+}
+
 /// The running sums of one [`GroupQuery`] (what each field holds depends on the query).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct GroupSum {
     /// First vector sum.
-    pub a: Vec3,
+    pub a: Vec3A,
     /// Second vector sum.
-    pub b: Vec3,
+    pub b: Vec3A,
     /// Third vector sum.
-    pub c: Vec3,
+    pub c: Vec3A,
     /// First count.
     pub n: u32,
     /// Second count.
@@ -60,20 +100,21 @@ pub struct GroupSum {
 }
 
 impl GroupSum {
-    /// Folds one neighbor at `offset` (length `dist`) moving at `velocity` into the sums of `q`.
+    /// Folds one neighbor into the sums of `q`.
     #[inline(always)]
-    pub fn add(&mut self, q: &GroupQuery, offset: Vec3, dist: f32, velocity: Vec3) {
+    pub fn add(&mut self, q: &GroupQuery, n: &Near) {
         match *q {
             GroupQuery::Separation { radius } => {
-                if dist <= radius && dist > 1e-6 {
-                    self.a += offset / (dist * dist);
+                // d/|d|² for 1e-6 < |d| ≤ radius.
+                if n.d2 <= radius * radius && n.d2 > 1e-12 {
+                    self.a += inverse_square(n.offset, n.d2);
                     self.n += 1;
                 }
             }
             GroupQuery::Mean { radius } => {
-                if dist <= radius {
-                    self.a += offset;
-                    self.b += velocity;
+                if n.d2 <= radius * radius {
+                    self.a += n.offset;
+                    self.b += n.velocity;
                     self.n += 1;
                 }
             }
@@ -82,23 +123,13 @@ impl GroupSum {
                 matching,
                 attraction,
             } => {
-                if dist > attraction {
-                } else if dist < repulsion {
-                    self.n += 1;
-                    if dist > 1e-6 {
-                        self.a -= offset / dist;
-                    }
-                } else if dist < matching {
-                    self.m += 1;
-                    self.b += velocity.normalize_or_zero();
-                } else {
-                    self.m += 1;
-                    self.c += offset / dist;
+                if n.d2 <= attraction * attraction {
+                    self.add_zones(n, repulsion, matching);
                 }
             }
             GroupQuery::Headings { radius } => {
-                if dist <= radius {
-                    self.a += velocity.normalize_or_zero();
+                if n.d2 <= radius * radius {
+                    self.a += n.unit;
                     self.n += 1;
                 }
             }
@@ -106,11 +137,40 @@ impl GroupSum {
     }
 }
 
+impl GroupSum {
+    /// The R–A zones of a neighbor within the attraction radius, out of line (see
+    /// [`inverse_square`]).
+    #[inline(never)]
+    fn add_zones(&mut self, n: &Near, repulsion: f32, matching: f32) {
+        let dist = n.d2.sqrt();
+        if dist < repulsion {
+            self.n += 1;
+            if dist > 1e-6 {
+                self.a -= n.offset / dist;
+            }
+        } else if dist < matching {
+            self.m += 1;
+            self.b += n.unit;
+        } else {
+            self.m += 1;
+            self.c += n.offset / dist;
+        }
+    }
+}
+
+/// `offset / d2`, out of line: inlined, the compiler computes it ahead of the radius test for
+/// every neighbor (a division each), though separation radii usually keep few of them.
+#[inline(never)]
+fn inverse_square(offset: Vec3A, d2: f32) -> Vec3A {
+    offset * (1.0 / d2)
+}
+
 /// The distinct group queries of one species, in a fixed-size list (no allocation per agent).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct GroupQueries {
     items: [Option<GroupQuery>; MAX_GROUP_QUERIES],
     len: usize,
+    unit: bool,
 }
 
 impl GroupQueries {
@@ -118,6 +178,7 @@ impl GroupQueries {
     pub const EMPTY: GroupQueries = GroupQueries {
         items: [None; MAX_GROUP_QUERIES],
         len: 0,
+        unit: false,
     };
     /// An empty list.
     pub fn new() -> Self {
@@ -128,6 +189,7 @@ impl GroupQueries {
         if self.position(&q).is_none() && self.len < MAX_GROUP_QUERIES {
             self.items[self.len] = Some(q);
             self.len += 1;
+            self.unit |= q.reads_unit();
         }
     }
     /// Index of `q`, if listed.
@@ -150,12 +212,15 @@ impl GroupQueries {
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
-    /// Folds one neighbor into `sums` (one per query, in order).
+    /// Folds one neighbor at `offset` (squared length `d2`) moving at `velocity` into `sums`
+    /// (one per query, in order). Its unit velocity (a square root and a division) is computed
+    /// only when a query reads it.
     #[inline(always)]
-    pub fn add(&self, sums: &mut [GroupSum], offset: Vec3, dist: f32, velocity: Vec3) {
+    pub fn add(&self, sums: &mut [GroupSum], offset: Vec3A, d2: f32, velocity: Vec3A) {
+        let near = Near::new(offset, d2, velocity, self.unit);
         for (q, s) in self.items[..self.len].iter().zip(sums) {
             if let Some(q) = q {
-                s.add(q, offset, dist, velocity);
+                s.add(q, &near);
             }
         }
     }
@@ -165,17 +230,23 @@ impl GroupQueries {
 mod tests {
     use super::*;
 
+    impl GroupSum {
+        fn add_one(&mut self, q: &GroupQuery, offset: Vec3A, dist: f32, velocity: Vec3A) {
+            self.add(q, &Near::new(offset, dist * dist, velocity, true));
+        }
+    }
+
     #[test]
     fn separation_sums_inverse_square_offsets_within_the_radius() {
         let q = GroupQuery::Separation { radius: 3.0 };
         let mut s = GroupSum::default();
         // (2,0,0)/4 + (0,0,1)/1; the one at 4 is out of range, the coincident one has no
         // direction.
-        s.add(&q, Vec3::new(2.0, 0.0, 0.0), 2.0, Vec3::ZERO);
-        s.add(&q, Vec3::Z, 1.0, Vec3::ZERO);
-        s.add(&q, Vec3::new(4.0, 0.0, 0.0), 4.0, Vec3::ZERO);
-        s.add(&q, Vec3::ZERO, 0.0, Vec3::ZERO);
-        assert_eq!(s.a, Vec3::new(0.5, 0.0, 1.0));
+        s.add_one(&q, Vec3A::new(2.0, 0.0, 0.0), 2.0, Vec3A::ZERO);
+        s.add_one(&q, Vec3A::Z, 1.0, Vec3A::ZERO);
+        s.add_one(&q, Vec3A::new(4.0, 0.0, 0.0), 4.0, Vec3A::ZERO);
+        s.add_one(&q, Vec3A::ZERO, 0.0, Vec3A::ZERO);
+        assert_eq!(s.a, Vec3A::new(0.5, 0.0, 1.0));
         assert_eq!(s.n, 2);
     }
 
@@ -187,14 +258,14 @@ mod tests {
             attraction: 6.0,
         };
         let mut s = GroupSum::default();
-        s.add(&q, Vec3::new(0.5, 0.0, 0.0), 0.5, Vec3::Z);
-        s.add(&q, Vec3::new(0.0, 2.0, 0.0), 2.0, Vec3::X * 4.0);
-        s.add(&q, Vec3::new(0.0, 0.0, 5.0), 5.0, Vec3::ZERO);
-        s.add(&q, Vec3::new(9.0, 0.0, 0.0), 9.0, Vec3::ZERO);
+        s.add_one(&q, Vec3A::new(0.5, 0.0, 0.0), 0.5, Vec3A::Z);
+        s.add_one(&q, Vec3A::new(0.0, 2.0, 0.0), 2.0, Vec3A::X * 4.0);
+        s.add_one(&q, Vec3A::new(0.0, 0.0, 5.0), 5.0, Vec3A::ZERO);
+        s.add_one(&q, Vec3A::new(9.0, 0.0, 0.0), 9.0, Vec3A::ZERO);
         assert_eq!((s.n, s.m), (1, 2));
-        assert_eq!(s.a, Vec3::new(-1.0, 0.0, 0.0));
-        assert_eq!(s.b, Vec3::X);
-        assert_eq!(s.c, Vec3::Z);
+        assert_eq!(s.a, Vec3A::new(-1.0, 0.0, 0.0));
+        assert_eq!(s.b, Vec3A::X);
+        assert_eq!(s.c, Vec3A::Z);
     }
 
     #[test]
@@ -206,8 +277,8 @@ mod tests {
         assert_eq!(qs.len(), 2);
         assert_eq!(qs.position(&GroupQuery::Headings { radius: 2.0 }), Some(1));
         let mut sums = [GroupSum::default(); 2];
-        qs.add(&mut sums, Vec3::X, 1.0, Vec3::Z * 2.0);
-        assert_eq!((sums[0].a, sums[0].b, sums[0].n), (Vec3::X, Vec3::Z * 2.0, 1));
-        assert_eq!((sums[1].a, sums[1].n), (Vec3::Z, 1));
+        qs.add(&mut sums, Vec3A::X, 1.0, Vec3A::Z * 2.0);
+        assert_eq!((sums[0].a, sums[0].b, sums[0].n), (Vec3A::X, Vec3A::Z * 2.0, 1));
+        assert_eq!((sums[1].a, sums[1].n), (Vec3A::Z, 1));
     }
 }

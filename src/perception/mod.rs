@@ -23,7 +23,7 @@ pub use volume::Volume;
 use crate::frame;
 use crate::index::{Grid, ObstacleGrid};
 use crate::world::World;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -178,6 +178,9 @@ pub struct Perception {
     /// What a perceiver reads of each agent, by agent index, gathered once per tick so that a
     /// neighbor costs one small read instead of a walk into the full agent and two `sin_cos`.
     bodies: Vec<Body>,
+    /// `bodies` in the agent grid's order, so that a perceiver reads its neighbors' records
+    /// sequentially, cell by cell.
+    near: Vec<Body>,
     /// Velocity of each agent at the start of the tick (`Agent::velocity`), by agent index:
     /// shared with the steering stage's workers.
     velocities: Arc<Vec<Vec3>>,
@@ -189,9 +192,9 @@ pub struct Perception {
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Body {
     /// Forward unit vector.
-    heading: Vec3,
-    /// Speed.
-    speed: f32,
+    heading: Vec3A,
+    /// Velocity (`Agent::velocity`, bit for bit).
+    velocity: Vec3A,
     /// Bounding-box diagonal.
     diagonal: f32,
     /// Species index.
@@ -203,8 +206,8 @@ struct Body {
 impl Default for Body {
     fn default() -> Self {
         Body {
-            heading: Vec3::ZERO,
-            speed: 0.0,
+            heading: Vec3A::ZERO,
+            velocity: Vec3A::ZERO,
             diagonal: 0.0,
             species: 0,
             sex: crate::world::Sex::Female,
@@ -406,17 +409,26 @@ impl Perception {
             .zip(world.agents.par_iter())
             .with_min_len(256)
             .for_each(|((b, v), a)| {
+                let heading = a.forward();
+                // `Agent::velocity`, bit for bit.
+                *v = heading * a.speed;
                 *b = Body {
-                    heading: a.forward(),
-                    speed: a.speed,
+                    heading: heading.into(),
+                    velocity: (*v).into(),
                     diagonal: a.diagonal(),
                     species: a.species.0,
                     sex: a.attrs.sex,
                 };
-                // `Agent::velocity`, bit for bit.
-                *v = b.heading * b.speed;
             });
         let bodies = &self.bodies[..];
+        self.near.clear();
+        self.near.extend(
+            agents
+                .entries()
+                .iter()
+                .map(|&j| bodies.get(j as usize).copied().unwrap_or_default()),
+        );
+        let near = &self.near[..];
         let unsensed = bodies.iter().any(|b| b.species as usize >= senses.len());
         let reach = senses
             .iter()
@@ -433,7 +445,6 @@ impl Perception {
             summaries: &mut self.summaries,
             sums: &mut self.sums,
         };
-        let velocities = &self.velocities[..];
         outs.for_each(&self.slot_starts, &self.sum_starts, &|i, out| {
             *out.summary = [Summary::default(); Category::COUNT];
             let s = world.agents[i].species.0 as usize;
@@ -442,7 +453,7 @@ impl Perception {
             let view = View {
                 world,
                 bodies,
-                velocities,
+                near,
                 agents,
                 food,
                 obstacle_grid,
@@ -625,36 +636,86 @@ fn nearest_kept(slots: &[Percept]) -> [Option<(u16, f32)>; Category::COUNT] {
     best
 }
 
-/// What one agent has perceived so far: summaries, kept percepts, group sums and, per category,
+/// Running sums of one category, kept in 16-byte lanes while the neighbors are walked,
+/// written out as a [`Summary`] at the end.
+#[derive(Debug, Clone, Copy)]
+struct Acc {
+    pos: Vec3A,
+    heading: Vec3A,
+    vel: Vec3A,
+    count: u32,
+    seen: u32,
+    /// Ordering key of the nearest so far (squared distance) and its distance.
+    key: f32,
+    nearest: f32,
+}
+
+const ACC: Acc = Acc {
+    pos: Vec3A::ZERO,
+    heading: Vec3A::ZERO,
+    vel: Vec3A::ZERO,
+    count: 0,
+    seen: 0,
+    key: f32::INFINITY,
+    nearest: f32::INFINITY,
+};
+
+impl Acc {
+    #[inline(always)]
+    fn note(
+        &mut self,
+        sense: Sense,
+        key: f32,
+        dist: impl Fn() -> f32,
+        pos: Vec3A,
+        heading: Vec3A,
+        vel: Vec3A,
+    ) {
+        self.count += 1;
+        self.seen += (sense == Sense::Vision) as u32;
+        if key < self.key {
+            // Rare (a few times per perceiver): the square root only here.
+            self.key = key;
+            self.nearest = dist();
+        }
+        self.pos += pos;
+        self.heading += heading;
+        self.vel += vel;
+    }
+}
+
+/// What one agent has perceived so far: per-category sums, kept percepts and, per category,
 /// the nearest percept (kept even when nearer ones of other categories fill the slots).
-struct Fold<'a, 'b> {
-    summary: &'b mut [Summary; Category::COUNT],
+struct Fold<'a> {
+    acc: [Acc; Category::COUNT],
     kept: Kept<'a>,
     /// Whether the agent keeps percepts at all.
     keep: bool,
     nearest: [Percept; Category::COUNT],
 }
 
-impl Fold<'_, '_> {
-    /// Notes one percept of category `cat`, which `make()` builds if it is kept.
+impl Fold<'_> {
+    /// Notes one percept of category `cat` at squared distance `key` (distance `dist()`),
+    /// which `make(dist)` builds if it is kept.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn take(
         &mut self,
         cat: Category,
         seen: Sense,
-        dist: f32,
-        pos: Vec3,
-        heading: Vec3,
-        vel: Vec3,
-        make: impl Fn() -> Percept,
+        key: f32,
+        dist: impl Fn() -> f32,
+        pos: Vec3A,
+        heading: Vec3A,
+        vel: Vec3A,
+        make: impl Fn(f32) -> Percept,
     ) {
         if self.keep {
-            let nearer = dist < self.summary[cat as usize].nearest_dist;
-            let nearer_kin =
-                cat == Category::Mate && dist < self.summary[Category::Kin as usize].nearest_dist;
+            let d = dist();
+            let nearer = key < self.acc[cat as usize].key;
+            let nearer_kin = cat == Category::Mate && key < self.acc[Category::Kin as usize].key;
             if nearer || nearer_kin {
-                let p = make();
+                let p = make(d);
                 if nearer {
                     self.nearest[cat as usize] = p;
                 }
@@ -662,11 +723,26 @@ impl Fold<'_, '_> {
                     self.nearest[Category::Kin as usize] = p;
                 }
             }
-            self.kept.offer(dist, &make);
+            self.kept.offer(d, || make(d));
         }
-        note(self.summary, cat, seen, dist, pos, heading, vel);
+        self.acc[cat as usize].note(seen, key, &dist, pos, heading, vel);
         if cat == Category::Mate {
-            note(self.summary, Category::Kin, seen, dist, pos, heading, vel);
+            self.acc[Category::Kin as usize].note(seen, key, &dist, pos, heading, vel);
+        }
+    }
+
+    /// Writes the sums out as summaries (means not yet divided).
+    fn sums_into(&self, summary: &mut [Summary; Category::COUNT]) {
+        for (sm, a) in summary.iter_mut().zip(&self.acc) {
+            *sm = Summary {
+                count: a.count,
+                seen: a.seen,
+                nearest: None,
+                nearest_dist: a.nearest,
+                centroid: a.pos.into(),
+                mean_heading: a.heading.into(),
+                mean_velocity: a.vel.into(),
+            };
         }
     }
 }
@@ -709,7 +785,8 @@ struct Eye {
 struct View<'a> {
     world: &'a World,
     bodies: &'a [Body],
-    velocities: &'a [Vec3],
+    /// `bodies` in the agent grid's order.
+    near: &'a [Body],
     agents: &'a Grid,
     food: &'a Grid,
     obstacle_grid: &'a ObstacleGrid,
@@ -732,7 +809,7 @@ fn perceive_one(
     let s = me.species.0 as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
     // `frame::dorsal` is `forward × left`: reuse both (the forward vector is in the body cache).
-    let fwd = view.bodies[i].heading;
+    let fwd = Vec3::from(view.bodies[i].heading);
     let left = frame::left(yaw);
     let cos_min = sense.vision_half_angle.cos() - 1e-6;
     let eye = Eye {
@@ -745,7 +822,7 @@ fn perceive_one(
     let radius = sense.query_radius();
     let keep = !slots.is_empty();
     let mut fold = Fold {
-        summary,
+        acc: [ACC; Category::COUNT],
         kept: Kept {
             slots,
             dists: [f32::NEG_INFINITY; MAX_PERCEPTS],
@@ -786,11 +863,12 @@ fn perceive_one(
             fold.take(
                 cat,
                 seen,
-                dist,
-                me.pos + offset,
-                Vec3::ZERO,
-                Vec3::ZERO,
-                || {
+                dist * dist,
+                || dist,
+                (me.pos + offset).into(),
+                Vec3A::ZERO,
+                Vec3A::ZERO,
+                |dist| {
                     percept(
                         Source::Obstacle(k),
                         cat,
@@ -808,30 +886,33 @@ fn perceive_one(
     let relations = view.relations;
     let mates = relations.mates.get(s).copied().unwrap_or(false);
     let (here, my_sex) = (me.pos, me.attrs.sex);
+    let here_a = Vec3A::from(here);
     let row = relations.row(s);
-    view.agents.for_each_within(here, radius, |j, pos, d2| {
-        let j = j as usize;
+    let entries = view.agents.entries();
+    view.agents.for_each_slot_within(here, radius, |k, pos, d2| {
+        let j = entries[k] as usize;
         if j == i {
             return;
         }
-        let other = &view.bodies[j];
+        let other = &view.near[k];
         let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
             return;
         };
         if cat == Category::Kin && mates && other.sex != my_sex {
             cat = Category::Mate;
         }
-        let offset = pos - here;
-        // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
-        let dist = d2.sqrt();
-        let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) else {
+        let offset_a = pos - here_a;
+        let offset = Vec3::from(offset_a);
+        let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) else {
             return;
         };
-        let vel = view.velocities[j];
+        let vel = other.velocity;
         if matches!(cat, Category::Kin | Category::Mate) {
-            groups.add(sums, offset, dist, vel);
+            groups.add(sums, offset_a, d2, vel);
         }
-        fold.take(cat, seen, dist, pos, other.heading, vel, || {
+        // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+        let dist = || d2.sqrt();
+        fold.take(cat, seen, d2, dist, pos, other.heading, vel, |dist| {
             percept(
                 Source::Agent(j as u32),
                 cat,
@@ -846,18 +927,19 @@ fn perceive_one(
     if relations.eats_items(s) {
         view.food.for_each_within(here, radius, |j, pos, d2| {
             let offset = pos - here;
-            let dist = d2.sqrt();
-            if let Some(seen) = sense_of(here, offset, dist, dist, &eye, sense, occ) {
+            if let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) {
                 let cat = Category::Food;
-                fold.take(cat, seen, dist, pos, Vec3::ZERO, Vec3::ZERO, || {
+                let at = Vec3A::from(pos);
+                let dist = || d2.sqrt();
+                fold.take(cat, seen, d2, dist, at, Vec3A::ZERO, Vec3A::ZERO, |dist| {
                     percept(Source::Food(j), cat, seen, offset, dist, 0.0)
                 });
             }
         });
     }
 
+    fold.sums_into(summary);
     let Fold {
-        summary,
         kept,
         nearest: candidates,
         ..
@@ -984,6 +1066,37 @@ fn percept(
     }
 }
 
+/// [`sense_of`] for a point target at `offset`, of squared length `d2`: ranges are compared
+/// squared, and the square root is taken only for a vision cone.
+#[inline(always)]
+fn sense_point(
+    from: Vec3,
+    offset: Vec3,
+    d2: f32,
+    eye: &Eye,
+    sense: &SenseParams,
+    occluders: &[(Vec3, f32)],
+) -> Option<Sense> {
+    let in_vision = match &sense.volume {
+        Some(v) => v.contains(Vec3::new(
+            offset.dot(eye.left),
+            offset.dot(eye.up),
+            offset.dot(eye.fwd),
+        )),
+        None => {
+            d2 <= sense.vision_radius * sense.vision_radius
+                && (eye.full_circle || d2 == 0.0 || eye.fwd.dot(offset) / d2.sqrt() >= eye.cos_min)
+        }
+    };
+    if in_vision && (occluders.is_empty() || !occluded(from, from + offset, occluders)) {
+        Some(Sense::Vision)
+    } else if d2 <= sense.smell_radius * sense.smell_radius {
+        Some(Sense::Smell)
+    } else {
+        None
+    }
+}
+
 /// Decides whether a target at `offset` (of length `offset_len`; `dist` is the distance the
 /// ranges apply to) is seen, smelt or missed.
 #[inline(always)]
@@ -1011,7 +1124,7 @@ fn sense_of(
                     || eye.fwd.dot(offset) / offset_len >= eye.cos_min)
         }
     };
-    if in_vision && !occluded(from, from + offset, occluders) {
+    if in_vision && (occluders.is_empty() || !occluded(from, from + offset, occluders)) {
         Some(Sense::Vision)
     } else if dist <= sense.smell_radius {
         Some(Sense::Smell)

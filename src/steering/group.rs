@@ -6,6 +6,7 @@
 //! Forces are turned into [`Steer::Velocity`]`(v + F)` by the recipe layer.
 
 use super::Steer;
+use crate::perception::group::Near;
 use crate::perception::{GroupQuery, GroupSum};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -25,7 +26,9 @@ pub struct Neighbor {
 pub fn fold(neighbors: &[Neighbor], q: &GroupQuery) -> GroupSum {
     let mut s = GroupSum::default();
     for n in neighbors {
-        s.add(q, n.offset, n.dist, n.velocity);
+        let offset = glam::Vec3A::from(n.offset);
+        let near = Near::new(offset, offset.length_squared(), n.velocity.into(), q.reads_unit());
+        s.add(q, &near);
     }
     s
 }
@@ -40,14 +43,14 @@ pub fn separation(neighbors: &[Neighbor], m1: f32, k: f32, length: f32, factor: 
 /// Separation from the sums of a [`GroupQuery::Separation`]: `−m1·k·length·factor · Σ d/|d|²`.
 #[inline]
 pub fn separation_of(sum: &GroupSum, m1: f32, k: f32, length: f32, factor: f32) -> Vec3 {
-    -sum.a * (m1 * k * length * factor)
+    -Vec3::from(sum.a) * (m1 * k * length * factor)
 }
 
 /// Alignment of seed 001: `m1·k·(v_avg − v)`, proportional to the difference from the
 /// neighbors' mean velocity. Zero without neighbors.
 pub fn alignment(neighbors: &[Neighbor], own_velocity: Vec3, m1: f32, k: f32) -> Vec3 {
     let sum = fold(neighbors, &GroupQuery::Mean { radius: f32::INFINITY });
-    alignment_of(mean(sum.b, sum.n), own_velocity, m1, k)
+    alignment_of(mean(sum.b.into(), sum.n), own_velocity, m1, k)
 }
 
 /// Alignment from the neighbors' mean velocity (`None` without neighbors).
@@ -59,7 +62,7 @@ pub fn alignment_of(mean_velocity: Option<Vec3>, own_velocity: Vec3, m1: f32, k:
 /// Cohesion: `k·(centroid − position)`, toward the neighbors' mean position.
 pub fn cohesion(neighbors: &[Neighbor], k: f32) -> Vec3 {
     let sum = fold(neighbors, &GroupQuery::Mean { radius: f32::INFINITY });
-    cohesion_of(mean(sum.a, sum.n), k)
+    cohesion_of(mean(sum.a.into(), sum.n), k)
 }
 
 /// Cohesion from the neighbors' mean offset (`None` without neighbors).
@@ -119,9 +122,9 @@ pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
 #[inline]
 pub fn ra_zones_of(sum: &GroupSum, speed: f32) -> Steer {
     let dir = if sum.n > 0 {
-        sum.a
+        Vec3::from(sum.a)
     } else if sum.m > 0 {
-        sum.b + sum.c
+        Vec3::from(sum.b + sum.c)
     } else {
         return Steer::None;
     };
@@ -149,7 +152,7 @@ pub fn vicsek(
 
 /// Vicsek alignment from the sums of a [`GroupQuery::Headings`].
 pub fn vicsek_of(own_forward: Vec3, sum: &GroupSum, speed: f32, noise: f32, u: (f32, f32)) -> Steer {
-    let dir = (own_forward.normalize_or_zero() + sum.a)
+    let dir = (own_forward.normalize_or_zero() + Vec3::from(sum.a))
         .try_normalize()
         .unwrap_or(own_forward);
     let Some((yaw, pitch)) = crate::frame::heading_of(dir) else {
