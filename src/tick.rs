@@ -347,11 +347,16 @@ impl Pipeline {
         self.perceive(world);
         // 3–6. Per agent: drives, decision, steering, locomotion.
         self.brains.resize_with(n, Brain::default);
-        for (a, b) in world.agents.iter_mut().zip(self.brains.iter_mut()) {
-            b.mind = std::mem::take(&mut a.mind);
-            b.memory = std::mem::take(&mut a.memory);
-            b.rng = a.rng;
-        }
+        world
+            .agents
+            .par_iter_mut()
+            .zip(self.brains.par_iter_mut())
+            .with_min_len(256)
+            .for_each(|(a, b)| {
+                b.mind = std::mem::take(&mut a.mind);
+                b.memory = std::mem::take(&mut a.memory);
+                b.rng = a.rng;
+            });
         self.outcomes.resize_with(n, Outcome::default);
         self.plan_targets.resize(n, None);
         let world_ref: &World = world;
@@ -442,29 +447,41 @@ impl Pipeline {
         self.next_inbox.clear();
         self.next_inbox.resize(n, None);
         let tick = world.tick;
+        // Each agent's own outcome, in parallel: nothing here reads another agent.
+        let bounds = world.bounds;
+        world
+            .agents
+            .par_iter_mut()
+            .zip(self.outcomes.par_iter())
+            .zip(self.brains.par_iter_mut())
+            .with_min_len(256)
+            .for_each(|((a, out), brain)| {
+                let brain = std::mem::take(brain);
+                a.prev_pos = a.pos;
+                a.pos = bounds.closest_point(out.motion.pos);
+                a.yaw = out.motion.yaw;
+                a.pitch = out.motion.pitch;
+                a.speed = out.motion.speed;
+                a.yaw_rate = out.motion.yaw_rate;
+                a.pitch_rate = out.motion.pitch_rate;
+                a.anim = out.anim;
+                a.drives = out.drives;
+                a.mind = brain.mind;
+                a.memory = brain.memory;
+                a.rng = brain.rng;
+            });
+        // Then, in agent order, what reaches beyond the agent: counters, events, messages,
+        // contacts.
         for i in 0..n {
-            let out = std::mem::take(&mut self.outcomes[i]);
-            let brain = std::mem::take(&mut self.brains[i]);
+            let out = &mut self.outcomes[i];
             let a = &mut world.agents[i];
-            a.prev_pos = a.pos;
-            a.pos = world.bounds.closest_point(out.motion.pos);
-            a.yaw = out.motion.yaw;
-            a.pitch = out.motion.pitch;
-            a.speed = out.motion.speed;
-            a.yaw_rate = out.motion.yaw_rate;
-            a.pitch_rate = out.motion.pitch_rate;
-            a.anim = out.anim;
-            a.drives = out.drives;
-            a.mind = brain.mind;
-            a.memory = brain.memory;
-            a.rng = brain.rng;
             let s = a.species.0 as usize;
             if let Some(row) = self.stats.behavior_ticks.get_mut(s) {
                 if let Some(c) = row.get_mut(a.mind.current as usize) {
                     *c += 1;
                 }
             }
-            for t in out.transitions.into_iter().flatten() {
+            for t in std::mem::take(&mut out.transitions).into_iter().flatten() {
                 self.stats.transitions += 1;
                 self.events.push(Event::Transition {
                     agent: a.id,
@@ -476,7 +493,7 @@ impl Pipeline {
                     stack: a.mind.stack().to_vec(),
                 });
             }
-            if let Some(e) = out.error {
+            if let Some(e) = out.error.take() {
                 self.stats.script_errors += 1;
                 if !a.mind.script_error_reported {
                     a.mind.script_error_reported = true;
@@ -488,7 +505,7 @@ impl Pipeline {
                 }
             }
             let (aid, pos, sid) = (a.id, a.pos, a.species);
-            for (kind, radius) in out.messages.into_iter().flatten() {
+            for (kind, radius) in std::mem::take(&mut out.messages).into_iter().flatten() {
                 self.events.push(Event::Message {
                     from: aid,
                     kind,
@@ -504,7 +521,7 @@ impl Pipeline {
                     }
                 });
             }
-            if let Some((contact, source)) = out.contact {
+            if let Some((contact, source)) = out.contact.take() {
                 self.contacts.push((i, contact, source));
             }
         }

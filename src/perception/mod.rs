@@ -446,7 +446,6 @@ impl Perception {
             sums: &mut self.sums,
         };
         outs.for_each(&self.slot_starts, &self.sum_starts, &|i, out| {
-            *out.summary = [Summary::default(); Category::COUNT];
             let s = world.agents[i].species.0 as usize;
             let sense = senses.get(s).unwrap_or(&default);
             let r = reads.get(s).unwrap_or(&everything);
@@ -459,7 +458,11 @@ impl Perception {
                 obstacle_grid,
                 relations,
             };
-            *out.count = perceive_one(i, &view, sense, r, out.slots, out.summary, out.sums);
+            *out.count = if out.slots.is_empty() {
+                perceive_one::<false>(i, &view, sense, r, out.slots, out.summary, out.sums)
+            } else {
+                perceive_one::<true>(i, &view, sense, r, out.slots, out.summary, out.sums)
+            };
         });
     }
 }
@@ -686,15 +689,15 @@ impl Acc {
 
 /// What one agent has perceived so far: per-category sums, kept percepts and, per category,
 /// the nearest percept (kept even when nearer ones of other categories fill the slots).
-struct Fold<'a> {
+/// `KEEP`: whether the agent keeps percepts at all (without, the per-percept bookkeeping
+/// compiles away).
+struct Fold<'a, const KEEP: bool> {
     acc: [Acc; Category::COUNT],
     kept: Kept<'a>,
-    /// Whether the agent keeps percepts at all.
-    keep: bool,
     nearest: [Percept; Category::COUNT],
 }
 
-impl Fold<'_> {
+impl<const KEEP: bool> Fold<'_, KEEP> {
     /// Notes one percept of category `cat` at squared distance `key` (distance `dist()`),
     /// which `make(dist)` builds if it is kept.
     #[inline(always)]
@@ -710,7 +713,7 @@ impl Fold<'_> {
         vel: Vec3A,
         make: impl Fn(f32) -> Percept,
     ) {
-        if self.keep {
+        if KEEP {
             let d = dist();
             let nearer = key < self.acc[cat as usize].key;
             let nearer_kin = cat == Category::Mate && key < self.acc[Category::Kin as usize].key;
@@ -795,7 +798,7 @@ struct View<'a> {
 
 /// Perceives for agent `i`: fills its slots, summaries and group sums; returns the number of
 /// percepts kept.
-fn perceive_one(
+fn perceive_one<const KEEP: bool>(
     i: usize,
     view: &View,
     sense: &SenseParams,
@@ -820,8 +823,7 @@ fn perceive_one(
         full_circle: cos_min < -1.000_000_5,
     };
     let radius = sense.query_radius();
-    let keep = !slots.is_empty();
-    let mut fold = Fold {
+    let mut fold = Fold::<KEEP> {
         acc: [ACC; Category::COUNT],
         kept: Kept {
             slots,
@@ -831,7 +833,6 @@ fn perceive_one(
             far_valid: false,
             bound: f32::INFINITY,
         },
-        keep,
         nearest: [EMPTY; Category::COUNT],
     };
     sums.fill(GroupSum::default());
@@ -948,7 +949,7 @@ fn perceive_one(
     let slots = kept.slots;
     // The nearest of each category is always kept: put back any that nearer percepts of other
     // categories pushed out, in place of the farthest percept that is nobody's nearest.
-    if keep {
+    if KEEP {
         const ORDER: [Category; Category::COUNT] = [
             Category::Food,
             Category::Predator,
