@@ -13,9 +13,7 @@ use crate::index::Grid;
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{Category, GroupQueries, Perception, Reads, Source};
 use crate::script::AgentView;
-use crate::species::{
-    ActionNode, Contact, Draw, SexDef, SpeciesSet,
-};
+use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{

@@ -129,7 +129,12 @@ impl Grid {
     /// Calls `visit(index, position, squared distance)` for every entry within `radius` of
     /// `center`, in a fixed order (cells by z, y, x; indices ascending within a cell).
     #[inline]
-    pub fn for_each_within(&self, center: Vec3, radius: f32, mut visit: impl FnMut(u32, Vec3, f32)) {
+    pub fn for_each_within(
+        &self,
+        center: Vec3,
+        radius: f32,
+        mut visit: impl FnMut(u32, Vec3, f32),
+    ) {
         self.for_each_slot_within(center, radius, |k, p, d2| {
             visit(self.entries[k], p.into(), d2)
         });

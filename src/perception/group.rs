@@ -278,7 +278,10 @@ mod tests {
         assert_eq!(qs.position(&GroupQuery::Headings { radius: 2.0 }), Some(1));
         let mut sums = [GroupSum::default(); 2];
         qs.add(&mut sums, Vec3A::X, 1.0, Vec3A::Z * 2.0);
-        assert_eq!((sums[0].a, sums[0].b, sums[0].n), (Vec3A::X, Vec3A::Z * 2.0, 1));
+        assert_eq!(
+            (sums[0].a, sums[0].b, sums[0].n),
+            (Vec3A::X, Vec3A::Z * 2.0, 1)
+        );
         assert_eq!((sums[1].a, sums[1].n), (Vec3A::Z, 1));
     }
 }

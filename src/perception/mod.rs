@@ -890,40 +890,81 @@ fn perceive_one<const KEEP: bool>(
     let here_a = Vec3A::from(here);
     let row = relations.row(s);
     let entries = view.agents.entries();
-    view.agents.for_each_slot_within(here, radius, |k, pos, d2| {
-        let j = entries[k] as usize;
-        if j == i {
-            return;
-        }
-        let other = &view.near[k];
-        let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
-            return;
-        };
-        if cat == Category::Kin && mates && other.sex != my_sex {
-            cat = Category::Mate;
-        }
-        let offset_a = pos - here_a;
-        let offset = Vec3::from(offset_a);
-        let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) else {
-            return;
-        };
-        let vel = other.velocity;
-        if matches!(cat, Category::Kin | Category::Mate) {
-            groups.add(sums, offset_a, d2, vel);
-        }
-        // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
-        let dist = || d2.sqrt();
-        fold.take(cat, seen, d2, dist, pos, other.heading, vel, |dist| {
-            percept(
-                Source::Agent(j as u32),
-                cat,
-                seen,
-                offset,
-                dist,
-                other.diagonal,
-            )
-        });
-    });
+    // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
+    // volume, no mates): the neighbors go straight into the kin sums, held in registers.
+    let plain = !KEEP
+        && occ.is_empty()
+        && sense.volume.is_none()
+        && !mates
+        && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
+    if plain {
+        let (vr2, sr2) = (
+            sense.vision_radius * sense.vision_radius,
+            sense.smell_radius * sense.smell_radius,
+        );
+        let mut kin = ACC;
+        view.agents
+            .for_each_slot_within(here, radius, |k, pos, d2| {
+                let other = &view.near[k];
+                if entries[k] as usize == i
+                    || row.get(other.species as usize) != Some(&Some(Category::Kin))
+                {
+                    return;
+                }
+                let offset = pos - here_a;
+                // `sense_point` without occluders and volume.
+                let seen = if d2 <= vr2
+                    && (eye.full_circle
+                        || d2 == 0.0
+                        || eye.fwd.dot(offset.into()) / d2.sqrt() >= eye.cos_min)
+                {
+                    Sense::Vision
+                } else if d2 <= sr2 {
+                    Sense::Smell
+                } else {
+                    return;
+                };
+                groups.add(sums, offset, d2, other.velocity);
+                kin.note(seen, d2, || d2.sqrt(), pos, other.heading, other.velocity);
+            });
+        fold.acc[Category::Kin as usize] = kin;
+    } else {
+        view.agents
+            .for_each_slot_within(here, radius, |k, pos, d2| {
+                let j = entries[k] as usize;
+                if j == i {
+                    return;
+                }
+                let other = &view.near[k];
+                let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
+                    return;
+                };
+                if cat == Category::Kin && mates && other.sex != my_sex {
+                    cat = Category::Mate;
+                }
+                let offset_a = pos - here_a;
+                let offset = Vec3::from(offset_a);
+                let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) else {
+                    return;
+                };
+                let vel = other.velocity;
+                if matches!(cat, Category::Kin | Category::Mate) {
+                    groups.add(sums, offset_a, d2, vel);
+                }
+                // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+                let dist = || d2.sqrt();
+                fold.take(cat, seen, d2, dist, pos, other.heading, vel, |dist| {
+                    percept(
+                        Source::Agent(j as u32),
+                        cat,
+                        seen,
+                        offset,
+                        dist,
+                        other.diagonal,
+                    )
+                });
+            });
+    }
 
     if relations.eats_items(s) {
         view.food.for_each_within(here, radius, |j, pos, d2| {
@@ -972,16 +1013,14 @@ fn perceive_one<const KEEP: bool>(
                 len += 1;
                 continue;
             }
-            let protected = best
-                .iter()
-                .flatten()
-                .fold(0u32, |m, &(k, _)| m | 1 << k);
-            let far = (0..len)
-                .filter(|&k| protected & (1 << k) == 0)
-                .fold(None, |f: Option<usize>, k| match f {
+            let protected = best.iter().flatten().fold(0u32, |m, &(k, _)| m | 1 << k);
+            let far = (0..len).filter(|&k| protected & (1 << k) == 0).fold(
+                None,
+                |f: Option<usize>, k| match f {
                     Some(f) if slots[f].dist >= slots[k].dist => Some(f),
                     _ => Some(k),
-                });
+                },
+            );
             if let Some(k) = far {
                 slots[k] = candidates[c as usize];
             }
@@ -1342,7 +1381,12 @@ mod tests {
         let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 2);
         w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
         for k in 0..30 {
-            w.agents.push(agent(k + 1, 0, Vec3::new(0.0, 0.0, 0.2 * (k + 1) as f32), 0.0));
+            w.agents.push(agent(
+                k + 1,
+                0,
+                Vec3::new(0.0, 0.0, 0.2 * (k + 1) as f32),
+                0.0,
+            ));
         }
         w.agents.push(agent(31, 1, Vec3::new(0.0, 0.0, 8.0), 0.0));
         w.add_food(Vec3::new(0.0, 0.0, 7.0));
@@ -1350,7 +1394,11 @@ mod tests {
         let kept = p.percepts(0);
         assert_eq!(kept.len(), DEFAULT_PERCEPTS);
         let sm = p.summaries(0);
-        for (c, d) in [(Category::Food, 7.0), (Category::Predator, 8.0), (Category::Kin, 0.2)] {
+        for (c, d) in [
+            (Category::Food, 7.0),
+            (Category::Predator, 8.0),
+            (Category::Kin, 0.2),
+        ] {
             let near = &kept[sm[c as usize].nearest.expect("kept") as usize];
             assert_eq!(near.category, c);
             assert!((near.dist - d).abs() < 1e-5, "{c:?} {}", near.dist);
@@ -1362,7 +1410,10 @@ mod tests {
             .map(|q| q.dist)
             .fold(0.0, f32::max);
         assert!((far_kin - 2.8).abs() < 1e-5, "{far_kin}");
-        assert_eq!(kept.iter().filter(|q| q.category == Category::Kin).count(), 14);
+        assert_eq!(
+            kept.iter().filter(|q| q.category == Category::Kin).count(),
+            14
+        );
     }
 
     #[test]
@@ -1373,7 +1424,11 @@ mod tests {
         w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
         let mut rng = Rng::new(4, 0);
         for k in 0..40 {
-            let pos = Vec3::new(rng.range(-6.0, 6.0), rng.range(-6.0, 6.0), rng.range(-6.0, 6.0));
+            let pos = Vec3::new(
+                rng.range(-6.0, 6.0),
+                rng.range(-6.0, 6.0),
+                rng.range(-6.0, 6.0),
+            );
             let mut a = agent(k + 1, 0, pos, rng.range(-3.0, 3.0));
             a.speed = rng.range(0.0, 2.0);
             w.agents.push(a);
@@ -1405,7 +1460,14 @@ mod tests {
         let mut ag = Grid::new();
         ag.rebuild(w.bounds, 3.0, w.agents.iter().map(|a| a.pos));
         let mut p = Perception::new();
-        p.run_selective(&w, &ag, &Grid::new(), &[sense, sense], &rel(), &[reads, reads]);
+        p.run_selective(
+            &w,
+            &ag,
+            &Grid::new(),
+            &[sense, sense],
+            &rel(),
+            &[reads, reads],
+        );
         assert!(p.percepts(0).is_empty());
         assert_eq!(p.summaries(0)[Category::Kin as usize].count, 40);
         // The same sums from the full neighbor list, in the index's order.

@@ -27,7 +27,12 @@ pub fn fold(neighbors: &[Neighbor], q: &GroupQuery) -> GroupSum {
     let mut s = GroupSum::default();
     for n in neighbors {
         let offset = glam::Vec3A::from(n.offset);
-        let near = Near::new(offset, offset.length_squared(), n.velocity.into(), q.reads_unit());
+        let near = Near::new(
+            offset,
+            offset.length_squared(),
+            n.velocity.into(),
+            q.reads_unit(),
+        );
         s.add(q, &near);
     }
     s
@@ -36,7 +41,12 @@ pub fn fold(neighbors: &[Neighbor], q: &GroupQuery) -> GroupSum {
 /// Separation of seed 001: each neighbor pushes with `m1·k·(length·factor)/|d|` directly away
 /// from it. Coincident neighbors (d = 0) are skipped: they have no direction.
 pub fn separation(neighbors: &[Neighbor], m1: f32, k: f32, length: f32, factor: f32) -> Vec3 {
-    let sum = fold(neighbors, &GroupQuery::Separation { radius: f32::INFINITY });
+    let sum = fold(
+        neighbors,
+        &GroupQuery::Separation {
+            radius: f32::INFINITY,
+        },
+    );
     separation_of(&sum, m1, k, length, factor)
 }
 
@@ -49,7 +59,12 @@ pub fn separation_of(sum: &GroupSum, m1: f32, k: f32, length: f32, factor: f32) 
 /// Alignment of seed 001: `m1·k·(v_avg − v)`, proportional to the difference from the
 /// neighbors' mean velocity. Zero without neighbors.
 pub fn alignment(neighbors: &[Neighbor], own_velocity: Vec3, m1: f32, k: f32) -> Vec3 {
-    let sum = fold(neighbors, &GroupQuery::Mean { radius: f32::INFINITY });
+    let sum = fold(
+        neighbors,
+        &GroupQuery::Mean {
+            radius: f32::INFINITY,
+        },
+    );
     alignment_of(mean(sum.b.into(), sum.n), own_velocity, m1, k)
 }
 
@@ -61,7 +76,12 @@ pub fn alignment_of(mean_velocity: Option<Vec3>, own_velocity: Vec3, m1: f32, k:
 
 /// Cohesion: `k·(centroid − position)`, toward the neighbors' mean position.
 pub fn cohesion(neighbors: &[Neighbor], k: f32) -> Vec3 {
-    let sum = fold(neighbors, &GroupQuery::Mean { radius: f32::INFINITY });
+    let sum = fold(
+        neighbors,
+        &GroupQuery::Mean {
+            radius: f32::INFINITY,
+        },
+    );
     cohesion_of(mean(sum.a.into(), sum.n), k)
 }
 
@@ -151,7 +171,13 @@ pub fn vicsek(
 }
 
 /// Vicsek alignment from the sums of a [`GroupQuery::Headings`].
-pub fn vicsek_of(own_forward: Vec3, sum: &GroupSum, speed: f32, noise: f32, u: (f32, f32)) -> Steer {
+pub fn vicsek_of(
+    own_forward: Vec3,
+    sum: &GroupSum,
+    speed: f32,
+    noise: f32,
+    u: (f32, f32),
+) -> Steer {
     let dir = (own_forward.normalize_or_zero() + Vec3::from(sum.a))
         .try_normalize()
         .unwrap_or(own_forward);

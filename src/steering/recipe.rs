@@ -182,9 +182,12 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
                         Recipe::Separation(_) => {
                             group::separation_of(&sum, m1, g.k, ctx.agent.size.z, g.factor)
                         }
-                        Recipe::Alignment(_) => {
-                            group::alignment_of(group::mean(sum.b.into(), sum.n), own_velocity, m1, g.k)
-                        }
+                        Recipe::Alignment(_) => group::alignment_of(
+                            group::mean(sum.b.into(), sum.n),
+                            own_velocity,
+                            m1,
+                            g.k,
+                        ),
                         _ => group::cohesion_of(group::mean(sum.a.into(), sum.n), g.k),
                     }
                 }

@@ -199,4 +199,3 @@ pub fn bearing_range(sp: &Species) -> f32 {
     let named = sp.recipes.iter().map(recipe);
     behaviors.chain(named).fold(0.0, f32::max)
 }
-
