@@ -275,10 +275,13 @@ pub fn flock(n: usize) -> BenchWorld {
 }
 
 /// Native conditions standing for the reef fish's script conditions in the `reef-native` world,
-/// by function name: the same test written in the species format.
+/// by function name: the same test written in the species format, as far as it can be.
+/// `should_leave()` is "mated less than 1 s ago (a blackboard entry), or crowded: more than 8
+/// kin seen, the nearest closer than 0.5 and not hungry"; conditions cannot read the
+/// blackboard, so the native form is the crowded half, with kin perceived for kin seen.
 pub const NATIVE_EQUIVALENTS: &[(&str, &str)] = &[(
-    "crowded",
-    "All([Above(Count(Kin), 10), Below(Drive(Hunger), 0.5)])",
+    "should_leave",
+    "All([Above(Count(Kin), 8), Below(Distance(Kin), 0.5), Below(Drive(Hunger), 0.5)])",
 )];
 
 /// The species text with its script removed and every `Script("f")` replaced by its native
@@ -569,4 +572,43 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
         );
     }
     (t0.elapsed().as_secs_f64(), n as u64 * passes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn behaviors() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("behaviors")
+    }
+
+    #[test]
+    fn every_tick_workload_builds_and_steps() {
+        for w in [
+            Workload::Boids,
+            Workload::Flock,
+            Workload::Reef,
+            Workload::ReefNative,
+        ] {
+            let mut b = world_of(w, 300, &behaviors()).unwrap_or_else(|d| panic!("{w:?}: {d}"));
+            let n = b.run.world.agents.len();
+            assert!(n >= 300, "{w:?}: {n} agents");
+            for _ in 0..3 {
+                b.run.step();
+            }
+            assert!(b.run.world.agents.iter().all(|a| a.pos.is_finite()), "{w:?}");
+        }
+    }
+
+    #[test]
+    fn reef_native_has_a_native_form_of_every_script_condition() {
+        let b = reef(300, &behaviors(), false).unwrap_or_else(|d| panic!("{d}"));
+        assert!(
+            b.notes.iter().all(|n| !n.contains("no native equivalent")),
+            "{:?}",
+            b.notes
+        );
+        let set = &b.run.pipeline.species;
+        assert!(set.species.iter().all(|s| s.script.is_none()));
+    }
 }

@@ -999,31 +999,32 @@ fn perceive_one<const KEEP: bool>(
             Category::Obstacle,
             Category::Other,
         ];
+        let mut best = nearest_kept(&slots[..len]);
         for c in ORDER {
             let sm = &summary[c as usize];
-            if sm.count == 0 {
-                continue;
-            }
-            let best = nearest_kept(&slots[..len]);
-            if best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist) {
+            if sm.count == 0 || best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist) {
                 continue;
             }
             if len < slots.len() {
                 slots[len] = candidates[c as usize];
                 len += 1;
-                continue;
+            } else {
+                let protected = best
+                    .iter()
+                    .flatten()
+                    .fold(0u32, |m, &(k, _)| m | 1 << k);
+                let far = (0..len)
+                    .filter(|&k| protected & (1 << k) == 0)
+                    .fold(None, |f: Option<usize>, k| match f {
+                        Some(f) if slots[f].dist >= slots[k].dist => Some(f),
+                        _ => Some(k),
+                    });
+                match far {
+                    Some(k) => slots[k] = candidates[c as usize],
+                    None => continue,
+                }
             }
-            let protected = best.iter().flatten().fold(0u32, |m, &(k, _)| m | 1 << k);
-            let far = (0..len).filter(|&k| protected & (1 << k) == 0).fold(
-                None,
-                |f: Option<usize>, k| match f {
-                    Some(f) if slots[f].dist >= slots[k].dist => Some(f),
-                    _ => Some(k),
-                },
-            );
-            if let Some(k) = far {
-                slots[k] = candidates[c as usize];
-            }
+            best = nearest_kept(&slots[..len]);
         }
     }
 
