@@ -67,11 +67,18 @@ struct Outcome {
     motion: Motion,
     anim: Anim,
     drives: Drives,
-    transitions: Transitions,
     contact: Option<(Contact, Source)>,
+    /// Transitions, messages and errors: a few agents a tick have any, so they are boxed and
+    /// the per-agent buffer stays small.
+    rare: Option<Box<Rare>>,
+}
+
+/// The parts of an outcome most agents do not have in a given tick.
+#[derive(Debug, Default)]
+struct Rare {
+    transitions: Transitions,
     messages: [Option<(MessageKind, f32)>; 4],
-    /// Boxed: rare, and large next to the rest of an outcome (one per agent).
-    error: Option<Box<Diagnostic>>,
+    error: Option<Diagnostic>,
 }
 
 /// Counters a run summary reports.
@@ -356,14 +363,12 @@ impl Pipeline {
                 b.rng = a.rng;
             });
         self.outcomes.resize_with(n, Outcome::default);
-        self.plan_targets.resize(n, None);
         let world_ref: &World = world;
         let perception = &self.perception;
         let names = (&self.species_names, &self.behavior_names);
         let plan_targets = &self.plan_targets;
         let every_tick = self.scripts_every_tick;
         let reads = &self.reads[..];
-        let velocities = perception.velocities();
         let threads = rayon::current_num_threads();
         if self.workers.len() < threads {
             self.workers.resize_with(threads, Default::default);
@@ -378,30 +383,20 @@ impl Pipeline {
                 || {
                     // This thread's buffers, kept from tick to tick; a fresh set only if they
                     // are somehow in use.
-                    let mut own = rayon::current_thread_index()
+                    let own = rayon::current_thread_index()
                         .and_then(|t| workers.get(t))
                         .and_then(|w| w.try_lock().ok());
                     let fresh = own.is_none().then(Worker::default);
-                    if let Some(w) = own.as_deref_mut() {
-                        if w.scratch.velocities.is_none() {
-                            w.scratch.velocities = Some(velocities.clone());
-                        }
-                    }
                     (own, fresh)
                 },
                 |(own, fresh), (i, (brain, out))| {
                     let w = match (own.as_deref_mut(), fresh.as_mut()) {
                         (Some(w), _) => w,
-                        (None, Some(w)) => {
-                            if w.scratch.velocities.is_none() {
-                                w.scratch.velocities = Some(velocities.clone());
-                            }
-                            w
-                        }
+                        (None, Some(w)) => w,
                         (None, None) => unreachable!("one of the two is set"),
                     };
                     w.scratch.reset();
-                    w.scratch.plan_target = plan_targets[i];
+                    w.scratch.plan_target = plan_targets.get(i).copied().flatten();
                     agent_pass(
                         i,
                         world_ref,
@@ -418,12 +413,6 @@ impl Pipeline {
                     );
                 },
             );
-        // Let go of this tick's velocities so the next tick refills them in place.
-        for w in &self.workers {
-            if let Ok(mut w) = w.lock() {
-                w.scratch.velocities = None;
-            }
-        }
         // 7. World events, applied in agent order.
         self.apply(world);
     }
@@ -479,7 +468,12 @@ impl Pipeline {
                     *c += 1;
                 }
             }
-            for t in std::mem::take(&mut out.transitions).into_iter().flatten() {
+            let Rare {
+                transitions,
+                messages,
+                error,
+            } = out.rare.take().map(|r| *r).unwrap_or_default();
+            for t in transitions.into_iter().flatten() {
                 self.stats.transitions += 1;
                 self.events.push(Event::Transition {
                     agent: a.id,
@@ -491,7 +485,7 @@ impl Pipeline {
                     stack: a.mind.stack().to_vec(),
                 });
             }
-            if let Some(e) = out.error.take() {
+            if let Some(e) = error {
                 self.stats.script_errors += 1;
                 if !a.mind.script_error_reported {
                     a.mind.script_error_reported = true;
@@ -503,7 +497,7 @@ impl Pipeline {
                 }
             }
             let (aid, pos, sid) = (a.id, a.pos, a.species);
-            for (kind, radius) in std::mem::take(&mut out.messages).into_iter().flatten() {
+            for (kind, radius) in messages.into_iter().flatten() {
                 self.events.push(Event::Message {
                     from: aid,
                     kind,
@@ -746,6 +740,7 @@ fn agent_pass(
     let mind = &mut brain.mind;
     let rng = &mut brain.rng;
     let mut error = None;
+    let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];
 
     // 4. Decision: scripts at the decision rate, then arbitration.
     let script = sp
@@ -781,7 +776,7 @@ fn agent_pass(
                 scripts::write_back(&v, &mut me);
                 *rng = v.rng;
                 for (k, m) in v.outbox.drain(..).take(2).enumerate() {
-                    out.messages[2 + k] = Some(m);
+                    messages[2 + k] = Some(m);
                 }
             }
             if let Err(e) = r {
@@ -808,7 +803,7 @@ fn agent_pass(
         for a in &b.on_enter {
             match a {
                 ActionNode::Send(kind, r) if k < 2 => {
-                    out.messages[k] = Some((*kind, *r));
+                    messages[k] = Some((*kind, *r));
                     k += 1;
                 }
                 ActionNode::Call(f) => {
@@ -902,8 +897,16 @@ fn agent_pass(
     out.motion = motion;
     out.anim = an;
     out.drives = me.drives;
-    out.transitions = transitions;
-    out.error = error.map(Box::new);
+    let rare = transitions.iter().any(Option::is_some)
+        || messages.iter().any(Option::is_some)
+        || error.is_some();
+    out.rare = rare.then(|| {
+        Box::new(Rare {
+            transitions,
+            messages,
+            error,
+        })
+    });
     brain.memory = me.memory;
 }
 

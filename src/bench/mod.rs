@@ -596,7 +596,10 @@ mod tests {
             for _ in 0..3 {
                 b.run.step();
             }
-            assert!(b.run.world.agents.iter().all(|a| a.pos.is_finite()), "{w:?}");
+            assert!(
+                b.run.world.agents.iter().all(|a| a.pos.is_finite()),
+                "{w:?}"
+            );
         }
     }
 

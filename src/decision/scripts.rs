@@ -236,5 +236,9 @@ pub fn write_back(view: &AgentView, agent: &mut Agent) {
         agent.drives.fatigue = view.fatigue;
     }
     agent.memory.clone_from(&view.memory);
+    // A blackboard holds a few keys: no room kept for more (a growing Vec would reserve four).
+    if agent.memory.capacity() > agent.memory.len() {
+        agent.memory.shrink_to_fit();
+    }
     agent.rng = view.rng;
 }

@@ -26,7 +26,6 @@ use crate::world::World;
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::sync::Arc;
 
 /// Most percepts a species may keep per agent ([`SenseParams::max_percepts`]).
 pub const MAX_PERCEPTS: usize = 32;
@@ -175,15 +174,12 @@ pub struct Perception {
     /// Group sums of every agent, `sum_starts[i]..sum_starts[i + 1]` for agent `i`.
     sums: Vec<GroupSum>,
     sum_starts: Vec<u32>,
-    /// What a perceiver reads of each agent, by agent index, gathered once per tick so that a
-    /// neighbor costs one small read instead of a walk into the full agent and two `sin_cos`.
-    bodies: Vec<Body>,
-    /// `bodies` in the agent grid's order, so that a perceiver reads its neighbors' records
-    /// sequentially, cell by cell.
+    /// What a perceiver reads of each agent, gathered once per tick in the agent grid's order,
+    /// so that a neighbor costs one small sequential read instead of a walk into the full agent
+    /// and two `sin_cos`.
     near: Vec<Body>,
-    /// Velocity of each agent at the start of the tick (`Agent::velocity`), by agent index:
-    /// shared with the steering stage's workers.
-    velocities: Arc<Vec<Vec3>>,
+    /// Slot of each agent in `near`, by agent index (`u32::MAX` when the grid lacks it).
+    slot_of: Vec<u32>,
     /// Obstacles by cell, so a perceiver looks only at those that may be in range.
     obstacle_grid: ObstacleGrid,
 }
@@ -192,9 +188,9 @@ pub struct Perception {
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Body {
     /// Forward unit vector.
-    heading: Vec3A,
+    heading: Vec3,
     /// Velocity (`Agent::velocity`, bit for bit).
-    velocity: Vec3A,
+    velocity: Vec3,
     /// Bounding-box diagonal.
     diagonal: f32,
     /// Species index.
@@ -206,8 +202,8 @@ struct Body {
 impl Default for Body {
     fn default() -> Self {
         Body {
-            heading: Vec3A::ZERO,
-            velocity: Vec3A::ZERO,
+            heading: Vec3::ZERO,
+            velocity: Vec3::ZERO,
             diagonal: 0.0,
             species: 0,
             sex: crate::world::Sex::Female,
@@ -334,12 +330,6 @@ impl Perception {
         &self.sums[self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize]
     }
 
-    /// Velocities of every agent at the start of the tick ([`crate::world::Agent::velocity`],
-    /// computed once), by agent index.
-    pub fn velocities(&self) -> &Arc<Vec<Vec3>> {
-        &self.velocities
-    }
-
     /// Number of agents perceived for.
     pub fn len(&self) -> usize {
         self.counts.len()
@@ -399,37 +389,38 @@ impl Perception {
         self.counts.resize(n, 0);
         self.summaries
             .resize(n, [Summary::default(); Category::COUNT]);
-        self.bodies.resize(n, Body::default());
-        // Steering workers drop their handles at the end of each tick, so this does not copy.
-        let velocities = Arc::make_mut(&mut self.velocities);
-        velocities.resize(n, Vec3::ZERO);
-        self.bodies
+        let entries = agents.entries();
+        self.near.resize(entries.len(), Body::default());
+        self.near
             .par_iter_mut()
-            .zip(velocities.par_iter_mut())
-            .zip(world.agents.par_iter())
+            .zip(entries.par_iter())
             .with_min_len(256)
-            .for_each(|((b, v), a)| {
-                let heading = a.forward();
-                // `Agent::velocity`, bit for bit.
-                *v = heading * a.speed;
-                *b = Body {
-                    heading: heading.into(),
-                    velocity: (*v).into(),
-                    diagonal: a.diagonal(),
-                    species: a.species.0,
-                    sex: a.attrs.sex,
-                };
+            .for_each(|(b, &j)| {
+                if let Some(a) = world.agents.get(j as usize) {
+                    let heading = a.forward();
+                    *b = Body {
+                        heading,
+                        // `Agent::velocity`, bit for bit.
+                        velocity: heading * a.speed,
+                        diagonal: a.diagonal(),
+                        species: a.species.0,
+                        sex: a.attrs.sex,
+                    };
+                }
             });
-        let bodies = &self.bodies[..];
-        self.near.clear();
-        self.near.extend(
-            agents
-                .entries()
-                .iter()
-                .map(|&j| bodies.get(j as usize).copied().unwrap_or_default()),
-        );
+        self.slot_of.clear();
+        self.slot_of.resize(n, u32::MAX);
+        for (k, &j) in entries.iter().enumerate() {
+            if let Some(s) = self.slot_of.get_mut(j as usize) {
+                *s = k as u32;
+            }
+        }
         let near = &self.near[..];
-        let unsensed = bodies.iter().any(|b| b.species as usize >= senses.len());
+        let slot_of = &self.slot_of[..];
+        let unsensed = world
+            .agents
+            .iter()
+            .any(|a| a.species.0 as usize >= senses.len());
         let reach = senses
             .iter()
             .chain(unsensed.then_some(&default))
@@ -451,8 +442,8 @@ impl Perception {
             let r = reads.get(s).unwrap_or(&everything);
             let view = View {
                 world,
-                bodies,
                 near,
+                slot_of,
                 agents,
                 food,
                 obstacle_grid,
@@ -787,9 +778,10 @@ struct Eye {
 /// What every perceiver reads: the world at the start of the tick and this tick's indexes.
 struct View<'a> {
     world: &'a World,
-    bodies: &'a [Body],
-    /// `bodies` in the agent grid's order.
+    /// Agents' records in the agent grid's order.
     near: &'a [Body],
+    /// Slot of each agent in `near`.
+    slot_of: &'a [u32],
     agents: &'a Grid,
     food: &'a Grid,
     obstacle_grid: &'a ObstacleGrid,
@@ -812,7 +804,10 @@ fn perceive_one<const KEEP: bool>(
     let s = me.species.0 as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
     // `frame::dorsal` is `forward × left`: reuse both (the forward vector is in the body cache).
-    let fwd = Vec3::from(view.bodies[i].heading);
+    let fwd = match view.slot_of.get(i).and_then(|&k| view.near.get(k as usize)) {
+        Some(b) => b.heading,
+        None => me.forward(),
+    };
     let left = frame::left(yaw);
     let cos_min = sense.vision_half_angle.cos() - 1e-6;
     let eye = Eye {
@@ -924,8 +919,9 @@ fn perceive_one<const KEEP: bool>(
                 } else {
                     return;
                 };
-                groups.add(sums, offset, d2, other.velocity);
-                kin.note(seen, d2, || d2.sqrt(), pos, other.heading, other.velocity);
+                let vel = Vec3A::from(other.velocity);
+                groups.add(sums, offset, d2, vel);
+                kin.note(seen, d2, || d2.sqrt(), pos, other.heading.into(), vel);
             });
         fold.acc[Category::Kin as usize] = kin;
     } else {
@@ -947,22 +943,31 @@ fn perceive_one<const KEEP: bool>(
                 let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) else {
                     return;
                 };
-                let vel = other.velocity;
+                let vel = Vec3A::from(other.velocity);
                 if matches!(cat, Category::Kin | Category::Mate) {
                     groups.add(sums, offset_a, d2, vel);
                 }
                 // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
                 let dist = || d2.sqrt();
-                fold.take(cat, seen, d2, dist, pos, other.heading, vel, |dist| {
-                    percept(
-                        Source::Agent(j as u32),
-                        cat,
-                        seen,
-                        offset,
-                        dist,
-                        other.diagonal,
-                    )
-                });
+                fold.take(
+                    cat,
+                    seen,
+                    d2,
+                    dist,
+                    pos,
+                    other.heading.into(),
+                    vel,
+                    |dist| {
+                        percept(
+                            Source::Agent(j as u32),
+                            cat,
+                            seen,
+                            offset,
+                            dist,
+                            other.diagonal,
+                        )
+                    },
+                );
             });
     }
 
@@ -1009,16 +1014,14 @@ fn perceive_one<const KEEP: bool>(
                 slots[len] = candidates[c as usize];
                 len += 1;
             } else {
-                let protected = best
-                    .iter()
-                    .flatten()
-                    .fold(0u32, |m, &(k, _)| m | 1 << k);
-                let far = (0..len)
-                    .filter(|&k| protected & (1 << k) == 0)
-                    .fold(None, |f: Option<usize>, k| match f {
+                let protected = best.iter().flatten().fold(0u32, |m, &(k, _)| m | 1 << k);
+                let far = (0..len).filter(|&k| protected & (1 << k) == 0).fold(
+                    None,
+                    |f: Option<usize>, k| match f {
                         Some(f) if slots[f].dist >= slots[k].dist => Some(f),
                         _ => Some(k),
-                    });
+                    },
+                );
                 match far {
                     Some(k) => slots[k] = candidates[c as usize],
                     None => continue,

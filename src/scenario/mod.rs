@@ -375,7 +375,12 @@ impl Run {
             self.world.seed ^ 0x5EED_0000,
             salt.wrapping_add(self.world.tick << 16),
         );
-        for _ in 0..g.count.max(0) {
+        // Room for the whole group at once: growing by doubling would leave the outgrown
+        // buffers behind in the allocator, about one more agent record per agent.
+        let count = g.count.max(0) as usize;
+        self.world.agents.reserve(count);
+        self.pipeline.events.reserve(count);
+        for _ in 0..count {
             let pos = uniform_in(&g.region, &mut rng);
             let yaw = match g.heading {
                 HeadingDef::Random => rng.range(-std::f32::consts::PI, std::f32::consts::PI),

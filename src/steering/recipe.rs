@@ -14,9 +14,6 @@ use glam::Vec3;
 /// Scratch buffers reused across agents by one worker.
 #[derive(Debug, Default)]
 pub struct Scratch {
-    /// Velocities of every agent at the start of the tick, by agent index
-    /// ([`crate::perception::Perception::velocities`]); computed from the world when absent.
-    pub velocities: Option<std::sync::Arc<Vec<Vec3>>>,
     neighbors: Vec<Neighbor>,
     kin_ready: bool,
     own_velocity: Option<Vec3>,
@@ -42,10 +39,7 @@ impl Scratch {
             for p in ctx.percepts {
                 if let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) {
                     let j = j as usize;
-                    let velocity = match self.velocities.as_deref() {
-                        Some(v) if j < v.len() => v[j],
-                        _ => ctx.world.agents[j].velocity(),
-                    };
+                    let velocity = ctx.world.agents[j].velocity();
                     self.neighbors.push(Neighbor {
                         offset: p.offset,
                         dist: p.dist,
