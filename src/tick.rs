@@ -396,6 +396,7 @@ impl Pipeline {
                         (None, None) => unreachable!("one of the two is set"),
                     };
                     w.scratch.reset();
+                    w.scratch.set_velocity(perception.velocity(i));
                     w.scratch.plan_target = plan_targets.get(i).copied().flatten();
                     agent_pass(
                         i,

@@ -330,6 +330,14 @@ impl Perception {
         &self.sums[self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize]
     }
 
+    /// Velocity of agent `i` at the start of the tick ([`crate::world::Agent::velocity`], bit
+    /// for bit), as its neighbors saw it.
+    #[inline]
+    pub fn velocity(&self, i: usize) -> Option<Vec3> {
+        let k = *self.slot_of.get(i)? as usize;
+        self.near.get(k).map(|b| b.velocity)
+    }
+
     /// Number of agents perceived for.
     pub fn len(&self) -> usize {
         self.counts.len()

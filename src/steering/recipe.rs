@@ -29,6 +29,10 @@ impl Scratch {
         self.own_velocity = None;
         self.plan_target = None;
     }
+    /// Gives the agent's own velocity when it is already known (`kin.velocity()`, bit for bit).
+    pub fn set_velocity(&mut self, v: Option<Vec3>) {
+        self.own_velocity = v;
+    }
     /// The agent's own velocity (`kin.velocity()`, two `sin_cos`), computed once per agent.
     fn velocity(&mut self, kin: &Kin) -> Vec3 {
         *self.own_velocity.get_or_insert_with(|| kin.velocity())
