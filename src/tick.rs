@@ -68,6 +68,9 @@ struct Outcome {
     anim: Anim,
     drives: Drives,
     contact: Option<(Contact, Source)>,
+    /// Species and behavior after the tick (for the counters, read without touching the agent).
+    species: u16,
+    behavior: u16,
     /// Transitions, messages and errors: a few agents a tick have any, so they are boxed and
     /// the per-agent buffer stays small.
     rare: Option<Box<Rare>>,
@@ -440,11 +443,13 @@ impl Pipeline {
         world
             .agents
             .par_iter_mut()
-            .zip(self.outcomes.par_iter())
+            .zip(self.outcomes.par_iter_mut())
             .zip(self.brains.par_iter_mut())
             .with_min_len(256)
             .for_each(|((a, out), brain)| {
                 let brain = std::mem::take(brain);
+                out.species = a.species.0;
+                out.behavior = brain.mind.current;
                 a.prev_pos = a.pos;
                 a.pos = bounds.closest_point(out.motion.pos);
                 a.yaw = out.motion.yaw;
@@ -462,13 +467,16 @@ impl Pipeline {
         // contacts.
         for i in 0..n {
             let out = &mut self.outcomes[i];
-            let a = &mut world.agents[i];
-            let s = a.species.0 as usize;
+            let (s, current) = (out.species as usize, out.behavior as usize);
             if let Some(row) = self.stats.behavior_ticks.get_mut(s) {
-                if let Some(c) = row.get_mut(a.mind.current as usize) {
+                if let Some(c) = row.get_mut(current) {
                     *c += 1;
                 }
             }
+            if out.rare.is_none() && out.contact.is_none() {
+                continue;
+            }
+            let a = &mut world.agents[i];
             let Rare {
                 transitions,
                 messages,

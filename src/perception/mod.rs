@@ -380,10 +380,12 @@ impl Perception {
         self.slot_starts.clear();
         self.sum_starts.clear();
         let (mut slots, mut sums) = (0u32, 0u32);
+        let mut unsensed = false;
         for a in &world.agents {
             self.slot_starts.push(slots);
             self.sum_starts.push(sums);
             let s = a.species.0 as usize;
+            unsensed |= s >= senses.len();
             let r = reads.get(s).unwrap_or(&everything);
             if r.percepts {
                 slots += senses.get(s).unwrap_or(&default).slots() as u32;
@@ -425,10 +427,6 @@ impl Perception {
         }
         let near = &self.near[..];
         let slot_of = &self.slot_of[..];
-        let unsensed = world
-            .agents
-            .iter()
-            .any(|a| a.species.0 as usize >= senses.len());
         let reach = senses
             .iter()
             .chain(unsensed.then_some(&default))
