@@ -214,6 +214,7 @@ impl Pipeline {
                 let mut r = reads(s);
                 if full {
                     r.percepts = true;
+                    r.agent_percepts = true;
                     r.bearing_range = None;
                 }
                 r
@@ -330,6 +331,7 @@ impl Pipeline {
         if !self.injected.is_empty() {
             for r in &mut self.reads {
                 r.percepts = true;
+                r.agent_percepts = true;
             }
         }
         self.perception.run_selective(

@@ -145,6 +145,9 @@ pub struct Reads {
     /// Whether any behavior, condition, script or drive reads individual percepts. Without, the
     /// agent keeps none (its summaries and group sums are still complete).
     pub percepts: bool,
+    /// Whether it reads agent and food percepts individually too (without, only obstacles are
+    /// kept, and agents are folded into summaries and group sums alone).
+    pub agent_percepts: bool,
     /// Distance within which agent percepts get their bearing and elevation (obstacles and the
     /// nearest of each category always do); `None`: every percept kept.
     pub bearing_range: Option<f32>,
@@ -157,6 +160,7 @@ impl Default for Reads {
     fn default() -> Self {
         Reads {
             percepts: true,
+            agent_percepts: true,
             bearing_range: None,
             groups: GroupQueries::new(),
         }
@@ -567,7 +571,9 @@ impl Kept<'_> {
     fn find_far(&mut self) {
         // Four independent running maxima and a mask of the slots equal to the largest: no
         // serial chain of compares and branches. Entries past the slots are −∞.
-        let d = &self.dists;
+        // Only the chunks that hold slots (entries past them are −∞).
+        let used = self.slots.len().div_ceil(4) * 4;
+        let d = &self.dists[..used.min(MAX_PERCEPTS)];
         let mut m = [f32::NEG_INFINITY; 4];
         for c in d.chunks_exact(4) {
             for l in 0..4 {
@@ -692,6 +698,8 @@ struct Fold<'a, const KEEP: bool> {
     acc: [Acc; Category::COUNT],
     kept: Kept<'a>,
     nearest: [Percept; Category::COUNT],
+    /// Categories with a percept in `nearest` (bit per category).
+    offered: u8,
 }
 
 impl<const KEEP: bool> Fold<'_, KEEP> {
@@ -718,9 +726,11 @@ impl<const KEEP: bool> Fold<'_, KEEP> {
                 let p = make(d);
                 if nearer {
                     self.nearest[cat as usize] = p;
+                    self.offered |= 1 << cat as u8;
                 }
                 if nearer_kin {
                     self.nearest[Category::Kin as usize] = p;
+                    self.offered |= 1 << Category::Kin as u8;
                 }
             }
             self.kept.offer(d, || make(d));
@@ -835,6 +845,7 @@ fn perceive_one<const KEEP: bool>(
             bound: f32::INFINITY,
         },
         nearest: [EMPTY; Category::COUNT],
+        offered: 0,
     };
     sums.fill(GroupSum::default());
     let groups = &reads.groups;
@@ -893,8 +904,7 @@ fn perceive_one<const KEEP: bool>(
     let entries = view.agents.entries();
     // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
     // volume, no mates): the neighbors go straight into the kin sums, held in registers.
-    let plain = !KEEP
-        && occ.is_empty()
+    let plain = !(KEEP && reads.agent_percepts)
         && sense.volume.is_none()
         && !mates
         && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
@@ -918,6 +928,7 @@ fn perceive_one<const KEEP: bool>(
                     && (eye.full_circle
                         || d2 == 0.0
                         || eye.fwd.dot(offset.into()) / d2.sqrt() >= eye.cos_min)
+                    && (occ.is_empty() || !occluded(here, here + Vec3::from(offset), occ))
                 {
                     Sense::Vision
                 } else if d2 <= sr2 {
@@ -995,10 +1006,12 @@ fn perceive_one<const KEEP: bool>(
     let Fold {
         kept,
         nearest: candidates,
+        offered,
         ..
     } = fold;
     let mut len = kept.len;
     let slots = kept.slots;
+    let mut best = nearest_kept(&slots[..len]);
     // The nearest of each category is always kept: put back any that nearer percepts of other
     // categories pushed out, in place of the farthest percept that is nobody's nearest.
     if KEEP {
@@ -1010,10 +1023,13 @@ fn perceive_one<const KEEP: bool>(
             Category::Obstacle,
             Category::Other,
         ];
-        let mut best = nearest_kept(&slots[..len]);
         for c in ORDER {
             let sm = &summary[c as usize];
-            if sm.count == 0 || best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist) {
+            // Categories folded without percepts (kin of a species that reads none) stay so.
+            if sm.count == 0
+                || offered & (1 << c as u8) == 0
+                || best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist)
+            {
                 continue;
             }
             if len < slots.len() {
@@ -1040,7 +1056,6 @@ fn perceive_one<const KEEP: bool>(
     // Finish summaries: means, and the nearest among the kept percepts (the first of the
     // smallest distance; mates also count as kin).
     let slots = &mut slots[..len];
-    let best = nearest_kept(slots);
     let mut nearest = 0u32;
     for (sm, b) in summary.iter_mut().zip(best) {
         if sm.count > 0 {
@@ -1464,6 +1479,7 @@ mod tests {
         }
         let reads = Reads {
             percepts: false,
+            agent_percepts: false,
             bearing_range: Some(0.0),
             groups,
         };

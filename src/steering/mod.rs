@@ -159,7 +159,15 @@ pub fn first_of(cmds: impl IntoIterator<Item = Steer>) -> Steer {
 /// velocity. Commands that are [`Steer::None`] or have a zero weight do not count; with none left
 /// the result is [`Steer::None`]. A single command with weight 1 gives back its own velocity.
 pub fn blend(kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
-    let current = kin.velocity();
+    blend_from(kin.velocity(), kin, cmds)
+}
+
+/// [`blend`] around a known current velocity (`kin.velocity()`).
+pub fn blend_from(
+    current: Vec3,
+    kin: &Kin,
+    cmds: impl IntoIterator<Item = (f32, Steer)>,
+) -> Steer {
     let mut sum = Vec3::ZERO;
     let mut any = false;
     for (w, c) in cmds {

@@ -4,7 +4,7 @@
 
 use super::avoid::{self, MovingObstacle};
 use super::group::{self, Neighbor};
-use super::{blend, escape, goal, wander, Kin, Steer, Term};
+use super::{blend_from, escape, goal, wander, Kin, Steer, Term};
 use crate::decision::{self, Ctx};
 use crate::perception::{Category, GroupQuery, GroupSum, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
@@ -274,7 +274,7 @@ pub fn evaluate(
                     (weight, evaluate(r, ctx, mind, rng, scratch, depth + 1))
                 };
             }
-            blend(&kin, parts[..n].iter().copied())
+            blend_from(scratch.velocity(&kin), &kin, parts[..n].iter().copied())
         }
         RecipeNode::Script(slot) => {
             let kin = ctx.kin();
@@ -304,7 +304,7 @@ pub fn evaluate(
             if n == 1 && parts[0].0 == 1.0 {
                 parts[0].1
             } else {
-                blend(&kin, parts[..n].iter().copied())
+                blend_from(scratch.velocity(&kin), &kin, parts[..n].iter().copied())
             }
         }
     }

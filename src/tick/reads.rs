@@ -18,8 +18,10 @@ pub fn reads(sp: &Species) -> Reads {
             }
         });
     }
+    let kinds = reads_percepts(sp);
     Reads {
-        percepts: reads_percepts(sp),
+        percepts: kinds > Kinds::None,
+        agent_percepts: kinds == Kinds::All,
         bearing_range: Some(bearing_range(sp)),
         groups,
     }
@@ -50,16 +52,28 @@ fn walk(r: &RecipeNode, f: &mut impl FnMut(&Recipe)) {
     }
 }
 
+/// What the species reads of individual percepts: nothing, obstacles only, or everything
+/// (agents and food too).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Kinds {
+    None,
+    Obstacles,
+    All,
+}
+
 /// Whether anything of the species reads individual percepts (rather than summaries and group
-/// sums): scripts, native drives (predator distances), contacts, and the primitives and
-/// conditions below.
-fn reads_percepts(sp: &Species) -> bool {
-    fn cond(c: &CondNode) -> bool {
+/// sums), and of what: scripts, native drives (predator distances) and contacts read agents and
+/// food; so do the primitives and conditions below, except those that read obstacles only.
+fn reads_percepts(sp: &Species) -> Kinds {
+    use crate::perception::Category;
+    use crate::species::Target;
+    fn cond(c: &CondNode) -> Kinds {
         match c {
-            CondNode::All(v) | CondNode::Any(v) => v.iter().any(cond),
+            CondNode::All(v) | CondNode::Any(v) => v.iter().map(cond).max().unwrap_or(Kinds::None),
             CondNode::Not(c) => cond(c),
-            CondNode::Latch { on, off, .. } => cond(on) || cond(off),
-            CondNode::EscapeDone | CondNode::ObstacleNear | CondNode::TrafficNear => true,
+            CondNode::Latch { on, off, .. } => cond(on).max(cond(off)),
+            CondNode::ObstacleNear => Kinds::Obstacles,
+            CondNode::EscapeDone | CondNode::TrafficNear => Kinds::All,
             // Summaries, the agent's own state, or scripts (which keep percepts anyway).
             CondNode::Always
             | CondNode::Never
@@ -73,21 +87,27 @@ fn reads_percepts(sp: &Species) -> bool {
             | CondNode::TimeIn(_)
             | CondNode::Chance(_)
             | CondNode::NearBounds(_)
-            | CondNode::Script(_) => false,
+            | CondNode::Script(_) => Kinds::None,
         }
     }
-    fn leaf(r: &Recipe) -> bool {
-        use crate::species::Target;
-        let point = |t: &Target| matches!(t, Target::Nearest(_));
+    fn nearest(c: Category) -> Kinds {
+        if c == Category::Obstacle {
+            Kinds::Obstacles
+        } else {
+            Kinds::All
+        }
+    }
+    fn leaf(r: &Recipe) -> Kinds {
         match r {
-            Recipe::AvoidStatic(_)
-            | Recipe::AvoidDynamic(_)
-            | Recipe::PredictCollision(_)
-            | Recipe::Chase(_)
-            | Recipe::Escape(_)
-            | Recipe::EscapeMirror(_)
-            | Recipe::Pursue(_) => true,
-            Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => point(&s.target),
+            Recipe::AvoidStatic(_) | Recipe::PredictCollision(_) => Kinds::Obstacles,
+            Recipe::AvoidDynamic(_) => Kinds::All,
+            Recipe::Chase(c) => nearest(c.target),
+            Recipe::Escape(e) | Recipe::EscapeMirror(e) => nearest(e.from),
+            Recipe::Pursue(p) => nearest(p.target),
+            Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => match s.target {
+                Target::Nearest(c) => nearest(c),
+                Target::Centroid(_) | Target::Point(_) | Target::Home => Kinds::None,
+            },
             // Group sums, summaries, bounds, the plan or nothing.
             Recipe::Priority(_)
             | Recipe::Blend(_)
@@ -102,20 +122,21 @@ fn reads_percepts(sp: &Species) -> bool {
             | Recipe::Wander(_)
             | Recipe::Cruise(_)
             | Recipe::Stop
-            | Recipe::FollowPlan(_) => false,
+            | Recipe::FollowPlan(_) => Kinds::None,
         }
     }
-    if sp.script.is_some() || sp.def.drives.native {
-        return true;
+    if sp.script.is_some() || sp.def.drives.native || sp.behaviors.iter().any(|b| b.contact.is_some())
+    {
+        return Kinds::All;
     }
-    let mut any = false;
+    let mut kinds = Kinds::None;
     for r in sp.behaviors.iter().map(|b| &b.steer).chain(&sp.recipes) {
-        walk(r, &mut |l| any |= leaf(l));
+        walk(r, &mut |l| kinds = kinds.max(leaf(l)));
     }
-    any || sp
-        .behaviors
+    sp.behaviors
         .iter()
-        .any(|b| b.contact.is_some() || cond(&b.when) || cond(&b.done))
+        .map(|b| cond(&b.when).max(cond(&b.done)))
+        .fold(kinds, Kinds::max)
 }
 
 /// Distance within which a species' behaviors read the bearing and elevation of agent percepts
