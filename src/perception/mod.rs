@@ -52,7 +52,7 @@ pub struct SenseParams {
     /// Whether obstacles' bounding spheres hide what lies behind them.
     pub occlusion: bool,
     /// Percepts kept per agent (the nearest ones, and always the nearest of each category), at
-    /// most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
+    /// least one per [`Category`] and at most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
     pub max_percepts: usize,
 }
 
@@ -70,9 +70,10 @@ impl Default for SenseParams {
 }
 
 impl SenseParams {
-    /// Percepts kept per agent, within `0..=MAX_PERCEPTS`.
+    /// Percepts kept per agent, within `Category::COUNT..=MAX_PERCEPTS`: fewer slots could not
+    /// hold the nearest of each category.
     pub fn slots(&self) -> usize {
-        self.max_percepts.min(MAX_PERCEPTS)
+        self.max_percepts.clamp(Category::COUNT, MAX_PERCEPTS)
     }
     /// The radius a spatial query must cover.
     pub fn query_radius(&self) -> f32 {
@@ -484,7 +485,16 @@ impl Perception {
         let summary = &mut self.summaries[i];
         *summary = [Summary::default(); Category::COUNT];
         let mut len = 0;
+        // The first of the smallest distance of each category (mates also count as kin).
+        let mut candidates = [EMPTY; Category::COUNT];
         for p in percepts {
+            let kin = (p.category == Category::Mate).then_some(Category::Kin);
+            for c in std::iter::once(p.category).chain(kin) {
+                let sm = &summary[c as usize];
+                if sm.count == 0 || p.dist < sm.nearest_dist {
+                    candidates[c as usize] = *p;
+                }
+            }
             note(
                 summary,
                 p.category,
@@ -511,6 +521,8 @@ impl Perception {
             }
             keep(slots, &mut len, *p);
         }
+        // As perception does it: the nearest of each category stays among the kept.
+        len = restore_nearest(slots, len, summary, &candidates, u8::MAX).0;
         for (c, sm) in summary.iter_mut().enumerate() {
             if sm.count > 0 {
                 sm.centroid /= sm.count as f32;
@@ -533,6 +545,9 @@ impl Perception {
 /// farthest when nearer.
 #[inline]
 fn keep(slots: &mut [Percept], len: &mut usize, p: Percept) {
+    if slots.is_empty() {
+        return;
+    }
     if *len < slots.len() {
         slots[*len] = p;
         *len += 1;
@@ -623,6 +638,58 @@ impl Kept<'_> {
         self.dists[self.far] = dist;
         self.far_valid = false;
     }
+}
+
+/// Puts back the nearest percept of each category (`candidates`, by category; the summaries
+/// give the counts and nearest distances) that nearer percepts of other categories pushed out of
+/// `slots[..len]`, in place of the farthest percept that is nobody's nearest; returns the new
+/// length and the nearest kept of each category. Only categories in `offered` (a bit per
+/// category) have a candidate. With at least [`Category::COUNT`] slots every category perceived keeps its nearest.
+fn restore_nearest(
+    slots: &mut [Percept],
+    mut len: usize,
+    summary: &[Summary; Category::COUNT],
+    candidates: &[Percept; Category::COUNT],
+    offered: u8,
+) -> (usize, [Option<(u16, f32)>; Category::COUNT]) {
+    const ORDER: [Category; Category::COUNT] = [
+        Category::Food,
+        Category::Predator,
+        Category::Mate,
+        Category::Kin,
+        Category::Obstacle,
+        Category::Other,
+    ];
+    let mut best = nearest_kept(&slots[..len]);
+    for c in ORDER {
+        let sm = &summary[c as usize];
+        // Categories folded without percepts (kin of a species that reads none) stay so.
+        if sm.count == 0
+            || offered & (1 << c as u8) == 0
+            || best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist)
+        {
+            continue;
+        }
+        if len < slots.len() {
+            slots[len] = candidates[c as usize];
+            len += 1;
+        } else {
+            let protected = best.iter().flatten().fold(0u32, |m, &(k, _)| m | 1 << k);
+            let far = (0..len).filter(|&k| protected & (1 << k) == 0).fold(
+                None,
+                |f: Option<usize>, k| match f {
+                    Some(f) if slots[f].dist >= slots[k].dist => Some(f),
+                    _ => Some(k),
+                },
+            );
+            match far {
+                Some(k) => slots[k] = candidates[c as usize],
+                None => continue,
+            }
+        }
+        best = nearest_kept(&slots[..len]);
+    }
+    (len, best)
 }
 
 /// For each category, the first kept slot of the smallest distance (mates also count as kin).
@@ -735,6 +802,25 @@ impl<const KEEP: bool> Fold<'_, KEEP> {
             }
             self.kept.offer(d, || make(d));
         }
+        self.acc[cat as usize].note(seen, key, &dist, pos, heading, vel);
+        if cat == Category::Mate {
+            self.acc[Category::Kin as usize].note(seen, key, &dist, pos, heading, vel);
+        }
+    }
+
+    /// Notes one percept of category `cat` in the sums only (never kept).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn sum(
+        &mut self,
+        cat: Category,
+        seen: Sense,
+        key: f32,
+        dist: impl Fn() -> f32,
+        pos: Vec3A,
+        heading: Vec3A,
+        vel: Vec3A,
+    ) {
         self.acc[cat as usize].note(seen, key, &dist, pos, heading, vel);
         if cat == Category::Mate {
             self.acc[Category::Kin as usize].note(seen, key, &dist, pos, heading, vel);
@@ -904,7 +990,9 @@ fn perceive_one<const KEEP: bool>(
     let entries = view.agents.entries();
     // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
     // volume, no mates): the neighbors go straight into the kin sums, held in registers.
-    let plain = !(KEEP && reads.agent_percepts)
+    // Agents and food are kept as percepts only where the species reads them.
+    let agent_percepts = KEEP && reads.agent_percepts;
+    let plain = !agent_percepts
         && sense.volume.is_none()
         && !mates
         && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
@@ -966,6 +1054,10 @@ fn perceive_one<const KEEP: bool>(
                 }
                 // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
                 let dist = || d2.sqrt();
+                if !agent_percepts {
+                    fold.sum(cat, seen, d2, dist, pos, other.heading.into(), vel);
+                    return;
+                }
                 fold.take(
                     cat,
                     seen,
@@ -995,6 +1087,10 @@ fn perceive_one<const KEEP: bool>(
                 let cat = Category::Food;
                 let at = Vec3A::from(pos);
                 let dist = || d2.sqrt();
+                if !agent_percepts {
+                    fold.sum(cat, seen, d2, dist, at, Vec3A::ZERO, Vec3A::ZERO);
+                    return;
+                }
                 fold.take(cat, seen, d2, dist, at, Vec3A::ZERO, Vec3A::ZERO, |dist| {
                     percept(Source::Food(j), cat, seen, offset, dist, 0.0)
                 });
@@ -1011,46 +1107,10 @@ fn perceive_one<const KEEP: bool>(
     } = fold;
     let mut len = kept.len;
     let slots = kept.slots;
+    // The nearest of each category is always kept.
     let mut best = nearest_kept(&slots[..len]);
-    // The nearest of each category is always kept: put back any that nearer percepts of other
-    // categories pushed out, in place of the farthest percept that is nobody's nearest.
     if KEEP {
-        const ORDER: [Category; Category::COUNT] = [
-            Category::Food,
-            Category::Predator,
-            Category::Mate,
-            Category::Kin,
-            Category::Obstacle,
-            Category::Other,
-        ];
-        for c in ORDER {
-            let sm = &summary[c as usize];
-            // Categories folded without percepts (kin of a species that reads none) stay so.
-            if sm.count == 0
-                || offered & (1 << c as u8) == 0
-                || best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist)
-            {
-                continue;
-            }
-            if len < slots.len() {
-                slots[len] = candidates[c as usize];
-                len += 1;
-            } else {
-                let protected = best.iter().flatten().fold(0u32, |m, &(k, _)| m | 1 << k);
-                let far = (0..len).filter(|&k| protected & (1 << k) == 0).fold(
-                    None,
-                    |f: Option<usize>, k| match f {
-                        Some(f) if slots[f].dist >= slots[k].dist => Some(f),
-                        _ => Some(k),
-                    },
-                );
-                match far {
-                    Some(k) => slots[k] = candidates[c as usize],
-                    None => continue,
-                }
-            }
-            best = nearest_kept(&slots[..len]);
-        }
+        (len, best) = restore_nearest(slots, len, summary, &candidates, offered);
     }
 
     // Finish summaries: means, and the nearest among the kept percepts (the first of the
@@ -1514,5 +1574,200 @@ mod tests {
             assert_eq!(p.group_sums(0)[k], want, "{q:?}");
             assert!(want.n + want.m > 0, "{q:?} sums something");
         }
+    }
+    #[test]
+    fn injected_percepts_keep_the_nearest_of_each_category() {
+        // Ten kin fed within 3 m and a predator at 9 m to an agent keeping 8 percepts: like
+        // perception, the predator (the only one of its category) must stay among the kept.
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        let sense = SenseParams {
+            max_percepts: 8,
+            ..SenseParams::default()
+        };
+        let mut p = run(&w, &rel(), sense);
+        let fed = |category, offset: Vec3| Percept {
+            source: Source::Injected,
+            category,
+            sense: Sense::Vision,
+            offset,
+            dist: offset.length(),
+            bearing: 0.0,
+            elevation: 0.0,
+            size: 1.0,
+        };
+        let mut feed: Vec<Percept> = (0..10)
+            .map(|k| fed(Category::Kin, Vec3::new(0.0, 0.0, 0.3 * (k + 1) as f32)))
+            .collect();
+        feed.push(fed(Category::Predator, Vec3::new(0.0, 0.0, 9.0)));
+        p.inject(0, Vec3::ZERO, &feed);
+        let sm = p.summaries(0);
+        assert_eq!(sm[Category::Predator as usize].count, 1);
+        assert_eq!(p.percepts(0).len(), 8);
+        let k = sm[Category::Predator as usize]
+            .nearest
+            .expect("the predator is kept") as usize;
+        assert_eq!(p.percepts(0)[k].category, Category::Predator);
+        let kin = sm[Category::Kin as usize].nearest.expect("kin kept") as usize;
+        assert!((p.percepts(0)[kin].dist - 0.3).abs() < 1e-6);
+    }
+
+    #[test]
+    fn injecting_into_an_agent_without_slots_does_not_panic() {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 5.0, w.agents.iter().map(|a| a.pos));
+        let reads = Reads {
+            percepts: false,
+            ..Reads::default()
+        };
+        let mut p = Perception::new();
+        let sense = SenseParams::default();
+        p.run_selective(
+            &w,
+            &ag,
+            &Grid::new(),
+            &[sense, sense],
+            &rel(),
+            &[reads, reads],
+        );
+        let fed = Percept {
+            source: Source::Injected,
+            category: Category::Food,
+            sense: Sense::Vision,
+            offset: Vec3::Z,
+            dist: 1.0,
+            bearing: 0.0,
+            elevation: 0.0,
+            size: 0.0,
+        };
+        p.inject(0, Vec3::ZERO, &[fed]);
+        assert!(p.percepts(0).is_empty());
+        let food = p.summaries(0)[Category::Food as usize];
+        assert_eq!((food.count, food.nearest), (1, None));
+    }
+
+    #[test]
+    fn the_plain_path_matches_the_general_one() {
+        // A kin-only perceiver without slots takes the plain path; naming a third species (with
+        // no agent) as `Other` sends it down the general path: the results must be the same.
+        let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 3);
+        let mut rng = Rng::new(5, 0);
+        for k in 0..300 {
+            let pos = Vec3::new(
+                rng.range(-15.0, 15.0),
+                rng.range(-15.0, 15.0),
+                rng.range(-15.0, 15.0),
+            );
+            let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+            a.pitch = rng.range(-0.5, 0.5);
+            a.speed = rng.range(0.0, 2.0);
+            w.agents.push(a);
+        }
+        let sense = SenseParams {
+            smell_radius: 6.0,
+            vision_radius: 4.0,
+            occlusion: false,
+            ..SenseParams::default()
+        };
+        let mut groups = GroupQueries::new();
+        groups.insert(GroupQuery::Separation { radius: 2.0 });
+        groups.insert(GroupQuery::Mean { radius: 3.0 });
+        groups.insert(GroupQuery::Headings { radius: 3.0 });
+        let reads = Reads {
+            percepts: false,
+            agent_percepts: false,
+            bearing_range: Some(0.0),
+            groups,
+        };
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 3.0, w.agents.iter().map(|a| a.pos));
+        let perceive = |rel: &Relations| {
+            let mut p = Perception::new();
+            p.run_selective(&w, &ag, &Grid::new(), &[sense; 3], rel, &[reads; 3]);
+            p
+        };
+        let mut plain = Relations::new(3);
+        plain.set(0, 0, Some(Category::Kin));
+        let mut general = plain.clone();
+        general.set(0, 2, Some(Category::Other));
+        let (a, b) = (perceive(&plain), perceive(&general));
+        for i in 0..w.agents.len() {
+            assert_eq!(a.summaries(i), b.summaries(i), "agent {i}");
+            assert_eq!(a.group_sums(i), b.group_sums(i), "agent {i}");
+        }
+        assert!(a.summaries(0)[Category::Kin as usize].count > 0);
+    }
+    #[test]
+    fn few_slots_still_keep_the_nearest_of_each_category() {
+        // A kin at 1 m, the shark at 5 m and food at 6 m: however few percepts a species asks
+        // for, the predator and the food must not be hidden by the kin in front of them.
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        w.agents.push(agent(1, 0, Vec3::new(0.0, 0.0, 1.0), 0.0));
+        w.agents.push(agent(2, 1, Vec3::new(0.0, 0.0, 5.0), 0.0));
+        w.add_food(Vec3::new(0.0, 0.0, 6.0));
+        for max_percepts in [1, 2] {
+            let sense = SenseParams {
+                max_percepts,
+                ..SenseParams::default()
+            };
+            let p = run(&w, &rel(), sense);
+            let sm = p.summaries(0);
+            for c in [Category::Kin, Category::Predator, Category::Food] {
+                assert_eq!(sm[c as usize].count, 1);
+                let k = sm[c as usize]
+                    .nearest
+                    .unwrap_or_else(|| panic!("{c:?} kept with {max_percepts} slots"));
+                assert_eq!(p.percepts(0)[k as usize].category, c);
+            }
+        }
+    }
+
+    #[test]
+    fn a_species_reading_obstacles_only_keeps_no_agent_percept() {
+        // Kin all around and a rock ahead: only the rock is kept; kin are summed, not kept, and
+        // no empty record stands in for them.
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        for k in 0..12 {
+            w.agents.push(agent(
+                k + 1,
+                0,
+                Vec3::new(0.5 * k as f32 - 3.0, 0.0, 1.0),
+                0.0,
+            ));
+        }
+        w.add_obstacle(Shape::Sphere {
+            center: Vec3::new(0.0, 0.0, 6.0),
+            radius: 1.0,
+        });
+        let reads = Reads {
+            agent_percepts: false,
+            ..Reads::default()
+        };
+        let sense = SenseParams {
+            occlusion: false,
+            ..SenseParams::default()
+        };
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 5.0, w.agents.iter().map(|a| a.pos));
+        let mut p = Perception::new();
+        p.run_selective(
+            &w,
+            &ag,
+            &Grid::new(),
+            &[sense, sense],
+            &rel(),
+            &[reads, reads],
+        );
+        let kept = p.percepts(0);
+        assert_eq!(kept.len(), 1, "{kept:?}");
+        assert_eq!(kept[0].source, Source::Obstacle(0));
+        let sm = p.summaries(0);
+        assert_eq!(sm[Category::Kin as usize].count, 12);
+        assert_eq!(sm[Category::Kin as usize].nearest, None);
+        assert_eq!(sm[Category::Obstacle as usize].nearest, Some(0));
     }
 }

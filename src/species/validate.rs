@@ -588,11 +588,13 @@ impl Builder<'_> {
             );
         }
         let kept = def.senses.max_percepts;
-        if !(1..=crate::perception::MAX_PERCEPTS).contains(&kept) {
+        // One slot per category at least: the nearest of each is always kept.
+        let fewest = crate::perception::Category::COUNT;
+        if !(fewest..=crate::perception::MAX_PERCEPTS).contains(&kept) {
             self.error_at(
                 "max_percepts",
                 format!(
-                    "`max_percepts` must be between 1 and {}, not {kept}",
+                    "`max_percepts` must be between {fewest} and {}, not {kept}",
                     crate::perception::MAX_PERCEPTS
                 ),
             );

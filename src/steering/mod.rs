@@ -163,11 +163,7 @@ pub fn blend(kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
 }
 
 /// [`blend`] around a known current velocity (`kin.velocity()`).
-pub fn blend_from(
-    current: Vec3,
-    kin: &Kin,
-    cmds: impl IntoIterator<Item = (f32, Steer)>,
-) -> Steer {
+pub fn blend_from(current: Vec3, kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
     let mut sum = Vec3::ZERO;
     let mut any = false;
     for (w, c) in cmds {

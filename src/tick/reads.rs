@@ -10,18 +10,21 @@ use crate::steering::avoid::AvoidParams;
 /// reads, and the neighborhood sums of its group rules.
 pub fn reads(sp: &Species) -> Reads {
     let mut groups = GroupQueries::new();
+    // A query past the list's capacity is folded from the kept percepts.
+    let mut unlisted = false;
     let reach = sp.senses.query_radius();
     for r in sp.behaviors.iter().map(|b| &b.steer).chain(&sp.recipes) {
         walk(r, &mut |l| {
             if let Some(q) = group_query(l, reach) {
                 groups.insert(q);
+                unlisted |= groups.position(&q).is_none();
             }
         });
     }
     let kinds = reads_percepts(sp);
     Reads {
-        percepts: kinds > Kinds::None,
-        agent_percepts: kinds == Kinds::All,
+        percepts: unlisted || kinds > Kinds::None,
+        agent_percepts: unlisted || kinds == Kinds::All,
         bearing_range: Some(bearing_range(sp)),
         groups,
     }
@@ -125,7 +128,9 @@ fn reads_percepts(sp: &Species) -> Kinds {
             | Recipe::FollowPlan(_) => Kinds::None,
         }
     }
-    if sp.script.is_some() || sp.def.drives.native || sp.behaviors.iter().any(|b| b.contact.is_some())
+    if sp.script.is_some()
+        || sp.def.drives.native
+        || sp.behaviors.iter().any(|b| b.contact.is_some())
     {
         return Kinds::All;
     }
@@ -219,4 +224,63 @@ pub fn bearing_range(sp: &Species) -> f32 {
     });
     let named = sp.recipes.iter().map(recipe);
     behaviors.chain(named).fold(0.0, f32::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::normalize;
+    use crate::species::load_species_str;
+    use std::path::Path;
+
+    fn species(text: &str) -> Result<Species, String> {
+        let root = normalize(Path::new("."));
+        load_species_str(Path::new("fish.ron"), text, &root, &Default::default())
+            .map_err(|e| e.to_string())
+    }
+
+    fn flock(rules: &str, senses: &str) -> String {
+        format!(
+            r#"Species(
+    name: "fish",
+    script: None,
+    drives: (native: false),
+    senses: ({senses}),
+    initial: "flock",
+    behaviors: [Behavior(name: "flock", priority: 1, steer: Blend([{rules}]))],
+)"#
+        )
+    }
+
+    #[test]
+    fn group_rules_beyond_the_folded_queries_still_find_their_neighbors() {
+        // Nine separation radii: one more than the sums perception folds. The ninth falls back
+        // to the kept percepts, so the species must keep them.
+        let rules: Vec<String> = (1..=9)
+            .map(|r| format!("(w: 1.0, steer: Separation(k: 1.0, radius: {r}.0))"))
+            .collect();
+        let sp = species(&flock(&rules.join(", "), "")).unwrap();
+        let r = reads(&sp);
+        for radius in 1..=9 {
+            let q = GroupQuery::Separation {
+                radius: radius as f32,
+            };
+            assert!(
+                r.groups.position(&q).is_some() || r.percepts,
+                "separation within {radius} m reads neither sums nor percepts"
+            );
+        }
+    }
+
+    #[test]
+    fn too_few_percept_slots_are_refused() {
+        let rule = "(w: 1.0, steer: Separation(k: 1.0, radius: 1.0))";
+        for n in [1, 5] {
+            let e = species(&flock(rule, &format!("max_percepts: {n}")))
+                .err()
+                .unwrap_or_else(|| panic!("max_percepts {n} accepted"));
+            assert!(e.contains("max_percepts"), "{e}");
+        }
+        assert!(species(&flock(rule, "max_percepts: 6")).is_ok());
+    }
 }
