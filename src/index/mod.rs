@@ -153,6 +153,8 @@ impl Grid {
             return;
         }
         let c = Vec3A::from(center);
+        // Filled before it is read, row by row: initialized once per query.
+        let mut hits = [(0u32, 0.0f32); CHUNK];
         let r2 = radius * radius;
         let lo = self.cell_coord(center - Vec3::splat(radius));
         let hi = self.cell_coord(center + Vec3::splat(radius));
@@ -167,7 +169,6 @@ impl Grid {
                 // then visited in order.
                 while s < e {
                     let end = e.min(s + CHUNK);
-                    let mut hits = [(0u32, 0.0f32); CHUNK];
                     let mut m = 0;
                     for (k, &p) in self.positions[s..end].iter().enumerate() {
                         let d2 = (p - c).length_squared();
