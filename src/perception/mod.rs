@@ -482,85 +482,25 @@ impl Perception {
         // Fed percepts stand for no object of the world: no neighbor for the group rules.
         let sums = self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize;
         self.sums[sums].fill(GroupSum::default());
-        let summary = &mut self.summaries[i];
-        *summary = [Summary::default(); Category::COUNT];
-        let mut len = 0;
-        // The first of the smallest distance of each category (mates also count as kin).
-        let mut candidates = [EMPTY; Category::COUNT];
+        // Folded as perception folds what it perceives (no heading or velocity: their means
+        // are zero), the nearest of each category kept.
+        let mut fold = Fold::<true>::new(slots);
         for p in percepts {
-            let kin = (p.category == Category::Mate).then_some(Category::Kin);
-            for c in std::iter::once(p.category).chain(kin) {
-                let sm = &summary[c as usize];
-                if sm.count == 0 || p.dist < sm.nearest_dist {
-                    candidates[c as usize] = *p;
-                }
-            }
-            note(
-                summary,
+            let at = Vec3A::from(pos + p.offset);
+            let d = p.dist;
+            fold.take(
                 p.category,
                 p.sense,
-                p.dist,
-                pos + p.offset,
-                Vec3::ZERO,
-                Vec3::ZERO,
+                d,
+                || d,
+                at,
+                Vec3A::ZERO,
+                Vec3A::ZERO,
+                |_| *p,
             );
-            if p.category == Category::Mate {
-                let kin = Percept {
-                    category: Category::Kin,
-                    ..*p
-                };
-                note(
-                    summary,
-                    kin.category,
-                    kin.sense,
-                    kin.dist,
-                    pos + p.offset,
-                    Vec3::ZERO,
-                    Vec3::ZERO,
-                );
-            }
-            keep(slots, &mut len, *p);
         }
-        // As perception does it: the nearest of each category stays among the kept.
-        len = restore_nearest(slots, len, summary, &candidates, u8::MAX).0;
-        for (c, sm) in summary.iter_mut().enumerate() {
-            if sm.count > 0 {
-                sm.centroid /= sm.count as f32;
-            }
-            let mut best: Option<(u16, f32)> = None;
-            for (k, p) in slots[..len].iter().enumerate() {
-                let matches = p.category as usize == c
-                    || (c == Category::Kin as usize && p.category == Category::Mate);
-                if matches && best.is_none_or(|(_, d)| p.dist < d) {
-                    best = Some((k as u16, p.dist));
-                }
-            }
-            sm.nearest = best.map(|b| b.0);
-        }
+        let len = fold.finish(&mut self.summaries[i]).0.len();
         self.counts[i] = len as u16;
-    }
-}
-
-/// Keeps the nearest `MAX_PERCEPTS` percepts: appends while there is room, else replaces the
-/// farthest when nearer.
-#[inline]
-fn keep(slots: &mut [Percept], len: &mut usize, p: Percept) {
-    if slots.is_empty() {
-        return;
-    }
-    if *len < slots.len() {
-        slots[*len] = p;
-        *len += 1;
-        return;
-    }
-    let mut far = 0;
-    for k in 1..*len {
-        if slots[k].dist > slots[far].dist {
-            far = k;
-        }
-    }
-    if p.dist < slots[far].dist {
-        slots[far] = p;
     }
 }
 
@@ -769,7 +709,58 @@ struct Fold<'a, const KEEP: bool> {
     offered: u8,
 }
 
-impl<const KEEP: bool> Fold<'_, KEEP> {
+impl<'a, const KEEP: bool> Fold<'a, KEEP> {
+    /// Nothing perceived yet; `slots` receive the kept percepts.
+    fn new(slots: &'a mut [Percept]) -> Self {
+        Fold {
+            acc: [ACC; Category::COUNT],
+            kept: Kept {
+                slots,
+                dists: [f32::NEG_INFINITY; MAX_PERCEPTS],
+                len: 0,
+                far: 0,
+                far_valid: false,
+                bound: f32::INFINITY,
+            },
+            nearest: [EMPTY; Category::COUNT],
+            offered: 0,
+        }
+    }
+
+    /// Writes the summaries (means, and the nearest among the kept percepts: the first of the
+    /// smallest distance, mates also counting as kin), with the nearest of each category put
+    /// back among the kept; returns the kept percepts and a bit mask of the slots that are some
+    /// category's nearest.
+    fn finish(self, summary: &mut [Summary; Category::COUNT]) -> (&'a mut [Percept], u32) {
+        self.sums_into(summary);
+        let Fold {
+            kept,
+            nearest: candidates,
+            offered,
+            ..
+        } = self;
+        let mut len = kept.len;
+        let slots = kept.slots;
+        let mut best = nearest_kept(&slots[..len]);
+        if KEEP {
+            (len, best) = restore_nearest(slots, len, summary, &candidates, offered);
+        }
+        let mut nearest = 0u32;
+        for (sm, b) in summary.iter_mut().zip(best) {
+            if sm.count > 0 {
+                let n = sm.count as f32;
+                sm.centroid /= n;
+                sm.mean_heading /= n;
+                sm.mean_velocity /= n;
+            }
+            sm.nearest = b.map(|b| b.0);
+            if let Some((k, _)) = b {
+                nearest |= 1 << k;
+            }
+        }
+        (&mut slots[..len], nearest)
+    }
+
     /// Notes one percept of category `cat` at squared distance `key` (distance `dist()`),
     /// which `make(dist)` builds if it is kept.
     #[inline(always)]
@@ -920,19 +911,7 @@ fn perceive_one<const KEEP: bool>(
         full_circle: cos_min < -1.000_000_5,
     };
     let radius = sense.query_radius();
-    let mut fold = Fold::<KEEP> {
-        acc: [ACC; Category::COUNT],
-        kept: Kept {
-            slots,
-            dists: [f32::NEG_INFINITY; MAX_PERCEPTS],
-            len: 0,
-            far: 0,
-            far_valid: false,
-            bound: f32::INFINITY,
-        },
-        nearest: [EMPTY; Category::COUNT],
-        offered: 0,
-    };
+    let mut fold = Fold::<KEEP>::new(slots);
     sums.fill(GroupSum::default());
     let groups = &reads.groups;
 
@@ -997,10 +976,6 @@ fn perceive_one<const KEEP: bool>(
         && !mates
         && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
     if plain {
-        let (vr2, sr2) = (
-            sense.vision_radius * sense.vision_radius,
-            sense.smell_radius * sense.smell_radius,
-        );
         let mut kin = ACC;
         view.agents
             .for_each_slot_within(here, radius, |k, pos, d2| {
@@ -1011,17 +986,7 @@ fn perceive_one<const KEEP: bool>(
                     return;
                 }
                 let offset = pos - here_a;
-                // `sense_point` without occluders and volume.
-                let seen = if d2 <= vr2
-                    && (eye.full_circle
-                        || d2 == 0.0
-                        || eye.fwd.dot(offset.into()) / d2.sqrt() >= eye.cos_min)
-                    && (occ.is_empty() || !occluded(here, here + Vec3::from(offset), occ))
-                {
-                    Sense::Vision
-                } else if d2 <= sr2 {
-                    Sense::Smell
-                } else {
+                let Some(seen) = sense_point(here, offset.into(), d2, &eye, sense, occ) else {
                     return;
                 };
                 let vel = Vec3A::from(other.velocity);
@@ -1098,37 +1063,8 @@ fn perceive_one<const KEEP: bool>(
         });
     }
 
-    fold.sums_into(summary);
-    let Fold {
-        kept,
-        nearest: candidates,
-        offered,
-        ..
-    } = fold;
-    let mut len = kept.len;
-    let slots = kept.slots;
-    // The nearest of each category is always kept.
-    let mut best = nearest_kept(&slots[..len]);
-    if KEEP {
-        (len, best) = restore_nearest(slots, len, summary, &candidates, offered);
-    }
-
-    // Finish summaries: means, and the nearest among the kept percepts (the first of the
-    // smallest distance; mates also count as kin).
-    let slots = &mut slots[..len];
-    let mut nearest = 0u32;
-    for (sm, b) in summary.iter_mut().zip(best) {
-        if sm.count > 0 {
-            let n = sm.count as f32;
-            sm.centroid /= n;
-            sm.mean_heading /= n;
-            sm.mean_velocity /= n;
-        }
-        sm.nearest = b.map(|b| b.0);
-        if let Some((k, _)) = b {
-            nearest |= 1 << k;
-        }
-    }
+    let (slots, nearest) = fold.finish(summary);
+    let len = slots.len();
 
     // Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
     // those the species reads.
@@ -1142,31 +1078,6 @@ fn perceive_one<const KEEP: bool>(
         }
     }
     len as u16
-}
-
-/// Adds a percept to its category's running sums.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn note(
-    summary: &mut [Summary; Category::COUNT],
-    category: Category,
-    sense: Sense,
-    dist: f32,
-    pos: Vec3,
-    heading: Vec3,
-    vel: Vec3,
-) {
-    let sm = &mut summary[category as usize];
-    sm.count += 1;
-    if sense == Sense::Vision {
-        sm.seen += 1;
-    }
-    if dist < sm.nearest_dist {
-        sm.nearest_dist = dist;
-    }
-    sm.centroid += pos;
-    sm.mean_heading += heading;
-    sm.mean_velocity += vel;
 }
 
 /// A percept without bearing and elevation (filled in for the percepts kept).
@@ -1191,8 +1102,8 @@ fn percept(
     }
 }
 
-/// [`sense_of`] for a point target at `offset`, of squared length `d2`: ranges are compared
-/// squared, and the square root is taken only for a vision cone.
+/// Decides whether a point target at `offset`, of squared length `d2`, is seen, smelt or
+/// missed: ranges are compared squared, and the square root is taken only for a vision cone.
 #[inline(always)]
 fn sense_point(
     from: Vec3,
@@ -1202,34 +1113,57 @@ fn sense_point(
     sense: &SenseParams,
     occluders: &[(Vec3, f32)],
 ) -> Option<Sense> {
-    let in_vision = match &sense.volume {
-        Some(v) => v.contains(Vec3::new(
-            offset.dot(eye.left),
-            offset.dot(eye.up),
-            offset.dot(eye.fwd),
-        )),
-        None => {
-            d2 <= sense.vision_radius * sense.vision_radius
-                && (eye.full_circle || d2 == 0.0 || eye.fwd.dot(offset) / d2.sqrt() >= eye.cos_min)
-        }
-    };
-    if in_vision && (occluders.is_empty() || !occluded(from, from + offset, occluders)) {
-        Some(Sense::Vision)
-    } else if d2 <= sense.smell_radius * sense.smell_radius {
-        Some(Sense::Smell)
-    } else {
-        None
-    }
+    let vision = d2 <= sense.vision_radius * sense.vision_radius;
+    let smell = d2 <= sense.smell_radius * sense.smell_radius;
+    sense_with(
+        from,
+        offset,
+        || d2.sqrt(),
+        vision,
+        smell,
+        eye,
+        sense,
+        occluders,
+    )
 }
 
 /// Decides whether a target at `offset` (of length `offset_len`; `dist` is the distance the
-/// ranges apply to) is seen, smelt or missed.
+/// ranges apply to, e.g. to an obstacle's surface) is seen, smelt or missed.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn sense_of(
     from: Vec3,
     offset: Vec3,
     offset_len: f32,
     dist: f32,
+    eye: &Eye,
+    sense: &SenseParams,
+    occluders: &[(Vec3, f32)],
+) -> Option<Sense> {
+    let vision = dist <= sense.vision_radius;
+    let smell = dist <= sense.smell_radius;
+    sense_with(
+        from,
+        offset,
+        || offset_len,
+        vision,
+        smell,
+        eye,
+        sense,
+        occluders,
+    )
+}
+
+/// The sense test itself, given whether the target is within the vision and smell ranges and
+/// the length of `offset` (asked only for a vision cone).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn sense_with(
+    from: Vec3,
+    offset: Vec3,
+    offset_len: impl FnOnce() -> f32,
+    within_vision: bool,
+    within_smell: bool,
     eye: &Eye,
     sense: &SenseParams,
     occluders: &[(Vec3, f32)],
@@ -1243,15 +1177,16 @@ fn sense_of(
         // `volume::in_cone` with the cosine computed once per perceiver; a full circle (±180°,
         // bound below −1 by more than any rounding of a unit vector's dot product) needs no test.
         None => {
-            dist <= sense.vision_radius
-                && (eye.full_circle
-                    || offset_len == 0.0
-                    || eye.fwd.dot(offset) / offset_len >= eye.cos_min)
+            within_vision
+                && (eye.full_circle || {
+                    let len = offset_len();
+                    len == 0.0 || eye.fwd.dot(offset) / len >= eye.cos_min
+                })
         }
     };
     if in_vision && (occluders.is_empty() || !occluded(from, from + offset, occluders)) {
         Some(Sense::Vision)
-    } else if dist <= sense.smell_radius {
+    } else if within_smell {
         Some(Sense::Smell)
     } else {
         None
