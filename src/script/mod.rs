@@ -247,45 +247,14 @@ impl Script {
 
     /// Turns a runtime error into a diagnostic that names the right file at the innermost frame.
     pub fn locate_error(&self, err: &EvalAltResult) -> Diagnostic {
-        let mut source = self.file.display().to_string();
-        let mut e = err;
-        let mut pos = err.position();
-        loop {
-            match e {
-                EvalAltResult::ErrorInFunctionCall(_, src, inner, p) => {
-                    if !src.is_empty() {
-                        source = src.clone();
-                    }
-                    if !p.is_none() {
-                        pos = *p;
-                    }
-                    e = inner;
-                    if !e.position().is_none() {
-                        pos = e.position();
-                    }
-                }
-                EvalAltResult::ErrorInModule(_, inner, _) => e = inner,
-                _ => break,
-            }
-        }
-        let message = match e {
+        let site = error_site(err, &self.file, &self.text);
+        let message = match site.error {
             EvalAltResult::ErrorTooManyOperations(_) => {
                 "script exceeded its operation limit (an endless loop?); the agent keeps its last valid steering".to_string()
             }
-            other => {
-                let mut m = other.to_string();
-                if let Some(i) = m.find(" (line ") {
-                    m.truncate(i);
-                }
-                m
-            }
+            other => bare_message(other),
         };
-        let file = PathBuf::from(&source);
-        let text = if file == self.file {
-            Some(self.text.to_string())
-        } else {
-            std::fs::read_to_string(&file).ok()
-        };
+        let (file, pos, text) = (site.file, site.pos, site.text);
         Diagnostic::new(
             file,
             pos.line().unwrap_or(0),
@@ -414,4 +383,68 @@ fn register_imports(
             }
         }
     }
+}
+
+/// Where a runtime error happened: its innermost frame (through nested function calls and
+/// modules), the file that frame is in (a module's path, or the script's own file) and that
+/// file's text, and the position there.
+pub struct ErrorSite<'e> {
+    /// The innermost error.
+    pub error: &'e EvalAltResult,
+    /// The file it is in.
+    pub file: PathBuf,
+    /// The text of that file, when it can be read.
+    pub text: Option<String>,
+    /// Where in it.
+    pub pos: Position,
+}
+
+/// The site of `err`, raised by a script read from `file` with text `text`.
+pub fn error_site<'e>(err: &'e EvalAltResult, file: &Path, text: &str) -> ErrorSite<'e> {
+    let mut source = String::new();
+    let mut e = err;
+    let mut pos = err.position();
+    loop {
+        match e {
+            EvalAltResult::ErrorInFunctionCall(_, src, inner, p) => {
+                if !src.is_empty() {
+                    source = src.clone();
+                }
+                if !p.is_none() {
+                    pos = *p;
+                }
+                e = inner;
+                if !e.position().is_none() {
+                    pos = e.position();
+                }
+            }
+            EvalAltResult::ErrorInModule(_, inner, _) => e = inner,
+            _ => break,
+        }
+    }
+    let f = if source.is_empty() {
+        file.to_path_buf()
+    } else {
+        PathBuf::from(source)
+    };
+    let text = if f == file {
+        Some(text.to_string())
+    } else {
+        std::fs::read_to_string(&f).ok()
+    };
+    ErrorSite {
+        error: e,
+        file: f,
+        text,
+        pos,
+    }
+}
+
+/// An error's message without Rhai's "(line …, position …)" suffix (the diagnostic says where).
+pub fn bare_message(e: &EvalAltResult) -> String {
+    let mut m = e.to_string();
+    if let Some(i) = m.find(" (line ") {
+        m.truncate(i);
+    }
+    m
 }

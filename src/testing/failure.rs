@@ -3,7 +3,7 @@
 
 use crate::diag::Diagnostic;
 use rhai::{Dynamic, EvalAltResult, Position};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// What kind of stop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,28 +67,8 @@ pub struct LimitsInfo {
 /// Turns the error a test function returned into a located stop: the innermost frame names the
 /// file and the line (an assertion inside a helper function points into the helper).
 pub fn locate(err: &EvalAltResult, file: &Path, text: &str, limits: LimitsInfo) -> Located {
-    let mut source = String::new();
-    let mut e = err;
-    let mut pos = err.position();
-    loop {
-        match e {
-            EvalAltResult::ErrorInFunctionCall(_, src, inner, p) => {
-                if !src.is_empty() {
-                    source = src.clone();
-                }
-                if !p.is_none() {
-                    pos = *p;
-                }
-                e = inner;
-                if !e.position().is_none() {
-                    pos = e.position();
-                }
-            }
-            EvalAltResult::ErrorInModule(_, inner, _) => e = inner,
-            _ => break,
-        }
-    }
-    let (kind, message, context) = match e {
+    let site = crate::script::error_site(err, file, text);
+    let (kind, message, context) = match site.error {
         EvalAltResult::ErrorRuntime(d, _) if d.is::<Stop>() => {
             let s = d.clone().cast::<Stop>();
             (s.kind, s.message, s.context)
@@ -110,32 +90,20 @@ pub fn locate(err: &EvalAltResult, file: &Path, text: &str, limits: LimitsInfo) 
             String::new(),
         ),
         EvalAltResult::ErrorRuntime(d, _) => (Kind::Error, format!("thrown: {d}"), String::new()),
-        other => {
-            let mut m = other.to_string();
-            if let Some(i) = m.find(" (line ") {
-                m.truncate(i);
-            }
-            (Kind::Error, m, String::new())
-        }
-    };
-    let f = if source.is_empty() {
-        file.to_path_buf()
-    } else {
-        PathBuf::from(source)
-    };
-    let t = if f == file {
-        Some(text.to_string())
-    } else {
-        std::fs::read_to_string(&f).ok()
+        other => (
+            Kind::Error,
+            crate::script::bare_message(other),
+            String::new(),
+        ),
     };
     Located {
         kind,
         diagnostic: Diagnostic::new(
-            f,
-            pos.line().unwrap_or(0),
-            pos.position().unwrap_or(0),
+            site.file,
+            site.pos.line().unwrap_or(0),
+            site.pos.position().unwrap_or(0),
             message,
-            t.as_deref(),
+            site.text.as_deref(),
         ),
         context,
     }
