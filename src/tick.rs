@@ -26,7 +26,7 @@ use std::sync::Arc;
 
 mod reads;
 mod remap;
-pub use reads::{bearing_range, group_query, reads};
+pub use reads::{bearing_range, reads};
 pub use remap::Remap;
 
 /// The parts of an agent the decision stage mutates, moved out of the world during the pass.

@@ -76,6 +76,21 @@ fn force(velocity: Vec3, f: Vec3) -> Steer {
     }
 }
 
+/// The neighborhood sums a group rule reads, for a species whose perception reaches `reach`;
+/// `None` for other primitives, and for alignment and cohesion over every neighbor perceived
+/// (the kin summary's means give them).
+pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
+    match r {
+        Recipe::Separation(g) => Some(GroupQuery::Separation { radius: g.radius }),
+        Recipe::Alignment(g) | Recipe::Cohesion(g) => {
+            (g.radius < reach).then_some(GroupQuery::Mean { radius: g.radius })
+        }
+        Recipe::Zones(z) => Some(z.query()),
+        Recipe::Vicsek(v) => Some(GroupQuery::Headings { radius: v.radius }),
+        _ => None,
+    }
+}
+
 /// The agent's sums of `q`: folded by perception over every kin perceived, or (for a context
 /// built without them) over the kin among its kept percepts.
 fn group_sum(ctx: &Ctx, scratch: &mut Scratch, q: &GroupQuery) -> GroupSum {
@@ -162,7 +177,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
             let own_velocity = scratch.velocity(&kin);
             let m1 = ctx.agent.attrs.mass;
             let reach = ctx.species.senses.query_radius();
-            let f = match (r, crate::tick::group_query(r, reach)) {
+            let f = match (r, group_query(r, reach)) {
                 // Over every kin perceived: the kin summary's means.
                 (Recipe::Alignment(_), None) => {
                     let sm = &ctx.summaries[Category::Kin as usize];

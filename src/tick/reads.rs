@@ -2,9 +2,10 @@
 //! that the perception stage does only that work (seed 000 §1: a fish perceives what its
 //! behaviors use). The matches are exhaustive so that a new primitive has to say what it reads.
 
-use crate::perception::{GroupQueries, GroupQuery, Reads};
+use crate::perception::{GroupQueries, Reads};
 use crate::species::{CondNode, Recipe, RecipeNode, Species};
 use crate::steering::avoid::AvoidParams;
+use crate::steering::recipe::group_query;
 
 /// What species `sp` reads: whether it keeps individual percepts, the range of the bearings it
 /// reads, and the neighborhood sums of its group rules.
@@ -27,21 +28,6 @@ pub fn reads(sp: &Species) -> Reads {
         agent_percepts: unlisted || kinds == Kinds::All,
         bearing_range: Some(bearing_range(sp)),
         groups,
-    }
-}
-
-/// The neighborhood sums a group rule reads, for a species whose perception reaches `reach`;
-/// `None` for other primitives, and for alignment and cohesion over every neighbor perceived
-/// (the kin summary's means give them).
-pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
-    match r {
-        Recipe::Separation(g) => Some(GroupQuery::Separation { radius: g.radius }),
-        Recipe::Alignment(g) | Recipe::Cohesion(g) => {
-            (g.radius < reach).then_some(GroupQuery::Mean { radius: g.radius })
-        }
-        Recipe::Zones(z) => Some(z.query()),
-        Recipe::Vicsek(v) => Some(GroupQuery::Headings { radius: v.radius }),
-        _ => None,
     }
 }
 
@@ -229,6 +215,7 @@ pub fn bearing_range(sp: &Species) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::perception::GroupQuery;
     use crate::scenario::normalize;
     use crate::species::load_species_str;
     use std::path::Path;
