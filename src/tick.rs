@@ -724,7 +724,12 @@ fn agent_pass(
     let tick = world.tick;
 
     // 3. Drives.
-    let mut me = base.clone();
+    // The agent's own record without its mind and memory (in `brain` this tick).
+    let mut me = Agent {
+        mind: Default::default(),
+        memory: Vec::new(),
+        ..*base
+    };
     if def.drives.native {
         let stim = |c: Category| {
             let d = summaries[c as usize].nearest_dist;

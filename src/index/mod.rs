@@ -149,13 +149,43 @@ impl Grid {
         radius: f32,
         mut visit: impl FnMut(usize, Vec3A, f32),
     ) {
-        if self.entries.is_empty() || radius.is_nan() || radius < 0.0 {
-            return;
-        }
         let c = Vec3A::from(center);
         // Filled before it is read, row by row: initialized once per query.
         let mut hits = [(0u32, 0.0f32); CHUNK];
         let r2 = radius * radius;
+        self.for_each_row_within(center, radius, |mut s, e| {
+            // Candidates in range are first gathered without a branch (about half of them are
+            // out of range, at random: a branch per candidate mispredicts often), then visited
+            // in order.
+            while s < e {
+                let end = e.min(s + CHUNK);
+                let mut m = 0;
+                for (k, &p) in self.positions[s..end].iter().enumerate() {
+                    let d2 = (p - c).length_squared();
+                    hits[m] = ((s + k) as u32, d2);
+                    m += (d2 <= r2) as usize;
+                }
+                for &(k, d2) in &hits[..m] {
+                    visit(k as usize, self.positions[k as usize], d2);
+                }
+                s = end;
+            }
+        });
+    }
+
+    /// Calls `visit(start, end)` for each run of slots (see [`Grid::entries`]) that may hold
+    /// entries within `radius` of `center`: the cells of one row of the query box, whose
+    /// entries are contiguous. Runs come in the order of [`Grid::for_each_within`].
+    #[inline]
+    pub fn for_each_row_within(
+        &self,
+        center: Vec3,
+        radius: f32,
+        mut visit: impl FnMut(usize, usize),
+    ) {
+        if self.entries.is_empty() || radius.is_nan() || radius < 0.0 {
+            return;
+        }
         let lo = self.cell_coord(center - Vec3::splat(radius));
         let hi = self.cell_coord(center + Vec3::splat(radius));
         for z in lo.z..=hi.z {
@@ -163,25 +193,17 @@ impl Grid {
                 let row = self.cell_index(IVec3::new(lo.x, y, z));
                 let row_end = self.cell_index(IVec3::new(hi.x, y, z));
                 // Cells lo.x..=hi.x of one row are adjacent, so their entries are contiguous.
-                let (mut s, e) = (self.starts[row] as usize, self.starts[row_end + 1] as usize);
-                // Candidates in range are first gathered without a branch (about half of
-                // them are out of range, at random: a branch per candidate mispredicts often),
-                // then visited in order.
-                while s < e {
-                    let end = e.min(s + CHUNK);
-                    let mut m = 0;
-                    for (k, &p) in self.positions[s..end].iter().enumerate() {
-                        let d2 = (p - c).length_squared();
-                        hits[m] = ((s + k) as u32, d2);
-                        m += (d2 <= r2) as usize;
-                    }
-                    for &(k, d2) in &hits[..m] {
-                        visit(k as usize, self.positions[k as usize], d2);
-                    }
-                    s = end;
+                let (s, e) = (self.starts[row] as usize, self.starts[row_end + 1] as usize);
+                if s < e {
+                    visit(s, e);
                 }
             }
         }
+    }
+
+    /// Positions of the entries, in the grid's order.
+    pub fn positions(&self) -> &[Vec3A] {
+        &self.positions
     }
 }
 

@@ -13,6 +13,7 @@
 //! percepts kept (and, in the pipeline, only on those a behavior can read).
 
 pub mod group;
+pub mod kin;
 mod types;
 pub mod volume;
 
@@ -185,6 +186,11 @@ pub struct Perception {
     near: Vec<Body>,
     /// Slot of each agent in `near`, by agent index (`u32::MAX` when the grid lacks it).
     slot_of: Vec<u32>,
+    /// `near` again, one array per component, for the kin kernel (filled only when a species
+    /// perceives by it).
+    lanes: kin::KinLanes,
+    /// Cosine bound of each species' vision cone, this tick.
+    cos_mins: Vec<f32>,
     /// Obstacles by cell, so a perceiver looks only at those that may be in range.
     obstacle_grid: ObstacleGrid,
 }
@@ -423,6 +429,22 @@ impl Perception {
                     };
                 }
             });
+        // The kin kernel's lanes, when a species may perceive by it.
+        let kernel = (0..senses.len().max(reads.len())).any(|s| {
+            let r = reads.get(s).unwrap_or(&everything);
+            kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
+        });
+        if kernel {
+            self.lanes.fill(
+                agents
+                    .positions()
+                    .iter()
+                    .zip(&self.near)
+                    .map(|(&p, b)| (p, b.heading, b.velocity)),
+            );
+        } else {
+            self.lanes.fill(std::iter::empty());
+        }
         self.slot_of.clear();
         self.slot_of.resize(n, u32::MAX);
         for (k, &j) in entries.iter().enumerate() {
@@ -430,8 +452,14 @@ impl Perception {
                 *s = k as u32;
             }
         }
+        self.cos_mins.clear();
+        self.cos_mins
+            .extend(senses.iter().map(|s| s.vision_half_angle.cos() - 1e-6));
+        let default_cos_min = default.vision_half_angle.cos() - 1e-6;
+        let cos_mins = &self.cos_mins[..];
         let near = &self.near[..];
         let slot_of = &self.slot_of[..];
+        let lanes = (kernel && self.lanes.len() == near.len()).then_some(&self.lanes);
         let reach = senses
             .iter()
             .chain(unsensed.then_some(&default))
@@ -451,9 +479,12 @@ impl Perception {
             let s = world.agents[i].species.0 as usize;
             let sense = senses.get(s).unwrap_or(&default);
             let r = reads.get(s).unwrap_or(&everything);
+            // Cosine bound of the vision cone (as `volume::in_cone` computes it).
+            let cos_min = cos_mins.get(s).copied().unwrap_or(default_cos_min);
             let view = View {
                 world,
                 near,
+                lanes,
                 slot_of,
                 agents,
                 food,
@@ -461,9 +492,27 @@ impl Perception {
                 relations,
             };
             *out.count = if out.slots.is_empty() {
-                perceive_one::<false>(i, &view, sense, r, out.slots, out.summary, out.sums)
+                perceive_one::<false>(
+                    i,
+                    &view,
+                    sense,
+                    cos_min,
+                    r,
+                    out.slots,
+                    out.summary,
+                    out.sums,
+                )
             } else {
-                perceive_one::<true>(i, &view, sense, r, out.slots, out.summary, out.sums)
+                perceive_one::<true>(
+                    i,
+                    &view,
+                    sense,
+                    cos_min,
+                    r,
+                    out.slots,
+                    out.summary,
+                    out.sums,
+                )
             };
         });
     }
@@ -873,6 +922,8 @@ struct View<'a> {
     world: &'a World,
     /// Agents' records in the agent grid's order.
     near: &'a [Body],
+    /// The same for the kin kernel, when a species may perceive by it.
+    lanes: Option<&'a kin::KinLanes>,
     /// Slot of each agent in `near`.
     slot_of: &'a [u32],
     agents: &'a Grid,
@@ -881,12 +932,25 @@ struct View<'a> {
     relations: &'a Relations,
 }
 
+/// Whether agents of species `s` may perceive by the kin kernel (an agent with an occluder near
+/// it still takes the general path).
+fn kernel_species(s: usize, sense: &SenseParams, reads: &Reads, relations: &Relations) -> bool {
+    let keeps_agents = reads.percepts && reads.agent_percepts && sense.slots() > 0;
+    !keeps_agents
+        && sense.volume.is_none()
+        && !relations.mates.get(s).copied().unwrap_or(false)
+        && relations.row(s).iter().all(|c| *c == Some(Category::Kin))
+        && kin::supports(&reads.groups)
+}
+
 /// Perceives for agent `i`: fills its slots, summaries and group sums; returns the number of
 /// percepts kept.
+#[allow(clippy::too_many_arguments)]
 fn perceive_one<const KEEP: bool>(
     i: usize,
     view: &View,
     sense: &SenseParams,
+    cos_min: f32,
     reads: &Reads,
     slots: &mut [Percept],
     summary: &mut [Summary; Category::COUNT],
@@ -896,19 +960,30 @@ fn perceive_one<const KEEP: bool>(
     let me = &world.agents[i];
     let s = me.species.0 as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
-    // `frame::dorsal` is `forward × left`: reuse both (the forward vector is in the body cache).
-    let fwd = match view.slot_of.get(i).and_then(|&k| view.near.get(k as usize)) {
-        Some(b) => b.heading,
-        None => me.forward(),
-    };
-    let left = frame::left(yaw);
-    let cos_min = sense.vision_half_angle.cos() - 1e-6;
-    let eye = Eye {
-        fwd,
-        left,
-        up: fwd.cross(left),
-        cos_min,
-        full_circle: cos_min < -1.000_000_5,
+    // The body frame, only where a cone or a sense volume reads it. `frame::dorsal` is
+    // `forward × left`: reuse both (the forward vector is in the body cache).
+    let full_circle = cos_min < -1.000_000_5;
+    let eye = if full_circle && sense.volume.is_none() {
+        Eye {
+            fwd: Vec3::ZERO,
+            left: Vec3::ZERO,
+            up: Vec3::ZERO,
+            cos_min,
+            full_circle,
+        }
+    } else {
+        let fwd = match view.slot_of.get(i).and_then(|&k| view.near.get(k as usize)) {
+            Some(b) => b.heading,
+            None => me.forward(),
+        };
+        let left = frame::left(yaw);
+        Eye {
+            fwd,
+            left,
+            up: fwd.cross(left),
+            cos_min,
+            full_circle,
+        }
     };
     let radius = sense.query_radius();
     let mut fold = Fold::<KEEP>::new(slots);
@@ -975,7 +1050,34 @@ fn perceive_one<const KEEP: bool>(
         && sense.volume.is_none()
         && !mates
         && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
-    if plain {
+    let lanes = view.lanes.filter(|_| {
+        plain
+            && occ.is_empty()
+            && row.iter().all(|c| *c == Some(Category::Kin))
+            && kin::supports(groups)
+    });
+    if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(i)) {
+        let probe = kin::Probe {
+            here,
+            me: me_slot as usize,
+            vision2: sense.vision_radius * sense.vision_radius,
+            smell2: sense.smell_radius * sense.smell_radius,
+            cone: (!eye.full_circle).then_some((eye.fwd, eye.cos_min)),
+        };
+        let mut k = kin::KinFold::new(lanes, probe, groups.iter());
+        view.agents
+            .for_each_row_within(here, radius, |s, e| k.row(s, e));
+        let sums_k = k.finish(sums);
+        fold.acc[Category::Kin as usize] = Acc {
+            pos: sums_k.pos,
+            heading: sums_k.heading,
+            vel: sums_k.vel,
+            count: sums_k.count,
+            seen: sums_k.seen,
+            key: sums_k.nearest2,
+            nearest: sums_k.nearest2.sqrt(),
+        };
+    } else if plain {
         let mut kin = ACC;
         view.agents
             .for_each_slot_within(here, radius, |k, pos, d2| {
@@ -1581,6 +1683,83 @@ mod tests {
         assert!(p.percepts(0).is_empty());
         let food = p.summaries(0)[Category::Food as usize];
         assert_eq!((food.count, food.nearest), (1, None));
+    }
+
+    #[test]
+    fn the_kin_kernel_perceives_what_the_general_path_does() {
+        // A world of one kin-only species without slots is perceived by the kin kernel; naming
+        // a second species (with no agent) as `Other` sends it down the general path. Same
+        // neighbors, same counts; the sums differ by rounding only.
+        let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
+        let mut rng = Rng::new(7, 0);
+        for k in 0..400 {
+            let pos = Vec3::new(
+                rng.range(-15.0, 15.0),
+                rng.range(-15.0, 15.0),
+                rng.range(-15.0, 15.0),
+            );
+            let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+            a.pitch = rng.range(-0.5, 0.5);
+            a.speed = rng.range(0.0, 2.0);
+            w.agents.push(a);
+        }
+        let mut groups = GroupQueries::new();
+        groups.insert(GroupQuery::Separation { radius: 2.0 });
+        groups.insert(GroupQuery::Mean { radius: 3.0 });
+        let reads = Reads {
+            percepts: false,
+            agent_percepts: false,
+            bearing_range: Some(0.0),
+            groups,
+        };
+        let whole = SenseParams {
+            vision_radius: 5.0,
+            vision_half_angle: std::f32::consts::PI,
+            smell_radius: 0.0,
+            occlusion: false,
+            ..SenseParams::default()
+        };
+        let cone_and_smell = SenseParams {
+            vision_radius: 5.0,
+            vision_half_angle: 2.0,
+            smell_radius: 3.5,
+            ..whole
+        };
+        for sense in [whole, cone_and_smell] {
+            let mut ag = Grid::new();
+            ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
+            let perceive = |rel: &Relations| {
+                let mut p = Perception::new();
+                p.run_selective(&w, &ag, &Grid::new(), &[sense; 2], rel, &[reads; 2]);
+                p
+            };
+            let mut kernel = Relations::new(2);
+            kernel.set(0, 0, Some(Category::Kin));
+            kernel.set(0, 1, Some(Category::Kin));
+            let mut general = kernel.clone();
+            general.set(0, 1, Some(Category::Other));
+            let (a, b) = (perceive(&kernel), perceive(&general));
+            let close = |x: Vec3, y: Vec3| (x - y).length() <= 1e-4 * (1.0 + y.length());
+            let mut perceived = 0;
+            for i in 0..w.agents.len() {
+                let (ka, kb) = (
+                    &a.summaries(i)[Category::Kin as usize],
+                    &b.summaries(i)[Category::Kin as usize],
+                );
+                assert_eq!((ka.count, ka.seen), (kb.count, kb.seen), "agent {i}");
+                perceived += ka.count;
+                assert!((ka.nearest_dist - kb.nearest_dist).abs() <= 1e-5 || ka.count == 0);
+                assert!(close(ka.centroid, kb.centroid), "agent {i}");
+                assert!(close(ka.mean_heading, kb.mean_heading), "agent {i}");
+                assert!(close(ka.mean_velocity, kb.mean_velocity), "agent {i}");
+                for (ga, gb) in a.group_sums(i).iter().zip(b.group_sums(i)) {
+                    assert_eq!(ga.n, gb.n, "agent {i}");
+                    assert!(close(ga.a.into(), gb.a.into()), "agent {i}");
+                    assert!(close(ga.b.into(), gb.b.into()), "agent {i}");
+                }
+            }
+            assert!(perceived > 400, "{perceived}");
+        }
     }
 
     #[test]

@@ -1,0 +1,509 @@
+//! Stage 2 of the tick: the kin kernel, the perception of a plain flocker (seed 001's schooling
+//! fish, seed 003's boids) folded [`LANES`] candidates at a time.
+//!
+//! A perceiver that keeps no agent percepts, sees only kin (every species is kin to it), has no
+//! custom sense volume, no mates and no occluder near it needs, of its neighbors, only sums: the
+//! kin summary (count, seen, nearest distance, position, heading and velocity sums) and the
+//! group sums of separation and of neighborhood means. Those are accumulated here from
+//! structure-of-arrays copies of the neighbors' records, every candidate of a grid row tested
+//! and folded without a branch (a mask selects what is added), in fixed lanes that are added up
+//! in a fixed order at the end. Each perceiver's result is therefore a pure function of the
+//! world: bit-identical whatever the thread count. It is the same set of neighbors as the
+//! general path perceives; the sums differ from its one-by-one sums only by rounding.
+
+use super::group::{GroupQueries, GroupQuery, GroupSum};
+use glam::{Vec3, Vec3A, Vec4};
+
+/// Candidates folded at a time: slots `4m..4m + 4` of the grid's order share one 4-wide
+/// vector of each component.
+pub const LANES: usize = 4;
+
+/// Group queries the kernel folds itself; a species with more perceives by the general path.
+pub const MAX_KERNEL_QUERIES: usize = 4;
+
+/// Rows of the grid gathered before they are folded (the sums stay in registers meanwhile).
+const ROWS: usize = 32;
+
+/// The neighbors' records in the agent grid's order, one array per component, [`LANES`]
+/// entries to a vector (the last one padded with far-away entries).
+#[derive(Debug, Clone, Default)]
+pub struct KinLanes {
+    /// Positions.
+    pub pos: [Vec<Vec4>; 3],
+    /// Forward unit vectors.
+    pub heading: [Vec<Vec4>; 3],
+    /// Velocities.
+    pub vel: [Vec<Vec4>; 3],
+    len: usize,
+}
+
+/// Position of the padding entries: every squared distance to it is infinite.
+const FAR: f32 = 1e30;
+
+impl KinLanes {
+    /// Refills the lanes from records given in grid order as `(position, heading, velocity)`.
+    pub fn fill(&mut self, records: impl ExactSizeIterator<Item = (Vec3A, Vec3, Vec3)>) {
+        let n = records.len();
+        let vectors = n.div_ceil(LANES);
+        self.len = n;
+        for (c, v) in self.columns_mut().into_iter().enumerate() {
+            v.clear();
+            v.resize(vectors, Vec4::splat(if c < 3 { FAR } else { 0.0 }));
+        }
+        for (k, (p, h, v)) in records.enumerate() {
+            let (m, l) = (k / LANES, k % LANES);
+            for (c, value) in [p.x, p.y, p.z, h.x, h.y, h.z, v.x, v.y, v.z]
+                .into_iter()
+                .enumerate()
+            {
+                let column = match c {
+                    0..3 => &mut self.pos[c],
+                    3..6 => &mut self.heading[c - 3],
+                    _ => &mut self.vel[c - 6],
+                };
+                column[m][l] = value;
+            }
+        }
+    }
+
+    fn columns_mut(&mut self) -> [&mut Vec<Vec4>; 9] {
+        let [px, py, pz] = &mut self.pos;
+        let [hx, hy, hz] = &mut self.heading;
+        let [vx, vy, vz] = &mut self.vel;
+        [px, py, pz, hx, hy, hz, vx, vy, vz]
+    }
+
+    /// Number of records (padding excluded).
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+/// What one perceiver brings to the kernel.
+#[derive(Debug, Clone, Copy)]
+pub struct Probe {
+    /// Its position.
+    pub here: Vec3,
+    /// Its own slot in the grid's order (never its own neighbor).
+    pub me: usize,
+    /// Squared vision radius.
+    pub vision2: f32,
+    /// Squared smell radius.
+    pub smell2: f32,
+    /// Forward unit vector and the cosine bound of the vision cone; `None`: the whole sphere.
+    pub cone: Option<(Vec3, f32)>,
+}
+
+/// The kin sums of one perceiver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KinSums {
+    /// Kin perceived (seen or smelt).
+    pub count: u32,
+    /// Kin seen.
+    pub seen: u32,
+    /// Smallest squared distance (infinite when none).
+    pub nearest2: f32,
+    /// Sum of positions.
+    pub pos: Vec3A,
+    /// Sum of forward vectors.
+    pub heading: Vec3A,
+    /// Sum of velocities.
+    pub vel: Vec3A,
+}
+
+/// Whether the kernel can fold every query of `queries` (separation and means only).
+pub fn supports(queries: &GroupQueries) -> bool {
+    queries.len() <= MAX_KERNEL_QUERIES
+        && queries
+            .iter()
+            .all(|q| matches!(q, GroupQuery::Separation { .. } | GroupQuery::Mean { .. }))
+}
+
+/// Running lanes of one group query: `a` offsets (or offsets / d²), `b` velocities, `n` count.
+#[derive(Debug, Clone, Copy)]
+struct QueryLanes {
+    a: [Vec4; 3],
+    b: [Vec4; 3],
+    n: Vec4,
+}
+
+const QUERY_ZERO: QueryLanes = QueryLanes {
+    a: [Vec4::ZERO; 3],
+    b: [Vec4::ZERO; 3],
+    n: Vec4::ZERO,
+};
+
+/// The running lanes of the kin sums.
+#[derive(Debug, Clone, Copy)]
+struct KinLanesSum {
+    count: Vec4,
+    seen: Vec4,
+    near2: Vec4,
+    pos: [Vec4; 3],
+    head: [Vec4; 3],
+    vel: [Vec4; 3],
+}
+
+/// The running sums of one perceiver: the grid rows of its query go in with
+/// [`KinFold::row`], the sums come out of [`KinFold::finish`].
+pub struct KinFold<'a> {
+    lanes: &'a KinLanes,
+    probe: Probe,
+    sum: KinLanesSum,
+    q: [QueryLanes; MAX_KERNEL_QUERIES],
+    /// Squared radii of the queries, and which are separations (the others are means).
+    radius2: [f32; MAX_KERNEL_QUERIES],
+    separation: [bool; MAX_KERNEL_QUERIES],
+    nq: usize,
+    rows: [(u32, u32); ROWS],
+    pending: usize,
+}
+
+/// Lane numbers within a vector.
+const LANE: Vec4 = Vec4::new(0.0, 1.0, 2.0, 3.0);
+
+impl<'a> KinFold<'a> {
+    /// Nothing folded yet, for `probe` and `queries` (which [`supports`] must accept: others
+    /// are ignored).
+    #[inline(always)]
+    pub fn new<'q>(
+        lanes: &'a KinLanes,
+        probe: Probe,
+        queries: impl IntoIterator<Item = &'q GroupQuery>,
+    ) -> Self {
+        let mut f = KinFold {
+            lanes,
+            probe,
+            sum: KinLanesSum {
+                count: Vec4::ZERO,
+                seen: Vec4::ZERO,
+                near2: Vec4::INFINITY,
+                pos: [Vec4::ZERO; 3],
+                head: [Vec4::ZERO; 3],
+                vel: [Vec4::ZERO; 3],
+            },
+            q: [QUERY_ZERO; MAX_KERNEL_QUERIES],
+            radius2: [0.0; MAX_KERNEL_QUERIES],
+            separation: [false; MAX_KERNEL_QUERIES],
+            nq: 0,
+            rows: [(0, 0); ROWS],
+            pending: 0,
+        };
+        for query in queries.into_iter().take(MAX_KERNEL_QUERIES) {
+            let k = f.nq;
+            match *query {
+                GroupQuery::Separation { radius } => {
+                    f.radius2[k] = radius * radius;
+                    f.separation[k] = true;
+                }
+                GroupQuery::Mean { radius } => f.radius2[k] = radius * radius,
+                _ => continue,
+            }
+            f.nq += 1;
+        }
+        f
+    }
+
+    /// Adds the candidates in grid slots `start..end` (folded a batch of rows at a time).
+    #[inline]
+    pub fn row(&mut self, start: usize, end: usize) {
+        if start >= end {
+            return;
+        }
+        self.rows[self.pending] = (start as u32, end as u32);
+        self.pending += 1;
+        if self.pending == ROWS {
+            self.flush();
+        }
+    }
+
+    /// Folds the rows gathered so far.
+    fn flush(&mut self) {
+        let smell = self.probe.smell2 > 0.0;
+        // A single separation query (the boids' case) has its own instance: its sums then
+        // stay in registers too.
+        let lone_separation = self.nq == 1 && self.separation[0];
+        match (self.probe.cone.is_some(), smell, lone_separation) {
+            (false, false, true) => self.fold::<false, false, true>(),
+            (false, false, false) => self.fold::<false, false, false>(),
+            (false, true, _) => self.fold::<false, true, false>(),
+            (true, false, _) => self.fold::<true, false, false>(),
+            (true, true, _) => self.fold::<true, true, false>(),
+        }
+        self.pending = 0;
+    }
+
+    #[inline(always)]
+    fn fold<const CONE: bool, const SMELL: bool, const SEPARATION: bool>(&mut self) {
+        let lanes = self.lanes;
+        let p = self.probe;
+        let (cx, cy, cz) = (
+            Vec4::splat(p.here.x),
+            Vec4::splat(p.here.y),
+            Vec4::splat(p.here.z),
+        );
+        let (fwd, cos_min) = p.cone.unwrap_or((Vec3::ZERO, -2.0));
+        let (fx, fy, fz, cos_min) = (
+            Vec4::splat(fwd.x),
+            Vec4::splat(fwd.y),
+            Vec4::splat(fwd.z),
+            Vec4::splat(cos_min),
+        );
+        let vision2 = Vec4::splat(p.vision2);
+        let smell2 = Vec4::splat(p.smell2);
+        let tiny = Vec4::splat(1e-12);
+        let me = Vec4::splat(p.me as f32);
+        let sep2 = Vec4::splat(self.radius2[0]);
+        let mut sum = self.sum;
+        let mut sep = self.q[0];
+        for &(start, end) in &self.rows[..self.pending] {
+            let (start, end) = (start as usize, end as usize);
+            let (m0, m1) = (start / LANES, (end - 1) / LANES + 1);
+            let first = Vec4::splat(start as f32);
+            let last = Vec4::splat(end as f32);
+            let [px, py, pz] = &lanes.pos;
+            let [hx, hy, hz] = &lanes.heading;
+            let [vx, vy, vz] = &lanes.vel;
+            let (px, py, pz) = (&px[m0..m1], &py[m0..m1], &pz[m0..m1]);
+            let (hx, hy, hz) = (&hx[m0..m1], &hy[m0..m1], &hz[m0..m1]);
+            let (vx, vy, vz) = (&vx[m0..m1], &vy[m0..m1], &vz[m0..m1]);
+            // Slot numbers of the lanes (exact in f32 below 2^24 agents).
+            let mut slot = Vec4::splat((m0 * LANES) as f32) + LANE;
+            for j in 0..px.len() {
+                // Lanes outside `start..end` and the perceiver's own are masked off.
+                let ok = slot.cmpge(first) & slot.cmplt(last) & slot.cmpne(me);
+                slot += Vec4::splat(LANES as f32);
+                let (x, y, z) = (px[j], py[j], pz[j]);
+                let (dx, dy, dz) = (x - cx, y - cy, z - cz);
+                let d2 = dx * dx + dy * dy + dz * dz;
+                let mut vis = d2.cmple(vision2);
+                if CONE {
+                    let len = d2.sqrt();
+                    let dot = fx * dx + fy * dy + fz * dz;
+                    vis &= len.cmpeq(Vec4::ZERO) | (dot / len).cmpge(cos_min);
+                }
+                let vis = vis & ok;
+                let hit = if SMELL {
+                    vis | (d2.cmple(smell2) & ok)
+                } else {
+                    vis
+                };
+                let pick = |v: Vec4| Vec4::select(hit, v, Vec4::ZERO);
+                sum.count += pick(Vec4::ONE);
+                if SMELL {
+                    sum.seen += Vec4::select(vis, Vec4::ONE, Vec4::ZERO);
+                }
+                sum.near2 = sum.near2.min(Vec4::select(hit, d2, Vec4::INFINITY));
+                sum.pos[0] += pick(x);
+                sum.pos[1] += pick(y);
+                sum.pos[2] += pick(z);
+                sum.head[0] += pick(hx[j]);
+                sum.head[1] += pick(hy[j]);
+                sum.head[2] += pick(hz[j]);
+                let (ux, uy, uz) = (vx[j], vy[j], vz[j]);
+                sum.vel[0] += pick(ux);
+                sum.vel[1] += pick(uy);
+                sum.vel[2] += pick(uz);
+                if SEPARATION {
+                    separate(&mut sep, hit, d2, sep2, tiny, dx, dy, dz);
+                    continue;
+                }
+                for k in 0..self.nq {
+                    let r2 = Vec4::splat(self.radius2[k]);
+                    let s = &mut self.q[k];
+                    if self.separation[k] {
+                        separate(s, hit, d2, r2, tiny, dx, dy, dz);
+                    } else {
+                        let take = hit & d2.cmple(r2);
+                        let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
+                        s.a[0] += pick(dx);
+                        s.a[1] += pick(dy);
+                        s.a[2] += pick(dz);
+                        s.b[0] += pick(ux);
+                        s.b[1] += pick(uy);
+                        s.b[2] += pick(uz);
+                        s.n += pick(Vec4::ONE);
+                    }
+                }
+            }
+        }
+        if !SMELL {
+            sum.seen = sum.count;
+        }
+        self.sum = sum;
+        if SEPARATION {
+            self.q[0] = sep;
+        }
+    }
+
+    /// The kin sums; the group sums go to `sums` (one per query, in order).
+    pub fn finish(mut self, sums: &mut [GroupSum]) -> KinSums {
+        if self.pending > 0 {
+            self.flush();
+        }
+        for (s, out) in self.q[..self.nq].iter().zip(sums) {
+            *out = GroupSum {
+                a: vec_of(&s.a),
+                b: vec_of(&s.b),
+                c: Vec3A::ZERO,
+                n: s.n.element_sum() as u32,
+                m: 0,
+            };
+        }
+        let sum = &self.sum;
+        KinSums {
+            count: sum.count.element_sum() as u32,
+            seen: sum.seen.element_sum() as u32,
+            nearest2: sum.near2.min_element(),
+            pos: vec_of(&sum.pos),
+            heading: vec_of(&sum.head),
+            vel: vec_of(&sum.vel),
+        }
+    }
+}
+
+/// Separation lanes: `offset / d²` for `1e-6 < d ≤ radius`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn separate(
+    s: &mut QueryLanes,
+    hit: glam::BVec4A,
+    d2: Vec4,
+    r2: Vec4,
+    tiny: Vec4,
+    dx: Vec4,
+    dy: Vec4,
+    dz: Vec4,
+) {
+    let take = hit & d2.cmple(r2) & d2.cmpgt(tiny);
+    let inv = Vec4::ONE / d2;
+    let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
+    s.a[0] += pick(dx * inv);
+    s.a[1] += pick(dy * inv);
+    s.a[2] += pick(dz * inv);
+    s.n += pick(Vec4::ONE);
+}
+
+/// The lanes of each component added up.
+#[inline(always)]
+fn vec_of(l: &[Vec4; 3]) -> Vec3A {
+    Vec3A::new(l[0].element_sum(), l[1].element_sum(), l[2].element_sum())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fold(
+        l: &KinLanes,
+        probe: Probe,
+        rows: &[(usize, usize)],
+        queries: &[GroupQuery],
+        sums: &mut [GroupSum],
+    ) -> KinSums {
+        let mut f = KinFold::new(l, probe, queries);
+        for &(s, e) in rows {
+            f.row(s, e);
+        }
+        f.finish(sums)
+    }
+
+    fn lanes(points: &[(Vec3, Vec3)]) -> KinLanes {
+        let mut l = KinLanes::default();
+        l.fill(
+            points
+                .iter()
+                .map(|&(p, v)| (Vec3A::from(p), v.normalize_or_zero(), v)),
+        );
+        l
+    }
+
+    #[test]
+    fn folds_hand_computed_sums_and_skips_itself() {
+        // Perceiver at the origin (slot 0), vision 3, no smell, whole sphere.
+        let pts = [
+            (Vec3::ZERO, Vec3::X),
+            (Vec3::new(2.0, 0.0, 0.0), Vec3::Z * 2.0),
+            (Vec3::new(0.0, 0.0, 1.0), Vec3::X * 4.0),
+            (Vec3::new(0.0, 4.0, 0.0), Vec3::Y), // out of range
+        ];
+        let l = lanes(&pts);
+        let probe = Probe {
+            here: Vec3::ZERO,
+            me: 0,
+            vision2: 9.0,
+            smell2: 0.0,
+            cone: None,
+        };
+        let queries = [
+            GroupQuery::Separation { radius: 1.5 },
+            GroupQuery::Mean { radius: 3.0 },
+        ];
+        let mut sums = [GroupSum::default(); 2];
+        let k = fold(&l, probe, &[(0, 4)], &queries, &mut sums);
+        assert_eq!((k.count, k.seen), (2, 2));
+        assert_eq!(k.nearest2, 1.0);
+        assert_eq!(k.pos, Vec3A::new(2.0, 0.0, 1.0));
+        assert_eq!(k.heading, Vec3A::new(1.0, 0.0, 1.0));
+        assert_eq!(k.vel, Vec3A::new(4.0, 0.0, 2.0));
+        // Separation within 1.5: only (0,0,1), weighted 1/1.
+        assert_eq!((sums[0].a, sums[0].n), (Vec3A::Z, 1));
+        // Means within 3: both.
+        assert_eq!(
+            (sums[1].a, sums[1].b, sums[1].n),
+            (Vec3A::new(2.0, 0.0, 1.0), Vec3A::new(4.0, 0.0, 2.0), 2)
+        );
+    }
+
+    #[test]
+    fn a_cone_hides_what_is_behind_and_smell_still_counts() {
+        // Facing +Z with a 90° half-angle cone: (0,0,-1) is behind, (1,0,0) at the edge.
+        let pts = [
+            (Vec3::ZERO, Vec3::Z),
+            (Vec3::new(0.0, 0.0, -1.0), Vec3::Z),
+            (Vec3::new(0.0, 0.0, 2.0), Vec3::Z),
+            (Vec3::new(0.0, 0.0, -2.5), Vec3::Z),
+        ];
+        let l = lanes(&pts);
+        let probe = Probe {
+            here: Vec3::ZERO,
+            me: 0,
+            vision2: 9.0,
+            smell2: 1.5 * 1.5,
+            cone: Some((Vec3::Z, 0.0)),
+        };
+        let k = fold(&l, probe, &[(0, 4)], &[], &mut []);
+        // Seen: (0,0,2). Smelt only: (0,0,-1). Missed: (0,0,-2.5), behind and beyond smell.
+        assert_eq!((k.count, k.seen), (2, 1));
+        assert_eq!(k.pos, Vec3A::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn rows_longer_than_a_step_and_ragged_ends_are_folded_whole() {
+        // 21 neighbors along x at 0.1 spacing, the perceiver in the middle of its row.
+        let pts: Vec<(Vec3, Vec3)> = (0..21)
+            .map(|k| (Vec3::new(k as f32 * 0.1, 0.0, 0.0), Vec3::Z))
+            .collect();
+        let l = lanes(&pts);
+        let probe = Probe {
+            here: pts[10].0,
+            me: 10,
+            vision2: 100.0,
+            smell2: 0.0,
+            cone: None,
+        };
+        // Two rows: 0..13 and 13..21.
+        let k = fold(&l, probe, &[(0, 13), (13, 21)], &[], &mut []);
+        assert_eq!(k.count, 20);
+        assert_eq!(k.heading, Vec3A::new(0.0, 0.0, 20.0));
+        assert!((k.nearest2 - 0.01).abs() < 1e-6);
+        // Rows may also stop before the end of the data: the lanes past them are masked.
+        let k = fold(&l, probe, &[(0, 3)], &[], &mut []);
+        assert_eq!(k.count, 3);
+    }
+}
