@@ -14,8 +14,7 @@
 use super::group::{GroupQueries, GroupQuery, GroupSum};
 use glam::{Vec3, Vec3A, Vec4};
 
-/// Candidates folded at a time: slots `4m..4m + 4` of the grid's order share one 4-wide
-/// vector of each component.
+/// Candidates folded at a time (one 4-wide vector operation each).
 pub const LANES: usize = 4;
 
 /// Group queries the kernel folds itself; a species with more perceives by the general path.
@@ -24,16 +23,16 @@ pub const MAX_KERNEL_QUERIES: usize = 4;
 /// Rows of the grid gathered before they are folded (the sums stay in registers meanwhile).
 const ROWS: usize = 32;
 
-/// The neighbors' records in the agent grid's order, one array per component, [`LANES`]
-/// entries to a vector (the last one padded with far-away entries).
+/// The neighbors' records in the agent grid's order, one array per component, padded with
+/// [`LANES`] far-away entries so that a step may read past a row's last candidate.
 #[derive(Debug, Clone, Default)]
 pub struct KinLanes {
     /// Positions.
-    pub pos: [Vec<Vec4>; 3],
+    pub pos: [Vec<f32>; 3],
     /// Forward unit vectors.
-    pub heading: [Vec<Vec4>; 3],
+    pub heading: [Vec<f32>; 3],
     /// Velocities.
-    pub vel: [Vec<Vec4>; 3],
+    pub vel: [Vec<f32>; 3],
     len: usize,
 }
 
@@ -44,29 +43,31 @@ impl KinLanes {
     /// Refills the lanes from records given in grid order as `(position, heading, velocity)`.
     pub fn fill(&mut self, records: impl ExactSizeIterator<Item = (Vec3A, Vec3, Vec3)>) {
         let n = records.len();
-        let vectors = n.div_ceil(LANES);
         self.len = n;
-        for (c, v) in self.columns_mut().into_iter().enumerate() {
+        for v in self.columns_mut() {
             v.clear();
-            v.resize(vectors, Vec4::splat(if c < 3 { FAR } else { 0.0 }));
+            v.reserve(n + LANES);
         }
-        for (k, (p, h, v)) in records.enumerate() {
-            let (m, l) = (k / LANES, k % LANES);
-            for (c, value) in [p.x, p.y, p.z, h.x, h.y, h.z, v.x, v.y, v.z]
-                .into_iter()
-                .enumerate()
-            {
-                let column = match c {
-                    0..3 => &mut self.pos[c],
-                    3..6 => &mut self.heading[c - 3],
-                    _ => &mut self.vel[c - 6],
-                };
-                column[m][l] = value;
-            }
+        let [px, py, pz] = &mut self.pos;
+        let [hx, hy, hz] = &mut self.heading;
+        let [vx, vy, vz] = &mut self.vel;
+        for (p, h, v) in records {
+            px.push(p.x);
+            py.push(p.y);
+            pz.push(p.z);
+            hx.push(h.x);
+            hy.push(h.y);
+            hz.push(h.z);
+            vx.push(v.x);
+            vy.push(v.y);
+            vz.push(v.z);
+        }
+        for (c, v) in self.columns_mut().into_iter().enumerate() {
+            v.resize(n + LANES, if c < 3 { FAR } else { 0.0 });
         }
     }
 
-    fn columns_mut(&mut self) -> [&mut Vec<Vec4>; 9] {
+    fn columns_mut(&mut self) -> [&mut Vec<f32>; 9] {
         let [px, py, pz] = &mut self.pos;
         let [hx, hy, hz] = &mut self.heading;
         let [vx, vy, vz] = &mut self.vel;
@@ -164,7 +165,7 @@ pub struct KinFold<'a> {
     pending: usize,
 }
 
-/// Lane numbers within a vector.
+/// Lane numbers within a step.
 const LANE: Vec4 = Vec4::new(0.0, 1.0, 2.0, 3.0);
 
 impl<'a> KinFold<'a> {
@@ -210,8 +211,21 @@ impl<'a> KinFold<'a> {
     }
 
     /// Adds the candidates in grid slots `start..end` (folded a batch of rows at a time).
+    /// `end` must not pass the number of records.
     #[inline]
     pub fn row(&mut self, start: usize, end: usize) {
+        // The perceiver's own slot splits its row: no lane needs a test for it.
+        let me = self.probe.me;
+        if (start..end).contains(&me) {
+            self.push(start, me);
+            self.push(me + 1, end);
+        } else {
+            self.push(start, end);
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, start: usize, end: usize) {
         if start >= end {
             return;
         }
@@ -240,7 +254,7 @@ impl<'a> KinFold<'a> {
 
     #[inline(always)]
     fn fold<const CONE: bool, const SMELL: bool, const SEPARATION: bool>(&mut self) {
-        let lanes = self.lanes;
+        let lanes: &'a KinLanes = self.lanes;
         let p = self.probe;
         let (cx, cy, cz) = (
             Vec4::splat(p.here.x),
@@ -257,28 +271,30 @@ impl<'a> KinFold<'a> {
         let vision2 = Vec4::splat(p.vision2);
         let smell2 = Vec4::splat(p.smell2);
         let tiny = Vec4::splat(1e-12);
-        let me = Vec4::splat(p.me as f32);
         let sep2 = Vec4::splat(self.radius2[0]);
         let mut sum = self.sum;
         let mut sep = self.q[0];
+        let [px, py, pz] = &lanes.pos;
+        let [hx, hy, hz] = &lanes.heading;
+        let [vx, vy, vz] = &lanes.vel;
         for &(start, end) in &self.rows[..self.pending] {
-            let (start, end) = (start as usize, end as usize);
-            let (m0, m1) = (start / LANES, (end - 1) / LANES + 1);
-            let first = Vec4::splat(start as f32);
-            let last = Vec4::splat(end as f32);
-            let [px, py, pz] = &lanes.pos;
-            let [hx, hy, hz] = &lanes.heading;
-            let [vx, vy, vz] = &lanes.vel;
-            let (px, py, pz) = (&px[m0..m1], &py[m0..m1], &pz[m0..m1]);
-            let (hx, hy, hz) = (&hx[m0..m1], &hy[m0..m1], &hz[m0..m1]);
-            let (vx, vy, vz) = (&vx[m0..m1], &vy[m0..m1], &vz[m0..m1]);
-            // Slot numbers of the lanes (exact in f32 below 2^24 agents).
-            let mut slot = Vec4::splat((m0 * LANES) as f32) + LANE;
-            for j in 0..px.len() {
-                // Lanes outside `start..end` and the perceiver's own are masked off.
-                let ok = slot.cmpge(first) & slot.cmplt(last) & slot.cmpne(me);
-                slot += Vec4::splat(LANES as f32);
-                let (x, y, z) = (px[j], py[j], pz[j]);
+            let (start, n) = (start as usize, (end - start) as usize);
+            // Whole steps from `start`: the last may read up to LANES − 1 entries past the row
+            // (within the padding at worst), masked off by `left`.
+            let span = start..start + n.div_ceil(LANES) * LANES;
+            let column = |c: &'a Vec<f32>| c[span.clone()].chunks_exact(LANES);
+            let rows = column(px)
+                .zip(column(py))
+                .zip(column(pz))
+                .zip(column(hx).zip(column(hy)).zip(column(hz)))
+                .zip(column(vx).zip(column(vy)).zip(column(vz)));
+            // Lanes still within the row, counted down a step at a time.
+            let mut left = Vec4::splat(n as f32);
+            for ((((x, y), z), ((hx, hy), hz)), ((vx, vy), vz)) in rows {
+                let ok = LANE.cmplt(left);
+                left -= Vec4::splat(LANES as f32);
+                let v4 = |c: &[f32]| Vec4::new(c[0], c[1], c[2], c[3]);
+                let (x, y, z) = (v4(x), v4(y), v4(z));
                 let (dx, dy, dz) = (x - cx, y - cy, z - cz);
                 let d2 = dx * dx + dy * dy + dz * dz;
                 let mut vis = d2.cmple(vision2);
@@ -302,10 +318,10 @@ impl<'a> KinFold<'a> {
                 sum.pos[0] += pick(x);
                 sum.pos[1] += pick(y);
                 sum.pos[2] += pick(z);
-                sum.head[0] += pick(hx[j]);
-                sum.head[1] += pick(hy[j]);
-                sum.head[2] += pick(hz[j]);
-                let (ux, uy, uz) = (vx[j], vy[j], vz[j]);
+                sum.head[0] += pick(v4(hx));
+                sum.head[1] += pick(v4(hy));
+                sum.head[2] += pick(v4(hz));
+                let (ux, uy, uz) = (v4(vx), v4(vy), v4(vz));
                 sum.vel[0] += pick(ux);
                 sum.vel[1] += pick(uy);
                 sum.vel[2] += pick(uz);
@@ -342,7 +358,7 @@ impl<'a> KinFold<'a> {
     }
 
     /// The kin sums; the group sums go to `sums` (one per query, in order).
-    pub fn finish(mut self, sums: &mut [GroupSum]) -> KinSums {
+    pub fn finish(&mut self, sums: &mut [GroupSum]) -> KinSums {
         if self.pending > 0 {
             self.flush();
         }
