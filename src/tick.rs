@@ -332,6 +332,7 @@ impl Pipeline {
             for r in &mut self.reads {
                 r.percepts = true;
                 r.agent_percepts = true;
+                r.headings = true;
             }
         }
         self.perception.run_selective(

@@ -98,6 +98,8 @@ pub struct Probe {
     pub smell2: f32,
     /// Forward unit vector and the cosine bound of the vision cone; `None`: the whole sphere.
     pub cone: Option<(Vec3, f32)>,
+    /// Whether the neighbors' forward vectors are summed (else the sum is left zero).
+    pub headings: bool,
 }
 
 /// The kin sums of one perceiver.
@@ -318,9 +320,11 @@ impl<'a> KinFold<'a> {
                 sum.pos[0] += pick(x);
                 sum.pos[1] += pick(y);
                 sum.pos[2] += pick(z);
-                sum.head[0] += pick(v4(hx));
-                sum.head[1] += pick(v4(hy));
-                sum.head[2] += pick(v4(hz));
+                if p.headings {
+                    sum.head[0] += pick(v4(hx));
+                    sum.head[1] += pick(v4(hy));
+                    sum.head[2] += pick(v4(hz));
+                }
                 let (ux, uy, uz) = (v4(vx), v4(vy), v4(vz));
                 sum.vel[0] += pick(ux);
                 sum.vel[1] += pick(uy);
@@ -455,6 +459,7 @@ mod tests {
             vision2: 9.0,
             smell2: 0.0,
             cone: None,
+            headings: true,
         };
         let queries = [
             GroupQuery::Separation { radius: 1.5 },
@@ -492,6 +497,7 @@ mod tests {
             vision2: 9.0,
             smell2: 1.5 * 1.5,
             cone: Some((Vec3::Z, 0.0)),
+            headings: true,
         };
         let k = fold(&l, probe, &[(0, 4)], &[], &mut []);
         // Seen: (0,0,2). Smelt only: (0,0,-1). Missed: (0,0,-2.5), behind and beyond smell.
@@ -512,6 +518,7 @@ mod tests {
             vision2: 100.0,
             smell2: 0.0,
             cone: None,
+            headings: true,
         };
         // Two rows: 0..13 and 13..21.
         let k = fold(&l, probe, &[(0, 13), (13, 21)], &[], &mut []);

@@ -155,6 +155,9 @@ pub struct Reads {
     pub bearing_range: Option<f32>,
     /// Neighborhood sums its group rules read.
     pub groups: GroupQueries,
+    /// Whether the mean heading of its kin is read (scripts only); without, the kin kernel
+    /// leaves it zero.
+    pub headings: bool,
 }
 
 impl Default for Reads {
@@ -165,6 +168,7 @@ impl Default for Reads {
             agent_percepts: true,
             bearing_range: None,
             groups: GroupQueries::new(),
+            headings: true,
         }
     }
 }
@@ -1063,6 +1067,7 @@ fn perceive_one<const KEEP: bool>(
             vision2: sense.vision_radius * sense.vision_radius,
             smell2: sense.smell_radius * sense.smell_radius,
             cone: (!eye.full_circle).then_some((eye.fwd, eye.cos_min)),
+            headings: reads.headings,
         };
         let mut k = kin::KinFold::new(lanes, probe, groups.iter());
         view.agents
@@ -1579,6 +1584,7 @@ mod tests {
             agent_percepts: false,
             bearing_range: Some(0.0),
             groups,
+            headings: true,
         };
         let mut ag = Grid::new();
         ag.rebuild(w.bounds, 3.0, w.agents.iter().map(|a| a.pos));
@@ -1711,6 +1717,7 @@ mod tests {
             agent_percepts: false,
             bearing_range: Some(0.0),
             groups,
+            headings: true,
         };
         let whole = SenseParams {
             vision_radius: 5.0,
@@ -1794,6 +1801,7 @@ mod tests {
             agent_percepts: false,
             bearing_range: Some(0.0),
             groups,
+            headings: true,
         };
         let mut ag = Grid::new();
         ag.rebuild(w.bounds, 3.0, w.agents.iter().map(|a| a.pos));

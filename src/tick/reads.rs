@@ -28,6 +28,7 @@ pub fn reads(sp: &Species) -> Reads {
         agent_percepts: unlisted || kinds == Kinds::All,
         bearing_range: Some(bearing_range(sp)),
         groups,
+        headings: sp.script.is_some(),
     }
 }
 
