@@ -11,6 +11,7 @@ pub use obstacles::ObstacleGrid;
 
 use crate::world::Aabb;
 use glam::{IVec3, Vec3, Vec3A};
+use rayon::prelude::*;
 
 /// A uniform grid of point entries (agents or food).
 #[derive(Debug, Clone, Default)]
@@ -25,7 +26,8 @@ pub struct Grid {
     entries: Vec<u32>,
     /// Positions of `entries`, in the same order (16-byte lanes: one vector operation each).
     positions: Vec<Vec3A>,
-    /// Scratch: cell of each input point.
+    /// Scratch: the input points, and the cell of each.
+    points: Vec<Vec3A>,
     cell_of: Vec<u32>,
     /// Scratch: fill cursor per cell.
     cursor: Vec<u32>,
@@ -54,7 +56,7 @@ impl Grid {
         &mut self,
         bounds: Aabb,
         cell: f32,
-        points: impl ExactSizeIterator<Item = Vec3> + Clone,
+        points: impl ExactSizeIterator<Item = Vec3>,
     ) {
         let size = bounds.size().max(Vec3::splat(1e-3));
         let mut cell = if cell.is_finite() && cell > 1e-3 {
@@ -83,11 +85,21 @@ impl Grid {
         let ncells = (self.dims.x * self.dims.y * self.dims.z) as usize;
         self.starts.clear();
         self.starts.resize(ncells + 1, 0);
+        // The points are read once; their cells are found in parallel.
+        self.points.clear();
+        self.points.extend(points.map(Vec3A::from));
         self.cell_of.clear();
-        for p in points.clone() {
-            let c = self.cell_index(self.cell_coord(p));
-            self.cell_of.push(c as u32);
-            self.starts[c + 1] += 1;
+        self.cell_of.resize(self.points.len(), 0);
+        let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
+        self.cell_of
+            .par_iter_mut()
+            .zip(self.points.par_iter())
+            .with_min_len(1024)
+            .for_each(|(c, &p)| {
+                *c = cell_index(dims, cell_coord(origin, inv_cell, dims, p.into())) as u32
+            });
+        for &c in &self.cell_of {
+            self.starts[c as usize + 1] += 1;
         }
         for c in 0..ncells {
             self.starts[c + 1] += self.starts[c];
@@ -100,24 +112,22 @@ impl Grid {
         self.entries.resize(n, 0);
         self.positions.clear();
         self.positions.resize(n, Vec3A::ZERO);
-        for (i, (&c, p)) in self.cell_of.iter().zip(points).enumerate() {
+        for (i, (&c, &p)) in self.cell_of.iter().zip(&self.points).enumerate() {
             let slot = self.cursor[c as usize] as usize;
             self.cursor[c as usize] += 1;
             self.entries[slot] = i as u32;
-            self.positions[slot] = p.into();
+            self.positions[slot] = p;
         }
     }
 
     #[inline]
     fn cell_coord(&self, p: Vec3) -> IVec3 {
-        let q = (p - self.origin) * self.inv_cell;
-        let q = if q.is_finite() { q } else { Vec3::ZERO };
-        floor_clamped(q, self.dims)
+        cell_coord(self.origin, self.inv_cell, self.dims, p)
     }
 
     #[inline]
     fn cell_index(&self, c: IVec3) -> usize {
-        ((c.z * self.dims.y + c.y) * self.dims.x + c.x) as usize
+        cell_index(self.dims, c)
     }
 
     /// Entry indices in the grid's order (by cell, ascending within a cell): slot `k` of
@@ -205,6 +215,21 @@ impl Grid {
     pub fn positions(&self) -> &[Vec3A] {
         &self.positions
     }
+}
+
+/// Cell of `p` in a grid at `origin` with cells of `1 / inv_cell` (a point outside is clamped
+/// into an edge cell, a non-finite one into the first).
+#[inline]
+fn cell_coord(origin: Vec3, inv_cell: f32, dims: IVec3, p: Vec3) -> IVec3 {
+    let q = (p - origin) * inv_cell;
+    let q = if q.is_finite() { q } else { Vec3::ZERO };
+    floor_clamped(q, dims)
+}
+
+/// Index of cell `c` (x fastest, then y, then z).
+#[inline]
+fn cell_index(dims: IVec3, c: IVec3) -> usize {
+    ((c.z * dims.y + c.y) * dims.x + c.x) as usize
 }
 
 /// `q.floor().as_ivec3().clamp(0, dims − 1)` for finite `q`, without `floorf` (a library call

@@ -13,6 +13,7 @@
 
 use super::group::{GroupQueries, GroupQuery, GroupSum};
 use glam::{Vec3, Vec3A, Vec4};
+use rayon::prelude::*;
 
 /// Candidates folded at a time (one 4-wide vector operation each).
 pub const LANES: usize = 4;
@@ -40,31 +41,39 @@ pub struct KinLanes {
 const FAR: f32 = 1e30;
 
 impl KinLanes {
-    /// Refills the lanes from records given in grid order as `(position, heading, velocity)`.
-    pub fn fill(&mut self, records: impl ExactSizeIterator<Item = (Vec3A, Vec3, Vec3)>) {
-        let n = records.len();
+    /// Refills the lanes for `positions` (in grid order), `motion(k)` giving the heading and
+    /// velocity of slot `k`. Filled in parallel.
+    pub fn fill(&mut self, positions: &[Vec3A], motion: impl Fn(usize) -> (Vec3, Vec3) + Sync) {
+        let n = positions.len();
         self.len = n;
-        for v in self.columns_mut() {
+        for (c, v) in self.columns_mut().into_iter().enumerate() {
             v.clear();
-            v.reserve(n + LANES);
+            v.resize(n + LANES, if c < 3 { FAR } else { 0.0 });
         }
+        const CHUNK: usize = 1024;
         let [px, py, pz] = &mut self.pos;
         let [hx, hy, hz] = &mut self.heading;
         let [vx, vy, vz] = &mut self.vel;
-        for (p, h, v) in records {
-            px.push(p.x);
-            py.push(p.y);
-            pz.push(p.z);
-            hx.push(h.x);
-            hy.push(h.y);
-            hz.push(h.z);
-            vx.push(v.x);
-            vy.push(v.y);
-            vz.push(v.z);
+        fn chunks(c: &mut [f32], n: usize) -> rayon::slice::ChunksMut<'_, f32> {
+            c[..n].par_chunks_mut(CHUNK)
         }
-        for (c, v) in self.columns_mut().into_iter().enumerate() {
-            v.resize(n + LANES, if c < 3 { FAR } else { 0.0 });
-        }
+        let chunks = |c| chunks(c, n);
+        chunks(px)
+            .zip(chunks(py))
+            .zip(chunks(pz))
+            .zip(chunks(hx).zip(chunks(hy)).zip(chunks(hz)))
+            .zip(chunks(vx).zip(chunks(vy)).zip(chunks(vz)))
+            .enumerate()
+            .for_each(|(m, ((((px, py), pz), ((hx, hy), hz)), ((vx, vy), vz)))| {
+                for l in 0..px.len() {
+                    let k = m * CHUNK + l;
+                    let p = positions[k];
+                    let (h, v) = motion(k);
+                    (px[l], py[l], pz[l]) = (p.x, p.y, p.z);
+                    (hx[l], hy[l], hz[l]) = (h.x, h.y, h.z);
+                    (vx[l], vy[l], vz[l]) = (v.x, v.y, v.z);
+                }
+            });
     }
 
     fn columns_mut(&mut self) -> [&mut Vec<f32>; 9] {
@@ -435,11 +444,10 @@ mod tests {
 
     fn lanes(points: &[(Vec3, Vec3)]) -> KinLanes {
         let mut l = KinLanes::default();
-        l.fill(
-            points
-                .iter()
-                .map(|&(p, v)| (Vec3A::from(p), v.normalize_or_zero(), v)),
-        );
+        let positions: Vec<Vec3A> = points.iter().map(|&(p, _)| p.into()).collect();
+        l.fill(&positions, |k| {
+            (points[k].1.normalize_or_zero(), points[k].1)
+        });
         l
     }
 

@@ -439,15 +439,11 @@ impl Perception {
             kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
         });
         if kernel {
-            self.lanes.fill(
-                agents
-                    .positions()
-                    .iter()
-                    .zip(&self.near)
-                    .map(|(&p, b)| (p, b.heading, b.velocity)),
-            );
+            let near = &self.near;
+            self.lanes
+                .fill(agents.positions(), |k| (near[k].heading, near[k].velocity));
         } else {
-            self.lanes.fill(std::iter::empty());
+            self.lanes.fill(&[], |_| (Vec3::ZERO, Vec3::ZERO));
         }
         self.slot_of.clear();
         self.slot_of.resize(n, u32::MAX);
