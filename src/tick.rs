@@ -324,7 +324,9 @@ impl Pipeline {
             .map_or(1.0, |s| 0.5 * s.query_radius())
             .max(0.5);
         self.agent_grid
-            .rebuild(world.bounds, cell, world.agents.iter().map(|a| a.pos));
+            .rebuild_with(world.bounds, cell, world.agents.len(), |i| {
+                world.agents[i].pos
+            });
         self.food_grid
             .rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
         // 2. Perception. Agents fed percepts need slots for them, whatever their species reads.

@@ -50,14 +50,40 @@ impl Grid {
         self.cell
     }
 
-    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points (read
-    /// twice). Reuses its buffers: no allocation once warmed up.
+    /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points.
+    /// Reuses its buffers: no allocation once warmed up.
     pub fn rebuild(
         &mut self,
         bounds: Aabb,
         cell: f32,
         points: impl ExactSizeIterator<Item = Vec3>,
     ) {
+        self.points.clear();
+        self.points.extend(points.map(Vec3A::from));
+        self.index(bounds, cell);
+    }
+
+    /// Like [`Grid::rebuild`] for points `0..n`, `point(i)` giving point `i` (gathered in
+    /// parallel).
+    pub fn rebuild_with(
+        &mut self,
+        bounds: Aabb,
+        cell: f32,
+        n: usize,
+        point: impl Fn(usize) -> Vec3 + Sync,
+    ) {
+        self.points.clear();
+        self.points.par_extend(
+            (0..n)
+                .into_par_iter()
+                .with_min_len(1024)
+                .map(|i| Vec3A::from(point(i))),
+        );
+        self.index(bounds, cell);
+    }
+
+    /// Indexes `self.points`.
+    fn index(&mut self, bounds: Aabb, cell: f32) {
         let size = bounds.size().max(Vec3::splat(1e-3));
         let mut cell = if cell.is_finite() && cell > 1e-3 {
             cell
@@ -70,7 +96,7 @@ impl Grid {
         }
         // A few cells per point at most: a large, sparse world gets larger cells instead of a
         // cell table bigger than the points it indexes.
-        let max_cells = 4 * points.len() as i64 + 4096;
+        let max_cells = 4 * self.points.len() as i64 + 4096;
         let dims_for = |cell: f32| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
         while {
             let d = dims_for(cell).as_i64vec3();
@@ -85,9 +111,7 @@ impl Grid {
         let ncells = (self.dims.x * self.dims.y * self.dims.z) as usize;
         self.starts.clear();
         self.starts.resize(ncells + 1, 0);
-        // The points are read once; their cells are found in parallel.
-        self.points.clear();
-        self.points.extend(points.map(Vec3A::from));
+        // Cells found in parallel.
         self.cell_of.clear();
         self.cell_of.resize(self.points.len(), 0);
         let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);

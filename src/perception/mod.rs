@@ -392,23 +392,43 @@ impl Perception {
         let default = SenseParams::default();
         let everything = Reads::default();
         // Slot and sum layout of this tick: every agent's share is rewritten below.
-        self.slot_starts.clear();
-        self.sum_starts.clear();
-        let (mut slots, mut sums) = (0u32, 0u32);
-        let mut unsensed = false;
-        for a in &world.agents {
-            self.slot_starts.push(slots);
-            self.sum_starts.push(sums);
-            let s = a.species.0 as usize;
-            unsensed |= s >= senses.len();
+        // Each agent's share (by its species), in parallel, then the running totals.
+        let share = |s: usize| {
             let r = reads.get(s).unwrap_or(&everything);
-            if r.percepts {
-                slots += senses.get(s).unwrap_or(&default).slots() as u32;
+            let slots = if r.percepts {
+                senses.get(s).unwrap_or(&default).slots() as u32
+            } else {
+                0
+            };
+            (slots, r.groups.len() as u32)
+        };
+        let unsensed = std::sync::atomic::AtomicBool::new(false);
+        self.slot_starts.resize(n + 1, 0);
+        self.sum_starts.resize(n + 1, 0);
+        world
+            .agents
+            .par_iter()
+            .zip(self.slot_starts[..n].par_iter_mut())
+            .zip(self.sum_starts[..n].par_iter_mut())
+            .with_min_len(1024)
+            .for_each(|((a, slots), sums)| {
+                let s = a.species.0 as usize;
+                if s >= senses.len() {
+                    unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+                (*slots, *sums) = share(s);
+            });
+        let unsensed = unsensed.into_inner();
+        let running = |starts: &mut [u32]| {
+            let mut total = 0;
+            for v in &mut starts[..n] {
+                (*v, total) = (total, total + *v);
             }
-            sums += r.groups.len() as u32;
-        }
-        self.slot_starts.push(slots);
-        self.sum_starts.push(sums);
+            starts[n] = total;
+            total
+        };
+        let slots = running(&mut self.slot_starts);
+        let sums = running(&mut self.sum_starts);
         self.percepts.resize(slots as usize, EMPTY);
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
