@@ -17,7 +17,8 @@ use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{
-    Agent, AgentId, Anim, Attributes, Drives, MemValue, Mind, Rng, Sex, SpeciesId, World,
+    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, MemValue, Mind, Rng, Sex, SpeciesId,
+    World,
 };
 use glam::Vec3;
 use rayon::prelude::*;
@@ -65,6 +66,8 @@ impl Default for Worker {
 #[derive(Debug, Default)]
 struct Outcome {
     motion: Motion,
+    /// Forward vector of the new heading.
+    forward: Vec3,
     anim: Anim,
     drives: Drives,
     contact: Option<(Contact, Source)>,
@@ -292,6 +295,7 @@ impl Pipeline {
             rng,
             memory: Vec::new(),
             inbox: None,
+            forward_cache: crate::world::ForwardCache::NONE,
         };
         world.agents.push(agent);
         self.events.push(Event::Spawn {
@@ -366,8 +370,9 @@ impl Pipeline {
             .zip(self.brains.par_iter_mut())
             .with_min_len(256)
             .for_each(|(a, b)| {
-                b.mind = std::mem::take(&mut a.mind);
-                b.memory = std::mem::take(&mut a.memory);
+                // Swapped with the brain's empty placeholders (swapped back by `apply`).
+                std::mem::swap(&mut b.mind, &mut a.mind);
+                std::mem::swap(&mut b.memory, &mut a.memory);
                 b.rng = a.rng;
             });
         self.outcomes.resize_with(n, Outcome::default);
@@ -452,7 +457,6 @@ impl Pipeline {
             .zip(self.brains.par_iter_mut())
             .with_min_len(256)
             .for_each(|((a, out), brain)| {
-                let brain = std::mem::take(brain);
                 out.species = a.species.0;
                 out.behavior = brain.mind.current;
                 a.prev_pos = a.pos;
@@ -462,10 +466,11 @@ impl Pipeline {
                 a.speed = out.motion.speed;
                 a.yaw_rate = out.motion.yaw_rate;
                 a.pitch_rate = out.motion.pitch_rate;
+                a.forward_cache = ForwardCache::new(a.yaw, a.pitch, out.forward);
                 a.anim = out.anim;
                 a.drives = out.drives;
-                a.mind = brain.mind;
-                a.memory = brain.memory;
+                std::mem::swap(&mut a.mind, &mut brain.mind);
+                std::mem::swap(&mut a.memory, &mut brain.memory);
                 a.rng = brain.rng;
             });
         // Then, in agent order, what reaches beyond the agent: counters, events, messages,
@@ -914,6 +919,7 @@ fn agent_pass(
         None => None,
     };
     out.motion = motion;
+    out.forward = info.forward;
     out.anim = an;
     out.drives = me.drives;
     let rare = transitions.iter().any(Option::is_some)

@@ -83,6 +83,8 @@ pub struct StepInfo {
     pub dyaw: f32,
     /// Speed change this step.
     pub dspeed: f32,
+    /// Forward unit vector of the new heading (`frame::forward`).
+    pub forward: Vec3,
 }
 
 /// Advances `m` by one step of `dt` under `cmd`, with the world `current` added to the motion.
@@ -132,7 +134,8 @@ pub fn step(
         m.speed = 0.0;
     }
     let applied = frame::wrap(m.yaw - kin.yaw);
-    let v = frame::forward(m.yaw, m.pitch) * m.speed
+    let forward = frame::forward(m.yaw, m.pitch);
+    let v = forward * m.speed
         + if current.is_finite() {
             current
         } else {
@@ -142,6 +145,7 @@ pub fn step(
     StepInfo {
         dyaw: applied,
         dspeed: m.speed - before,
+        forward,
     }
 }
 

@@ -1342,6 +1342,7 @@ mod tests {
             rng: Rng::new(0, id as u64),
             memory: Vec::new(),
             inbox: None,
+            forward_cache: crate::world::ForwardCache::NONE,
         }
     }
 

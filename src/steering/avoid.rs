@@ -278,6 +278,18 @@ pub fn predict_collision(
 /// `horizon` seconds ahead leaves `bounds` shrunk by `margin`, steer toward the nearest point
 /// inside it.
 pub fn contain(kin: &Kin, bounds: &Aabb, margin: f32, horizon: f32, max_speed: f32) -> Steer {
+    contain_facing(kin, kin.forward(), bounds, margin, horizon, max_speed)
+}
+
+/// [`contain`] for a body whose forward vector (`kin.forward()`) is already known.
+pub fn contain_facing(
+    kin: &Kin,
+    forward: Vec3,
+    bounds: &Aabb,
+    margin: f32,
+    horizon: f32,
+    max_speed: f32,
+) -> Steer {
     let inner = Aabb {
         min: bounds.min + Vec3::splat(margin),
         max: bounds.max - Vec3::splat(margin),
@@ -287,14 +299,14 @@ pub fn contain(kin: &Kin, bounds: &Aabb, margin: f32, horizon: f32, max_speed: f
     } else {
         Aabb::new(bounds.center(), bounds.center())
     };
-    let ahead = kin.pos + kin.forward() * kin.speed.max(0.1 * max_speed) * horizon;
+    let ahead = kin.pos + forward * kin.speed.max(0.1 * max_speed) * horizon;
     if inner.contains(ahead) && inner.contains(kin.pos) {
         return Steer::None;
     }
     // Steer from the predicted point back toward the inside, keeping some forward motion.
     let back = inner.closest_point(ahead) - ahead;
     let inward = (inner.closest_point(kin.pos) - kin.pos) + back;
-    match (kin.forward() * 0.5 + inward.normalize_or_zero()).try_normalize() {
+    match (forward * 0.5 + inward.normalize_or_zero()).try_normalize() {
         Some(d) => Steer::Velocity(d * max_speed),
         None => Steer::Velocity((inner.center() - kin.pos).normalize_or_zero() * max_speed),
     }

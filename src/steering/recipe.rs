@@ -136,7 +136,11 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
             });
             avoid::predict_collision(&kin, obstacles, l.horizon, vmax)
         }
-        Recipe::Contain(l) => avoid::contain(&kin, &ctx.world.bounds, l.margin, l.horizon, vmax),
+        Recipe::Contain(l) => {
+            // The agent's cached forward vector is its kin's (same heading).
+            let forward = ctx.agent.forward();
+            avoid::contain_facing(&kin, forward, &ctx.world.bounds, l.margin, l.horizon, vmax)
+        }
         Recipe::Chase(c) => match ctx.nearest(c.target) {
             None => Steer::None,
             Some(p) if p.sense == Sense::Vision => {

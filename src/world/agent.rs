@@ -150,6 +150,55 @@ pub struct Anim {
     pub bend: f32,
 }
 
+/// The forward vector of a body, kept with the heading it was computed for, so that the
+/// stages after locomotion reuse it instead of computing two `sin_cos` again. A cache, not
+/// state: it answers only for the very heading it was made for, and never takes part in
+/// comparisons.
+#[derive(Debug, Clone, Copy)]
+pub struct ForwardCache {
+    yaw: f32,
+    pitch: f32,
+    forward: Vec3,
+}
+
+impl ForwardCache {
+    /// Holds nothing.
+    pub const NONE: ForwardCache = ForwardCache {
+        yaw: f32::NAN,
+        pitch: f32::NAN,
+        forward: Vec3::ZERO,
+    };
+
+    /// `forward` is `frame::forward(yaw, pitch)`.
+    pub fn new(yaw: f32, pitch: f32, forward: Vec3) -> Self {
+        ForwardCache {
+            yaw,
+            pitch,
+            forward,
+        }
+    }
+
+    /// The forward vector for exactly this heading, if held.
+    #[inline]
+    pub fn get(&self, yaw: f32, pitch: f32) -> Option<Vec3> {
+        (self.yaw.to_bits() == yaw.to_bits() && self.pitch.to_bits() == pitch.to_bits())
+            .then_some(self.forward)
+    }
+}
+
+impl Default for ForwardCache {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
+impl PartialEq for ForwardCache {
+    /// Always: a cache is not part of what an agent is.
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
 /// One agent.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Agent {
@@ -187,6 +236,8 @@ pub struct Agent {
     pub memory: Vec<(String, MemValue)>,
     /// Highest-priority message received last tick.
     pub inbox: Option<MessageKind>,
+    /// Forward vector of the current heading, when locomotion left it.
+    pub forward_cache: ForwardCache,
 }
 
 /// A value on an agent's blackboard.
@@ -211,7 +262,9 @@ impl Agent {
     /// Forward unit vector.
     #[inline]
     pub fn forward(&self) -> Vec3 {
-        frame::forward(self.yaw, self.pitch)
+        self.forward_cache
+            .get(self.yaw, self.pitch)
+            .unwrap_or_else(|| frame::forward(self.yaw, self.pitch))
     }
     /// Velocity (forward × speed, without the world current).
     #[inline]
