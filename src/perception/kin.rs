@@ -410,6 +410,10 @@ fn separate(
     dz: Vec4,
 ) {
     let take = hit & d2.cmple(r2) & d2.cmpgt(tiny);
+    // Separation radii are short: most steps have no lane within one.
+    if !take.any() {
+        return;
+    }
     let inv = Vec4::ONE / d2;
     let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
     s.a[0] += pick(dx * inv);
