@@ -41,10 +41,16 @@ pub struct KinLanes {
 const FAR: f32 = 1e30;
 
 impl KinLanes {
-    /// Refills the lanes for `positions` (in grid order), `motion(k)` giving the heading and
-    /// velocity of slot `k`. Filled in parallel.
-    pub fn fill(&mut self, positions: &[Vec3A], motion: impl Fn(usize) -> (Vec3, Vec3) + Sync) {
-        let n = positions.len();
+    /// Refills the lanes for `positions` (in grid order): `motion(k, &mut extra[k])` gives the
+    /// heading and velocity of slot `k` (and may fill `extra[k]` on the way). Filled in
+    /// parallel.
+    pub fn fill<T: Send>(
+        &mut self,
+        positions: &[Vec3A],
+        extra: &mut [T],
+        motion: impl Fn(usize, &mut T) -> (Vec3, Vec3) + Sync,
+    ) {
+        let n = positions.len().min(extra.len());
         self.len = n;
         for (c, v) in self.columns_mut().into_iter().enumerate() {
             v.clear();
@@ -63,17 +69,20 @@ impl KinLanes {
             .zip(chunks(pz))
             .zip(chunks(hx).zip(chunks(hy)).zip(chunks(hz)))
             .zip(chunks(vx).zip(chunks(vy)).zip(chunks(vz)))
+            .zip(extra[..n].par_chunks_mut(CHUNK))
             .enumerate()
-            .for_each(|(m, ((((px, py), pz), ((hx, hy), hz)), ((vx, vy), vz)))| {
-                for l in 0..px.len() {
-                    let k = m * CHUNK + l;
-                    let p = positions[k];
-                    let (h, v) = motion(k);
-                    (px[l], py[l], pz[l]) = (p.x, p.y, p.z);
-                    (hx[l], hy[l], hz[l]) = (h.x, h.y, h.z);
-                    (vx[l], vy[l], vz[l]) = (v.x, v.y, v.z);
-                }
-            });
+            .for_each(
+                |(m, (((((px, py), pz), ((hx, hy), hz)), ((vx, vy), vz)), extra))| {
+                    for (l, t) in extra.iter_mut().enumerate() {
+                        let k = m * CHUNK + l;
+                        let p = positions[k];
+                        let (h, v) = motion(k, t);
+                        (px[l], py[l], pz[l]) = (p.x, p.y, p.z);
+                        (hx[l], hy[l], hz[l]) = (h.x, h.y, h.z);
+                        (vx[l], vy[l], vz[l]) = (v.x, v.y, v.z);
+                    }
+                },
+            );
     }
 
     fn columns_mut(&mut self) -> [&mut Vec<f32>; 9] {
@@ -449,7 +458,8 @@ mod tests {
     fn lanes(points: &[(Vec3, Vec3)]) -> KinLanes {
         let mut l = KinLanes::default();
         let positions: Vec<Vec3A> = points.iter().map(|&(p, _)| p.into()).collect();
-        l.fill(&positions, |k| {
+        let mut extra = vec![(); positions.len()];
+        l.fill(&positions, &mut extra, |k, _| {
             (points[k].1.normalize_or_zero(), points[k].1)
         });
         l

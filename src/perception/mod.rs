@@ -436,34 +436,37 @@ impl Perception {
             .resize(n, [Summary::default(); Category::COUNT]);
         let entries = agents.entries();
         self.near.resize(entries.len(), Body::default());
-        self.near
-            .par_iter_mut()
-            .zip(entries.par_iter())
-            .with_min_len(256)
-            .for_each(|(b, &j)| {
-                if let Some(a) = world.agents.get(j as usize) {
-                    let heading = a.forward();
-                    *b = Body {
-                        heading,
-                        // `Agent::velocity`, bit for bit.
-                        velocity: heading * a.speed,
-                        diagonal: a.diagonal(),
-                        species: a.species.0,
-                        sex: a.attrs.sex,
-                    };
-                }
-            });
-        // The kin kernel's lanes, when a species may perceive by it.
+        let body = |b: &mut Body, j: u32| {
+            if let Some(a) = world.agents.get(j as usize) {
+                let heading = a.forward();
+                *b = Body {
+                    heading,
+                    // `Agent::velocity`, bit for bit.
+                    velocity: heading * a.speed,
+                    diagonal: a.diagonal(),
+                    species: a.species.0,
+                    sex: a.attrs.sex,
+                };
+            }
+        };
+        // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
         let kernel = (0..senses.len().max(reads.len())).any(|s| {
             let r = reads.get(s).unwrap_or(&everything);
             kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
         });
         if kernel {
-            let near = &self.near;
-            self.lanes
-                .fill(agents.positions(), |k| (near[k].heading, near[k].velocity));
+            self.lanes.fill(agents.positions(), &mut self.near, |k, b| {
+                body(b, entries[k]);
+                (b.heading, b.velocity)
+            });
         } else {
-            self.lanes.fill(&[], |_| (Vec3::ZERO, Vec3::ZERO));
+            self.lanes
+                .fill(&[], &mut [], |_, _: &mut Body| (Vec3::ZERO, Vec3::ZERO));
+            self.near
+                .par_iter_mut()
+                .zip(entries.par_iter())
+                .with_min_len(256)
+                .for_each(|(b, &j)| body(b, j));
         }
         self.slot_of.clear();
         self.slot_of.resize(n, u32::MAX);
