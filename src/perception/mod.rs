@@ -195,6 +195,8 @@ pub struct Perception {
     lanes: kin::KinLanes,
     /// Cosine bound of each species' vision cone, this tick.
     cos_mins: Vec<f32>,
+    /// Which species may perceive by the kin kernel, this tick.
+    kernel: Vec<bool>,
     /// Obstacles by cell, so a perceiver looks only at those that may be in range.
     obstacle_grid: ObstacleGrid,
 }
@@ -450,10 +452,13 @@ impl Perception {
             }
         };
         // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
-        let kernel = (0..senses.len().max(reads.len())).any(|s| {
-            let r = reads.get(s).unwrap_or(&everything);
-            kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
-        });
+        self.kernel.clear();
+        self.kernel
+            .extend((0..senses.len().max(reads.len())).map(|s| {
+                let r = reads.get(s).unwrap_or(&everything);
+                kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
+            }));
+        let kernel = self.kernel.iter().any(|&k| k);
         if kernel {
             self.lanes.fill(agents.positions(), &mut self.near, |k, b| {
                 body(b, entries[k]);
@@ -480,6 +485,7 @@ impl Perception {
             .extend(senses.iter().map(|s| s.vision_half_angle.cos() - 1e-6));
         let default_cos_min = default.vision_half_angle.cos() - 1e-6;
         let cos_mins = &self.cos_mins[..];
+        let kernel_ok = &self.kernel[..];
         let near = &self.near[..];
         let slot_of = &self.slot_of[..];
         let lanes = (kernel && self.lanes.len() == near.len()).then_some(&self.lanes);
@@ -508,6 +514,7 @@ impl Perception {
                 world,
                 near,
                 lanes,
+                kernel: kernel_ok,
                 slot_of,
                 agents,
                 food,
@@ -947,12 +954,51 @@ struct View<'a> {
     near: &'a [Body],
     /// The same for the kin kernel, when a species may perceive by it.
     lanes: Option<&'a kin::KinLanes>,
+    /// Which species may perceive by the kin kernel.
+    kernel: &'a [bool],
     /// Slot of each agent in `near`.
     slot_of: &'a [u32],
     agents: &'a Grid,
     food: &'a Grid,
     obstacle_grid: &'a ObstacleGrid,
     relations: &'a Relations,
+}
+
+/// What the kin kernel needs of a perceiver at `here`, in grid slot `me_slot`.
+fn probe(here: Vec3, me_slot: u32, sense: &SenseParams, eye: &Eye, reads: &Reads) -> kin::Probe {
+    kin::Probe {
+        here,
+        me: me_slot as usize,
+        vision2: sense.vision_radius * sense.vision_radius,
+        smell2: sense.smell_radius * sense.smell_radius,
+        cone: (!eye.full_circle).then_some((eye.fwd, eye.cos_min)),
+        headings: reads.headings,
+    }
+}
+
+/// The kin kernel over the grid rows within `radius` of the probe: the kin sums, and the group
+/// sums into `sums`.
+fn kernel(
+    view: &View,
+    lanes: &kin::KinLanes,
+    probe: kin::Probe,
+    radius: f32,
+    groups: &GroupQueries,
+    sums: &mut [GroupSum],
+) -> Acc {
+    let mut k = kin::KinFold::new(lanes, probe, groups.iter());
+    view.agents
+        .for_each_row_within(probe.here, radius, |s, e| k.row(s, e));
+    let sums_k = k.finish(sums);
+    Acc {
+        pos: sums_k.pos,
+        heading: sums_k.heading,
+        vel: sums_k.vel,
+        count: sums_k.count,
+        seen: sums_k.seen,
+        key: sums_k.nearest2,
+        nearest: sums_k.nearest2.sqrt(),
+    }
 }
 
 /// Whether agents of species `s` may perceive by the kin kernel (an agent with an occluder near
@@ -1009,9 +1055,40 @@ fn perceive_one<const KEEP: bool>(
         }
     };
     let radius = sense.query_radius();
+    let groups = &reads.groups;
+    // A plain flocker with nothing but kin around (no obstacle, no food): the kin kernel
+    // alone, its sums written straight into the summaries.
+    if let (Some(lanes), Some(&me_slot), true) = (
+        view.lanes,
+        view.slot_of.get(i),
+        view.kernel.get(s).copied().unwrap_or(false),
+    ) {
+        if !view.relations.eats_items(s) && view.obstacle_grid.near(me.pos).is_empty() {
+            let probe = probe(me.pos, me_slot, sense, &eye, reads);
+            let acc = kernel(view, lanes, probe, radius, groups, sums);
+            summary.fill(Summary::default());
+            let sm = &mut summary[Category::Kin as usize];
+            *sm = Summary {
+                count: acc.count,
+                seen: acc.seen,
+                nearest: None,
+                nearest_dist: acc.nearest,
+                centroid: acc.pos.into(),
+                mean_heading: acc.heading.into(),
+                mean_velocity: acc.vel.into(),
+            };
+            // As `Fold::finish` divides.
+            if sm.count > 0 {
+                let n = sm.count as f32;
+                sm.centroid /= n;
+                sm.mean_heading /= n;
+                sm.mean_velocity /= n;
+            }
+            return 0;
+        }
+    }
     let mut fold = Fold::<KEEP>::new(slots);
     sums.fill(GroupSum::default());
-    let groups = &reads.groups;
 
     // Nearby obstacles first: they are percepts and occluders.
     let mut occluders = [(Vec3::ZERO, 0.0f32); MAX_OCCLUDERS];
@@ -1080,27 +1157,8 @@ fn perceive_one<const KEEP: bool>(
             && kin::supports(groups)
     });
     if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(i)) {
-        let probe = kin::Probe {
-            here,
-            me: me_slot as usize,
-            vision2: sense.vision_radius * sense.vision_radius,
-            smell2: sense.smell_radius * sense.smell_radius,
-            cone: (!eye.full_circle).then_some((eye.fwd, eye.cos_min)),
-            headings: reads.headings,
-        };
-        let mut k = kin::KinFold::new(lanes, probe, groups.iter());
-        view.agents
-            .for_each_row_within(here, radius, |s, e| k.row(s, e));
-        let sums_k = k.finish(sums);
-        fold.acc[Category::Kin as usize] = Acc {
-            pos: sums_k.pos,
-            heading: sums_k.heading,
-            vel: sums_k.vel,
-            count: sums_k.count,
-            seen: sums_k.seen,
-            key: sums_k.nearest2,
-            nearest: sums_k.nearest2.sqrt(),
-        };
+        let probe = probe(here, me_slot, sense, &eye, reads);
+        fold.acc[Category::Kin as usize] = kernel(view, lanes, probe, radius, groups, sums);
     } else if plain {
         let mut kin = ACC;
         view.agents
@@ -1729,6 +1787,12 @@ mod tests {
             a.speed = rng.range(0.0, 2.0);
             w.agents.push(a);
         }
+        // Agents near the rock perceive it too (the kernel then runs inside the general
+        // fold); the others take the kernel alone.
+        w.add_obstacle(Shape::Sphere {
+            center: Vec3::new(8.0, 8.0, 8.0),
+            radius: 2.0,
+        });
         let mut groups = GroupQueries::new();
         groups.insert(GroupQuery::Separation { radius: 2.0 });
         groups.insert(GroupQuery::Mean { radius: 3.0 });
@@ -1786,6 +1850,10 @@ mod tests {
                 }
             }
             assert!(perceived > 400, "{perceived}");
+            let near_rock = (0..w.agents.len())
+                .filter(|&i| a.summaries(i)[Category::Obstacle as usize].count > 0)
+                .count();
+            assert!(near_rock > 0 && near_rock < w.agents.len(), "{near_rock}");
         }
     }
 
