@@ -188,6 +188,10 @@ pub struct Perception {
     /// so that a neighbor costs one small sequential read instead of a walk into the full agent
     /// and two `sin_cos`.
     near: Vec<Body>,
+    /// Species and sex of the same agents, in the same order.
+    tags: Vec<Tag>,
+    /// Bounding-box diagonals of the same agents, in the same order (read for kept percepts).
+    diagonals: Vec<f32>,
     /// Slot of each agent in `near`, by agent index (`u32::MAX` when the grid lacks it).
     slot_of: Vec<u32>,
     /// `near` again, one array per component, for the kin kernel (filled only when a species
@@ -206,13 +210,22 @@ pub struct Perception {
 struct Body {
     /// Forward unit vector.
     heading: Vec3,
-    /// Velocity (`Agent::velocity`, bit for bit).
-    velocity: Vec3,
-    /// Bounding-box diagonal.
-    diagonal: f32,
-    /// Species index.
+    /// Speed (`heading * speed` is `Agent::velocity`, bit for bit).
+    speed: f32,
+}
+
+impl Body {
+    #[inline(always)]
+    fn velocity(&self) -> Vec3 {
+        self.heading * self.speed
+    }
+}
+
+/// Who an agent is, as its neighbors' relations see it (kept apart from [`Body`]: every
+/// candidate's is read, only those perceived have their body read).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Tag {
     species: u16,
-    /// Sex.
     sex: crate::world::Sex,
 }
 
@@ -220,10 +233,7 @@ impl Default for Body {
     fn default() -> Self {
         Body {
             heading: Vec3::ZERO,
-            velocity: Vec3::ZERO,
-            diagonal: 0.0,
-            species: 0,
-            sex: crate::world::Sex::Female,
+            speed: 0.0,
         }
     }
 }
@@ -352,7 +362,7 @@ impl Perception {
     #[inline]
     pub fn velocity(&self, i: usize) -> Option<Vec3> {
         let k = *self.slot_of.get(i)? as usize;
-        self.near.get(k).map(|b| b.velocity)
+        self.near.get(k).map(Body::velocity)
     }
 
     /// Number of agents perceived for.
@@ -440,14 +450,9 @@ impl Perception {
         self.near.resize(entries.len(), Body::default());
         let body = |b: &mut Body, j: u32| {
             if let Some(a) = world.agents.get(j as usize) {
-                let heading = a.forward();
                 *b = Body {
-                    heading,
-                    // `Agent::velocity`, bit for bit.
-                    velocity: heading * a.speed,
-                    diagonal: a.diagonal(),
-                    species: a.species.0,
-                    sex: a.attrs.sex,
+                    heading: a.forward(),
+                    speed: a.speed,
                 };
             }
         };
@@ -462,7 +467,7 @@ impl Perception {
         if kernel {
             self.lanes.fill(agents.positions(), &mut self.near, |k, b| {
                 body(b, entries[k]);
-                (b.heading, b.velocity)
+                (b.heading, b.velocity())
             });
         } else {
             self.lanes
@@ -473,6 +478,27 @@ impl Perception {
                 .with_min_len(256)
                 .for_each(|(b, &j)| body(b, j));
         }
+        let tag = |j: u32| match world.agents.get(j as usize) {
+            Some(a) => (
+                Tag {
+                    species: a.species.0,
+                    sex: a.attrs.sex,
+                },
+                a.diagonal(),
+            ),
+            None => (
+                Tag {
+                    species: u16::MAX,
+                    sex: crate::world::Sex::Female,
+                },
+                0.0,
+            ),
+        };
+        entries
+            .par_iter()
+            .with_min_len(1024)
+            .map(|&j| tag(j))
+            .unzip_into_vecs(&mut self.tags, &mut self.diagonals);
         self.slot_of.clear();
         self.slot_of.resize(n, u32::MAX);
         for (k, &j) in entries.iter().enumerate() {
@@ -487,6 +513,8 @@ impl Perception {
         let cos_mins = &self.cos_mins[..];
         let kernel_ok = &self.kernel[..];
         let near = &self.near[..];
+        let tags = &self.tags[..];
+        let diagonals = &self.diagonals[..];
         let slot_of = &self.slot_of[..];
         let lanes = (kernel && self.lanes.len() == near.len()).then_some(&self.lanes);
         let reach = senses
@@ -513,6 +541,8 @@ impl Perception {
             let view = View {
                 world,
                 near,
+                tags,
+                diagonals,
                 lanes,
                 kernel: kernel_ok,
                 slot_of,
@@ -952,6 +982,10 @@ struct View<'a> {
     world: &'a World,
     /// Agents' records in the agent grid's order.
     near: &'a [Body],
+    /// Their species and sex, in the same order.
+    tags: &'a [Tag],
+    /// Their bounding-box diagonals, in the same order.
+    diagonals: &'a [f32],
     /// The same for the kin kernel, when a species may perceive by it.
     lanes: Option<&'a kin::KinLanes>,
     /// Which species may perceive by the kin kernel.
@@ -1142,6 +1176,8 @@ fn perceive_one<const KEEP: bool>(
     let here_a = Vec3A::from(here);
     let row = relations.row(s);
     let entries = view.agents.entries();
+    // Own slot in the grid's order: a candidate there is oneself.
+    let me_slot = view.slot_of.get(i).map_or(usize::MAX, |&k| k as usize);
     // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
     // volume, no mates): the neighbors go straight into the kin sums, held in registers.
     // Agents and food are kept as percepts only where the species reads them.
@@ -1163,9 +1199,8 @@ fn perceive_one<const KEEP: bool>(
         let mut kin = ACC;
         view.agents
             .for_each_slot_within(here, radius, |k, pos, d2| {
-                let other = &view.near[k];
-                if entries[k] as usize == i
-                    || row.get(other.species as usize) != Some(&Some(Category::Kin))
+                if k == me_slot
+                    || row.get(view.tags[k].species as usize) != Some(&Some(Category::Kin))
                 {
                     return;
                 }
@@ -1173,7 +1208,8 @@ fn perceive_one<const KEEP: bool>(
                 let Some(seen) = sense_point(here, offset.into(), d2, &eye, sense, occ) else {
                     return;
                 };
-                let vel = Vec3A::from(other.velocity);
+                let other = &view.near[k];
+                let vel = Vec3A::from(other.velocity());
                 groups.add(sums, offset, d2, vel);
                 kin.note(seen, d2, || d2.sqrt(), pos, other.heading.into(), vel);
             });
@@ -1181,15 +1217,14 @@ fn perceive_one<const KEEP: bool>(
     } else {
         view.agents
             .for_each_slot_within(here, radius, |k, pos, d2| {
-                let j = entries[k] as usize;
-                if j == i {
+                if k == me_slot {
                     return;
                 }
-                let other = &view.near[k];
-                let Some(mut cat) = row.get(other.species as usize).copied().flatten() else {
+                let tag = view.tags[k];
+                let Some(mut cat) = row.get(tag.species as usize).copied().flatten() else {
                     return;
                 };
-                if cat == Category::Kin && mates && other.sex != my_sex {
+                if cat == Category::Kin && mates && tag.sex != my_sex {
                     cat = Category::Mate;
                 }
                 let offset_a = pos - here_a;
@@ -1197,7 +1232,8 @@ fn perceive_one<const KEEP: bool>(
                 let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) else {
                     return;
                 };
-                let vel = Vec3A::from(other.velocity);
+                let other = &view.near[k];
+                let vel = Vec3A::from(other.velocity());
                 if matches!(cat, Category::Kin | Category::Mate) {
                     groups.add(sums, offset_a, d2, vel);
                 }
@@ -1217,12 +1253,12 @@ fn perceive_one<const KEEP: bool>(
                     vel,
                     |dist| {
                         percept(
-                            Source::Agent(j as u32),
+                            Source::Agent(entries[k]),
                             cat,
                             seen,
                             offset,
                             dist,
-                            other.diagonal,
+                            view.diagonals[k],
                         )
                     },
                 );
