@@ -309,23 +309,29 @@ impl Pipeline {
     /// [`Pipeline::perception`]). [`Pipeline::step`] starts with this.
     pub fn perceive(&mut self, world: &World) {
         let set = &self.species;
-        // 1. Spatial index. Cells of half the query radius of the most numerous species: its
-        // queries visit about 5 cells per axis, 15.6 r³ of space for a 4.2 r³ sphere (27 r³ with
-        // cells of a whole radius). Any cell size gives the same neighbors.
-        self.species_counts.clear();
-        self.species_counts.resize(set.species.len(), 0);
-        for a in &world.agents {
-            if let Some(c) = self.species_counts.get_mut(a.species.0 as usize) {
-                *c += 1;
+        // 1. Spatial index. Cells of the query radius of the most numerous species: its queries
+        // visit 3 cells per axis, 27 r³ of space for a 4.2 r³ sphere, in 9 runs of contiguous
+        // entries. Cells of half a radius visit 15.6 r³ but in 25 runs, each a fresh place in
+        // memory: slower at 100k agents (reef 5.7 against 6.4 ticks/s), no faster at 10k. Any
+        // cell size gives the same neighbors.
+        let most = if set.species.len() <= 1 {
+            0
+        } else {
+            self.species_counts.clear();
+            self.species_counts.resize(set.species.len(), 0);
+            for a in &world.agents {
+                if let Some(c) = self.species_counts.get_mut(a.species.0 as usize) {
+                    *c += 1;
+                }
             }
-        }
-        let most = (0..self.species_counts.len())
-            .max_by_key(|&s| (self.species_counts[s], std::cmp::Reverse(s)))
-            .unwrap_or(0);
+            (0..self.species_counts.len())
+                .max_by_key(|&s| (self.species_counts[s], std::cmp::Reverse(s)))
+                .unwrap_or(0)
+        };
         let cell = set
             .senses
             .get(most)
-            .map_or(1.0, |s| 0.5 * s.query_radius())
+            .map_or(1.0, |s| s.query_radius())
             .max(0.5);
         self.agent_grid
             .rebuild_with(world.bounds, cell, world.agents.len(), |i| {
