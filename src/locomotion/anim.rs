@@ -40,7 +40,7 @@ pub fn key_poses(max_bend: f32) -> [f32; 5] {
 /// Eased tween parameter: `tan(t·π/4)` maps [0,1] onto [0,1], slow at the start and fast at the
 /// end (the paper's `tan(t)` easing, normalized).
 pub fn ease(t: f32) -> f32 {
-    (t.clamp(0.0, 1.0) * FRAC_PI_4).tan()
+    crate::frame::tan_quarter(t.clamp(0.0, 1.0) * FRAC_PI_4)
 }
 
 /// Bend at position `s` ∈ [−1, 1] along the pose sequence L(−1) … M(0) … R(+1), tweened
