@@ -119,6 +119,8 @@ pub struct Pipeline {
     dead: Vec<bool>,
     mated: Vec<bool>,
     next_inbox: Vec<Option<MessageKind>>,
+    /// Whether the last tick delivered any message (some agent's inbox may be set).
+    delivered: bool,
     contacts: Vec<(usize, Contact, Source)>,
     /// Events of the last tick, in order.
     pub events: Vec<Event>,
@@ -162,6 +164,7 @@ impl Pipeline {
             dead: Vec::new(),
             mated: Vec::new(),
             next_inbox: Vec::new(),
+            delivered: false,
             contacts: Vec::new(),
             events: Vec::new(),
             stats: Stats::default(),
@@ -454,6 +457,7 @@ impl Pipeline {
         self.next_inbox.clear();
         self.next_inbox.resize(n, None);
         let tick = world.tick;
+        let mut delivered = false;
         // Each agent's own outcome, in parallel: nothing here reads another agent.
         let bounds = world.bounds;
         world
@@ -531,10 +535,12 @@ impl Pipeline {
                 let radius = radius.max(0.0);
                 let agents = &world.agents;
                 let inbox = &mut self.next_inbox;
+                let delivered = &mut delivered;
                 self.agent_grid.for_each_within(pos, radius, |j, _, _| {
                     let j = j as usize;
                     if j != i && agents[j].species == sid {
                         inbox[j] = Some(MessageKind::max_priority(inbox[j], kind));
+                        *delivered = true;
                     }
                 });
             }
@@ -553,9 +559,13 @@ impl Pipeline {
         }
         self.contacts = contacts;
         self.contacts.clear();
-        for (a, m) in world.agents.iter_mut().zip(self.next_inbox.iter()) {
-            a.inbox = *m;
+        // Without a message this tick or the last, every inbox is and stays empty.
+        if delivered || self.delivered {
+            for (a, m) in world.agents.iter_mut().zip(self.next_inbox.iter()) {
+                a.inbox = *m;
+            }
         }
+        self.delivered = delivered;
         if self.dead.iter().any(|&d| d) {
             let dead = &self.dead;
             let mut k = 0;

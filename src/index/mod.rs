@@ -29,6 +29,8 @@ pub struct Grid {
     /// Scratch: the input points, and the cell of each.
     points: Vec<Vec3A>,
     cell_of: Vec<u32>,
+    /// Slot of each entry index (the inverse of `entries`).
+    slots: Vec<u32>,
     /// Scratch: fill cursor per cell.
     cursor: Vec<u32>,
 }
@@ -60,7 +62,16 @@ impl Grid {
     ) {
         self.points.clear();
         self.points.extend(points.map(Vec3A::from));
-        self.index(bounds, cell);
+        self.layout(bounds, cell, self.points.len());
+        let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
+        self.cell_of.clear();
+        self.cell_of.par_extend(
+            self.points
+                .par_iter()
+                .with_min_len(1024)
+                .map(|&p| cell_index(dims, cell_coord(origin, inv_cell, dims, p.into())) as u32),
+        );
+        self.place();
     }
 
     /// Like [`Grid::rebuild`] for points `0..n`, `point(i)` giving point `i` (gathered in
@@ -72,18 +83,23 @@ impl Grid {
         n: usize,
         point: impl Fn(usize) -> Vec3 + Sync,
     ) {
-        self.points.clear();
-        self.points.par_extend(
-            (0..n)
-                .into_par_iter()
-                .with_min_len(1024)
-                .map(|i| Vec3A::from(point(i))),
-        );
-        self.index(bounds, cell);
+        self.layout(bounds, cell, n);
+        let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
+        // Points and their cells in one parallel pass.
+        (0..n)
+            .into_par_iter()
+            .with_min_len(1024)
+            .map(|i| {
+                let p = point(i);
+                let c = cell_index(dims, cell_coord(origin, inv_cell, dims, p));
+                (Vec3A::from(p), c as u32)
+            })
+            .unzip_into_vecs(&mut self.points, &mut self.cell_of);
+        self.place();
     }
 
-    /// Indexes `self.points`.
-    fn index(&mut self, bounds: Aabb, cell: f32) {
+    /// Sets the cell size, origin and dimensions for `n` points over `bounds`.
+    fn layout(&mut self, bounds: Aabb, cell: f32, n: usize) {
         let size = bounds.size().max(Vec3::splat(1e-3));
         let mut cell = if cell.is_finite() && cell > 1e-3 {
             cell
@@ -96,7 +112,7 @@ impl Grid {
         }
         // A few cells per point at most: a large, sparse world gets larger cells instead of a
         // cell table bigger than the points it indexes.
-        let max_cells = 4 * self.points.len() as i64 + 4096;
+        let max_cells = 4 * n as i64 + 4096;
         let dims_for = |cell: f32| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
         while {
             let d = dims_for(cell).as_i64vec3();
@@ -108,20 +124,13 @@ impl Grid {
         self.inv_cell = 1.0 / cell;
         self.origin = bounds.min;
         self.dims = ((size * self.inv_cell).ceil().as_ivec3()).max(IVec3::ONE);
+    }
+
+    /// Sorts `self.points` (in cells `self.cell_of`) by cell.
+    fn place(&mut self) {
         let ncells = (self.dims.x * self.dims.y * self.dims.z) as usize;
         self.starts.clear();
         self.starts.resize(ncells + 1, 0);
-        // Cells found in parallel.
-        self.cell_of.clear();
-        self.cell_of.resize(self.points.len(), 0);
-        let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
-        self.cell_of
-            .par_iter_mut()
-            .zip(self.points.par_iter())
-            .with_min_len(1024)
-            .for_each(|(c, &p)| {
-                *c = cell_index(dims, cell_coord(origin, inv_cell, dims, p.into())) as u32
-            });
         for &c in &self.cell_of {
             self.starts[c as usize + 1] += 1;
         }
@@ -136,11 +145,14 @@ impl Grid {
         self.entries.resize(n, 0);
         self.positions.clear();
         self.positions.resize(n, Vec3A::ZERO);
+        self.slots.clear();
+        self.slots.resize(n, 0);
         for (i, (&c, &p)) in self.cell_of.iter().zip(&self.points).enumerate() {
             let slot = self.cursor[c as usize] as usize;
             self.cursor[c as usize] += 1;
             self.entries[slot] = i as u32;
             self.positions[slot] = p;
+            self.slots[i] = slot as u32;
         }
     }
 
@@ -235,6 +247,11 @@ impl Grid {
         }
     }
 
+    /// Slot of each entry index in the grid's order: `entries()[slots()[i]] == i`.
+    pub fn slots(&self) -> &[u32] {
+        &self.slots
+    }
+
     /// Positions of the entries, in the grid's order.
     pub fn positions(&self) -> &[Vec3A] {
         &self.positions
@@ -304,6 +321,13 @@ mod tests {
             .collect();
         let mut g = Grid::new();
         g.rebuild(bounds, 7.0, pts.iter().copied());
+        // The parallel gather builds the same grid; `slots` inverts `entries`.
+        let mut h = Grid::new();
+        h.rebuild_with(bounds, 7.0, pts.len(), |i| pts[i]);
+        assert_eq!((g.entries(), g.positions()), (h.entries(), h.positions()));
+        for (i, &k) in g.slots().iter().enumerate() {
+            assert_eq!(g.entries()[k as usize] as usize, i);
+        }
         for q in 0..50 {
             let c = pts[q * 7];
             let mut found = Vec::new();

@@ -500,10 +500,15 @@ impl Perception {
             .map(|&j| tag(j))
             .unzip_into_vecs(&mut self.tags, &mut self.diagonals);
         self.slot_of.clear();
-        self.slot_of.resize(n, u32::MAX);
-        for (k, &j) in entries.iter().enumerate() {
-            if let Some(s) = self.slot_of.get_mut(j as usize) {
-                *s = k as u32;
+        if agents.slots().len() == n {
+            // The grid indexes exactly these agents: its inverse is the slot of each.
+            self.slot_of.extend_from_slice(agents.slots());
+        } else {
+            self.slot_of.resize(n, u32::MAX);
+            for (k, &j) in entries.iter().enumerate() {
+                if let Some(s) = self.slot_of.get_mut(j as usize) {
+                    *s = k as u32;
+                }
             }
         }
         self.cos_mins.clear();
