@@ -71,9 +71,10 @@ pub fn heading_of(dir: Vec3) -> Option<(f32, f32)> {
     Some((yaw, pitch))
 }
 
-/// `y.atan2(x)` for finite arguments, within 5 × 10⁻⁷ rad of it (two units in the last place near ±π), computed here rather than
-/// by the platform's math library: every tick turns every agent through it, and the same
-/// arithmetic gives the same bits on every machine. Signed zeros follow `f32::atan2`.
+/// `y.atan2(x)` for finite arguments, within 5 × 10⁻⁷ rad of it (two units in the last place
+/// near ±π), computed here rather than by the platform's math library: every tick turns every
+/// agent through it, and the same arithmetic gives the same bits on every machine. Signed zeros
+/// follow `f32::atan2`.
 #[inline]
 pub fn atan2(y: f32, x: f32) -> f32 {
     if x.is_nan() || y.is_nan() {
