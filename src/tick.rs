@@ -25,6 +25,7 @@ use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
 use std::sync::Arc;
 
+mod awake;
 mod reads;
 mod remap;
 pub use reads::{bearing_range, reads};
@@ -372,6 +373,10 @@ impl Pipeline {
     /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
     /// (cleared at the start of each tick, after spawns made between ticks).
     pub fn step(&mut self, world: &mut World) {
+        awake::with_helper(|| self.step_on(world));
+    }
+
+    fn step_on(&mut self, world: &mut World) {
         let n = world.agents.len();
         let set = self.species.clone();
         self.perceive(world);
