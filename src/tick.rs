@@ -1,9 +1,10 @@
 //! The tick: the one place the world advances.
 //!
 //! `index → perception → drives → decision → steering → locomotion → world events`. Stages 3–6
-//! run per agent in parallel (rayon) from the state at the start of the tick, each agent writing
-//! only its own outcome slot; stage 7 applies the outcomes in agent order. Results are therefore
-//! bit-identical whatever the thread count.
+//! run per agent in parallel (rayon) from the state at the start of the tick: each agent's pass
+//! reads its own record and perception's copy of the others, then rewrites only its own record
+//! and outcome slot; stage 7 applies what reaches beyond the agent (events, messages, contacts)
+//! in agent order. Results are therefore bit-identical whatever the thread count.
 
 use crate::decision::{self, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
@@ -31,7 +32,8 @@ mod remap;
 pub use reads::{bearing_range, reads};
 pub use remap::Remap;
 
-/// The parts of an agent the decision stage mutates, moved out of the world during the pass.
+/// The parts of an agent the decision stage mutates, moved out of its record during its pass
+/// (the rest of the record is read as it was at the start of the tick).
 #[derive(Debug, Default)]
 struct Brain {
     mind: Mind,
@@ -63,18 +65,9 @@ impl Default for Worker {
     }
 }
 
-/// Fewest agents per task of the passes that only move records (minds out and back, outcomes
-/// in): below two of these a tick runs them on one thread (1k boids: 5 % faster).
-const MOVE_SPLIT: usize = 4096;
-
-/// What one agent's pass produced.
+/// What one agent's pass produced beyond its own record (applied in agent order by stage 7).
 #[derive(Debug, Default)]
 struct Outcome {
-    motion: Motion,
-    /// Forward vector of the new heading.
-    forward: Vec3,
-    anim: Anim,
-    drives: Drives,
     contact: Option<(Contact, Source)>,
     /// Species and behavior after the tick (for the counters, read without touching the agent).
     species: u16,
@@ -116,7 +109,6 @@ pub struct Pipeline {
     agent_grid: Grid,
     food_grid: Grid,
     perception: Perception,
-    brains: Vec<Brain>,
     outcomes: Vec<Outcome>,
     species_names: Vec<ImmutableString>,
     behavior_names: Vec<Vec<ImmutableString>>,
@@ -161,7 +153,6 @@ impl Pipeline {
             agent_grid: Grid::new(),
             food_grid: Grid::new(),
             perception: Perception::new(),
-            brains: Vec::new(),
             outcomes: Vec::new(),
             species_names: Vec::new(),
             behavior_names: Vec::new(),
@@ -380,22 +371,11 @@ impl Pipeline {
         let n = world.agents.len();
         let set = self.species.clone();
         self.perceive(world);
-        // 3–6. Per agent: drives, decision, steering, locomotion.
-        self.brains.resize_with(n, Brain::default);
-        world
-            .agents
-            .par_iter_mut()
-            .zip(self.brains.par_iter_mut())
-            // Moving memory scales poorly: split only when there is plenty of it (a small world
-            // then does not wake the other threads for it).
-            .with_min_len(MOVE_SPLIT)
-            .for_each(|(a, b)| {
-                // Swapped with the brain's empty placeholders (swapped back by `apply`).
-                std::mem::swap(&mut b.mind, &mut a.mind);
-                std::mem::swap(&mut b.memory, &mut a.memory);
-                b.rng = a.rng;
-            });
+        // 3–6. Per agent: drives, decision, steering, locomotion. Each agent's pass reads and
+        // then rewrites its own record; the records are out of the world meanwhile, and what
+        // an agent reads of another is perception's copy from the start of the tick.
         self.outcomes.resize_with(n, Outcome::default);
+        let mut agents = std::mem::take(&mut world.agents);
         let world_ref: &World = world;
         let perception = &self.perception;
         let names = (&self.species_names, &self.behavior_names);
@@ -407,46 +387,53 @@ impl Pipeline {
             self.workers.resize_with(threads, Default::default);
         }
         let workers = &self.workers;
-        self.brains
-            .par_iter_mut()
-            .zip(self.outcomes.par_iter_mut())
-            .enumerate()
-            .with_min_len(32)
-            .for_each_init(
-                || {
-                    // This thread's buffers, kept from tick to tick; a fresh set only if they
-                    // are somehow in use.
-                    let own = rayon::current_thread_index()
-                        .and_then(|t| workers.get(t))
-                        .and_then(|w| w.try_lock().ok());
-                    let fresh = own.is_none().then(Worker::default);
-                    (own, fresh)
-                },
-                |(own, fresh), (i, (brain, out))| {
-                    let w = match (own.as_deref_mut(), fresh.as_mut()) {
-                        (Some(w), _) => w,
-                        (None, Some(w)) => w,
-                        (None, None) => unreachable!("one of the two is set"),
-                    };
-                    w.scratch.reset();
-                    w.scratch.set_velocity(perception.velocity(i));
-                    w.scratch.plan_target = plan_targets.get(i).copied().flatten();
-                    agent_pass(
-                        i,
-                        world_ref,
-                        &set,
-                        perception,
-                        names,
-                        brain,
-                        out,
-                        &mut w.scope,
-                        &mut w.scratch,
-                        &mut w.view,
-                        every_tick,
-                        reads,
-                    );
-                },
-            );
+        // A panic in the pass (a bug) still gives the world its agents back before it unwinds.
+        let pass = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            agents
+                .par_iter_mut()
+                .zip(self.outcomes.par_iter_mut())
+                .enumerate()
+                .with_min_len(32)
+                .for_each_init(
+                    || {
+                        // This thread's buffers, kept from tick to tick; a fresh set only if they
+                        // are somehow in use.
+                        let own = rayon::current_thread_index()
+                            .and_then(|t| workers.get(t))
+                            .and_then(|w| w.try_lock().ok());
+                        let fresh = own.is_none().then(Worker::default);
+                        (own, fresh)
+                    },
+                    |(own, fresh), (i, (agent, out))| {
+                        let w = match (own.as_deref_mut(), fresh.as_mut()) {
+                            (Some(w), _) => w,
+                            (None, Some(w)) => w,
+                            (None, None) => unreachable!("one of the two is set"),
+                        };
+                        w.scratch.reset();
+                        w.scratch.set_velocity(perception.velocity(i));
+                        w.scratch.plan_target = plan_targets.get(i).copied().flatten();
+                        agent_pass(
+                            i,
+                            agent,
+                            world_ref,
+                            &set,
+                            perception,
+                            names,
+                            out,
+                            &mut w.scope,
+                            &mut w.scratch,
+                            &mut w.view,
+                            every_tick,
+                            reads,
+                        );
+                    },
+                );
+        }));
+        world.agents = agents;
+        if let Err(panic) = pass {
+            std::panic::resume_unwind(panic);
+        }
         // 7. World events, applied in agent order.
         self.apply(world);
     }
@@ -469,33 +456,8 @@ impl Pipeline {
         self.next_inbox.resize(n, None);
         let tick = world.tick;
         let mut delivered = false;
-        // Each agent's own outcome, in parallel: nothing here reads another agent.
-        let bounds = world.bounds;
-        world
-            .agents
-            .par_iter_mut()
-            .zip(self.outcomes.par_iter_mut())
-            .zip(self.brains.par_iter_mut())
-            .with_min_len(MOVE_SPLIT)
-            .for_each(|((a, out), brain)| {
-                out.species = a.species.0;
-                out.behavior = brain.mind.current;
-                a.prev_pos = a.pos;
-                a.pos = bounds.closest_point(out.motion.pos);
-                a.yaw = out.motion.yaw;
-                a.pitch = out.motion.pitch;
-                a.speed = out.motion.speed;
-                a.yaw_rate = out.motion.yaw_rate;
-                a.pitch_rate = out.motion.pitch_rate;
-                a.forward_cache = ForwardCache::new(a.yaw, a.pitch, out.forward);
-                a.anim = out.anim;
-                a.drives = out.drives;
-                std::mem::swap(&mut a.mind, &mut brain.mind);
-                std::mem::swap(&mut a.memory, &mut brain.memory);
-                a.rng = brain.rng;
-            });
-        // Then, in agent order, what reaches beyond the agent: counters, events, messages,
-        // contacts.
+        // In agent order (each agent's own record was rewritten by its pass), what reaches
+        // beyond the agent: counters, events, messages, contacts.
         for i in 0..n {
             let out = &mut self.outcomes[i];
             let (s, current) = (out.species as usize, out.behavior as usize);
@@ -685,6 +647,7 @@ impl Pipeline {
         };
         let ctx = Ctx {
             world,
+            perception: &self.perception,
             species: sp,
             agent: &agent,
             percepts,
@@ -735,11 +698,11 @@ impl Pipeline {
 #[allow(clippy::too_many_arguments)]
 fn agent_pass(
     i: usize,
+    agent: &mut Agent,
     world: &World,
     set: &SpeciesSet,
     perception: &Perception,
     names: (&Vec<ImmutableString>, &Vec<Vec<ImmutableString>>),
-    brain: &mut Brain,
     out: &mut Outcome,
     scope: &mut Scope,
     scratch: &mut Scratch,
@@ -747,7 +710,14 @@ fn agent_pass(
     scripts_every_tick: bool,
     reads: &[Reads],
 ) {
-    let base = &world.agents[i];
+    // What the pass mutates, out of the record until the end of the pass.
+    let mut brain = Brain {
+        mind: std::mem::take(&mut agent.mind),
+        memory: std::mem::take(&mut agent.memory),
+        rng: agent.rng,
+    };
+    let brain = &mut brain;
+    let base: &Agent = agent;
     let s = base.species.0 as usize;
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
@@ -759,7 +729,7 @@ fn agent_pass(
     let tick = world.tick;
 
     // 3. Drives.
-    // The agent's own record without its mind and memory (in `brain` this tick).
+    // The agent's own record without its mind and memory (in `brain` during the pass).
     let mut me = Agent {
         mind: Default::default(),
         memory: Vec::new(),
@@ -802,6 +772,7 @@ fn agent_pass(
         if scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval) {
             let ctx = Ctx {
                 world,
+                perception,
                 species: sp,
                 agent: &me,
                 percepts,
@@ -837,6 +808,7 @@ fn agent_pass(
     }
     let ctx = Ctx {
         world,
+        perception,
         species: sp,
         agent: &me,
         percepts,
@@ -881,6 +853,7 @@ fn agent_pass(
     }
     let ctx = Ctx {
         world,
+        perception,
         species: sp,
         agent: &me,
         percepts,
@@ -945,10 +918,6 @@ fn agent_pass(
             .map(|p| (c, p.source)),
         None => None,
     };
-    out.motion = motion;
-    out.forward = info.forward;
-    out.anim = an;
-    out.drives = me.drives;
     let rare = transitions.iter().any(Option::is_some)
         || messages.iter().any(Option::is_some)
         || error.is_some();
@@ -959,7 +928,24 @@ fn agent_pass(
             error,
         })
     });
-    brain.memory = me.memory;
+    out.species = me.species.0;
+    out.behavior = mind.current;
+
+    // The agent's new state, in its own record.
+    let a = agent;
+    a.prev_pos = a.pos;
+    a.pos = world.bounds.closest_point(motion.pos);
+    a.yaw = motion.yaw;
+    a.pitch = motion.pitch;
+    a.speed = motion.speed;
+    a.yaw_rate = motion.yaw_rate;
+    a.pitch_rate = motion.pitch_rate;
+    a.forward_cache = ForwardCache::new(a.yaw, a.pitch, info.forward);
+    a.anim = an;
+    a.drives = me.drives;
+    a.memory = me.memory;
+    a.mind = std::mem::take(&mut brain.mind);
+    a.rng = brain.rng;
 }
 
 /// Cause of a forced behavior change (tests and tools).

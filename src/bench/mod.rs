@@ -539,6 +539,7 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
                 let sp = &set.species[a.species.0 as usize];
                 let ctx = Ctx {
                     world,
+                    perception,
                     species: sp,
                     agent: a,
                     percepts: perception.percepts(i),

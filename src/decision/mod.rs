@@ -12,7 +12,7 @@ pub mod scripts;
 
 use crate::events::{Cause, MessageKind};
 use crate::perception::{
-    Category, GroupQueries, GroupQuery, GroupSum, Percept, Sense, Source, Summary,
+    Category, GroupQueries, GroupQuery, GroupSum, Percept, Perception, Sense, Source, Summary,
 };
 use crate::species::{AttrKind, CondNode, DriveKind, Species, ValueNode};
 use crate::steering::avoid::{self, PressureSource};
@@ -23,8 +23,12 @@ use std::sync::Arc;
 
 /// What a condition or value may read about one agent this tick.
 pub struct Ctx<'a> {
-    /// The world at the start of the tick.
+    /// The world at the start of the tick (during the agent pass, without its agents: what an
+    /// agent reads of another is in `perception`).
     pub world: &'a World,
+    /// Perception of the tick: also what every agent looked like at its start (velocity,
+    /// radius, previous position).
+    pub perception: &'a Perception,
     /// The agent's species.
     pub species: &'a Species,
     /// The agent (state at the start of the tick; drives already updated).
@@ -104,16 +108,21 @@ impl Ctx<'_> {
                 continue;
             }
             if let (Source::Agent(j), Sense::Vision) = (p.source, p.sense) {
-                let o = &self.world.agents[j as usize];
+                let j = j as usize;
+                let (Some(radius), Some(velocity)) =
+                    (self.perception.radius(j), self.perception.velocity(j))
+                else {
+                    continue;
+                };
                 out.push(avoid::MovingObstacle {
                     source: PressureSource {
-                        dist: (p.dist - o.radius() - self.agent.radius()).max(0.0),
+                        dist: (p.dist - radius - self.agent.radius()).max(0.0),
                         bearing: p.bearing,
                         elevation: p.elevation,
                         size: p.size,
                         weight: 1.0,
                     },
-                    velocity: o.velocity(),
+                    velocity,
                 });
             }
         }

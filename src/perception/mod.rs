@@ -194,6 +194,9 @@ pub struct Perception {
     diagonals: Vec<f32>,
     /// Slot of each agent in `near`, by agent index (`u32::MAX` when the grid lacks it).
     slot_of: Vec<u32>,
+    /// Position of each agent a tick before the start of this one, by agent index (pursuers
+    /// read their target's).
+    prev_pos: Vec<Vec3>,
     /// `near` again, one array per component, for the kin kernel (filled only when a species
     /// perceives by it).
     lanes: kin::KinLanes,
@@ -365,6 +368,21 @@ impl Perception {
         self.near.get(k).map(Body::velocity)
     }
 
+    /// Radius of the bounding sphere of agent `i` ([`crate::world::Agent::radius`]), as
+    /// perception saw it.
+    #[inline]
+    pub fn radius(&self, i: usize) -> Option<f32> {
+        let k = *self.slot_of.get(i)? as usize;
+        self.diagonals.get(k).map(|d| d * 0.5)
+    }
+
+    /// Position of agent `i` a tick before the start of this one
+    /// ([`crate::world::Agent::prev_pos`]).
+    #[inline]
+    pub fn prev_pos(&self, i: usize) -> Option<Vec3> {
+        self.prev_pos.get(i).copied()
+    }
+
     /// Number of agents perceived for.
     pub fn len(&self) -> usize {
         self.counts.len()
@@ -417,18 +435,21 @@ impl Perception {
         let unsensed = std::sync::atomic::AtomicBool::new(false);
         self.slot_starts.resize(n + 1, 0);
         self.sum_starts.resize(n + 1, 0);
+        self.prev_pos.resize(n, Vec3::ZERO);
         world
             .agents
             .par_iter()
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
+            .zip(self.prev_pos[..n].par_iter_mut())
             .with_min_len(1024)
-            .for_each(|((a, slots), sums)| {
+            .for_each(|(((a, slots), sums), prev)| {
                 let s = a.species.0 as usize;
                 if s >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
                 (*slots, *sums) = share(s);
+                *prev = a.prev_pos;
             });
         let unsensed = unsensed.into_inner();
         let running = |starts: &mut [u32]| {

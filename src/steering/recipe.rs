@@ -42,8 +42,9 @@ impl Scratch {
             self.neighbors.clear();
             for p in ctx.percepts {
                 if let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) {
-                    let j = j as usize;
-                    let velocity = ctx.world.agents[j].velocity();
+                    let Some(velocity) = ctx.perception.velocity(j as usize) else {
+                        continue;
+                    };
                     self.neighbors.push(Neighbor {
                         offset: p.offset,
                         dist: p.dist,
@@ -164,7 +165,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
             Some(p) => {
                 let now = kin.pos + p.offset;
                 let before = match p.source {
-                    Source::Agent(j) => ctx.world.agents[j as usize].prev_pos,
+                    Source::Agent(j) => ctx.perception.prev_pos(j as usize).unwrap_or(now),
                     _ => now,
                 };
                 goal::pursue(&kin, now, before, ctx.dt, pd.prediction, vmax)
