@@ -68,7 +68,7 @@ impl Grid {
         self.cell_of.par_extend(
             self.points
                 .par_iter()
-                .with_min_len(1024)
+                .with_min_len(256)
                 .map(|&p| cell_index(dims, cell_coord(origin, inv_cell, dims, p.into())) as u32),
         );
         self.place();
@@ -86,15 +86,18 @@ impl Grid {
         self.layout(bounds, cell, n);
         let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
         // Points and their cells in one parallel pass.
-        (0..n)
-            .into_par_iter()
-            .with_min_len(1024)
-            .map(|i| {
+        self.points.resize(n, Vec3A::ZERO);
+        self.cell_of.resize(n, 0);
+        self.points
+            .par_iter_mut()
+            .zip(self.cell_of.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(i, (q, c))| {
                 let p = point(i);
-                let c = cell_index(dims, cell_coord(origin, inv_cell, dims, p));
-                (Vec3A::from(p), c as u32)
-            })
-            .unzip_into_vecs(&mut self.points, &mut self.cell_of);
+                *q = Vec3A::from(p);
+                *c = cell_index(dims, cell_coord(origin, inv_cell, dims, p)) as u32;
+            });
         self.place();
     }
 

@@ -56,7 +56,8 @@ impl KinLanes {
             v.clear();
             v.resize(n + LANES, if c < 3 { FAR } else { 0.0 });
         }
-        const CHUNK: usize = 1024;
+        // Slots per task: a 1,000-agent world splits it in four (its helper thread is awake).
+        const CHUNK: usize = 256;
         let [px, py, pz] = &mut self.pos;
         let [hx, hy, hz] = &mut self.heading;
         let [vx, vy, vz] = &mut self.vel;

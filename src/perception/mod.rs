@@ -442,7 +442,7 @@ impl Perception {
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
             .zip(self.prev_pos[..n].par_iter_mut())
-            .with_min_len(1024)
+            .with_min_len(256)
             .for_each(|(((a, slots), sums), prev)| {
                 let s = a.species.0 as usize;
                 if s >= senses.len() {
@@ -515,11 +515,15 @@ impl Perception {
                 0.0,
             ),
         };
-        entries
-            .par_iter()
-            .with_min_len(1024)
-            .map(|&j| tag(j))
-            .unzip_into_vecs(&mut self.tags, &mut self.diagonals);
+        let unknown = tag(u32::MAX);
+        self.tags.resize(entries.len(), unknown.0);
+        self.diagonals.resize(entries.len(), unknown.1);
+        self.tags
+            .par_iter_mut()
+            .zip(self.diagonals.par_iter_mut())
+            .zip(entries.par_iter())
+            .with_min_len(256)
+            .for_each(|((t, d), &j)| (*t, *d) = tag(j));
         self.slot_of.clear();
         if agents.slots().len() == n {
             // The grid indexes exactly these agents: its inverse is the slot of each.
