@@ -65,6 +65,10 @@ impl Default for Worker {
     }
 }
 
+/// Agents from which a tick keeps a helper thread awake: below, perception's passes do not
+/// split and a tick is too short for the helper's spinning to pay for the core it takes.
+pub const HELPER_FROM: usize = 512;
+
 /// What one agent's pass produced beyond its own record (applied in agent order by stage 7).
 #[derive(Debug, Default)]
 struct Outcome {
@@ -363,8 +367,17 @@ impl Pipeline {
 
     /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
     /// (cleared at the start of each tick, after spawns made between ticks).
+    ///
+    /// From [`HELPER_FROM`] agents, another thread of the current rayon pool spins for the
+    /// length of the tick, looking for the tick's work ([`awake::with_helper`]); in a pool
+    /// shared with other work it may pick up a job of someone else's, and the tick then ends
+    /// when that job does. A panic inside a tick (a bug) leaves `world` part-way through it.
     pub fn step(&mut self, world: &mut World) {
-        awake::with_helper(|| self.step_on(world));
+        if world.agents.len() >= HELPER_FROM {
+            awake::with_helper(|| self.step_on(world));
+        } else {
+            self.step_on(world);
+        }
     }
 
     fn step_on(&mut self, world: &mut World) {
@@ -831,12 +844,14 @@ fn agent_pass(
                 }
                 ActionNode::Call(f) => {
                     if let Some(script) = sp.script.as_deref() {
-                        let view = scripts::view_of(
+                        let mut view = scripts::view_of(
                             &ctx,
                             mind,
                             &names.0[s],
                             &names.1[s][mind.current as usize],
                         );
+                        // The stream as arbitration left it (the record's is the tick's start).
+                        view.rng = *rng;
                         let mut this = Dynamic::from(view);
                         match script.call::<Dynamic>(scope, &mut this, f) {
                             Ok(_) => pending = this.try_cast::<crate::script::AgentView>(),
@@ -850,6 +865,7 @@ fn agent_pass(
     }
     if let Some(v) = pending {
         scripts::write_back(&v, &mut me);
+        *rng = v.rng;
     }
     let ctx = Ctx {
         world,

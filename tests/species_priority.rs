@@ -384,3 +384,42 @@ Species(
         2
     );
 }
+
+/// A script called on entering a behavior draws from the agent's random stream as arbitration
+/// left it, and its draws are kept: the stream never hands the same numbers out twice.
+#[test]
+fn an_on_enter_call_draws_from_the_stream_and_keeps_it_moving() {
+    let species = r#"
+Species(
+    name: "dice",
+    drives: (native: false, hunger: Fixed(0.0)),
+    script: Some("dice.rhai"),
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "roll", priority: 1, when: Above(Drive(Hunger), 0.5), on_enter: [Call("roll")], steer: Stop),
+        Behavior(name: "idle", priority: 4, steer: Stop),
+    ],
+)
+"#;
+    let script = r#"fn roll() { this["a"] = this.random(); this["b"] = this.random(); }"#;
+    let dir = folder(&[("dice.ron", species), ("dice.rhai", script)]);
+    let sp = load(&dir.path().join("dice.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("dice", Vec3::ZERO, 0.0);
+    sim.run(2);
+    sim.set_hunger(id, 0.9);
+    sim.step();
+    assert_eq!(sim.behavior(id), "roll");
+    assert!(sim.script_errors().is_empty(), "{:?}", sim.script_errors());
+    let a = sim.agent(id);
+    let drawn = |key: &str| match a.memory.iter().find(|(k, _)| k == key) {
+        Some((_, shoal::world::MemValue::Float(x))) => *x,
+        other => panic!("{key}: {other:?}"),
+    };
+    let (x, y) = (drawn("a"), drawn("b"));
+    assert_ne!(x, y);
+    // What the stream gives next is neither of the script's draws.
+    let mut rng = a.rng;
+    let next: Vec<f32> = (0..4).map(|_| rng.next_f32()).collect();
+    assert!(!next.contains(&x) && !next.contains(&y), "{x} {y} {next:?}");
+}

@@ -11,6 +11,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Runs `f` on this thread while another thread of the current pool, if there is one, spins
 /// looking for the work `f` hands out (rayon's `yield_now`) instead of sleeping; it stops when
 /// `f` returns or panics. Which thread runs which part of a pass changes nothing in the results.
+///
+/// The spinning thread runs whatever job it finds in the pool, someone else's included: in a
+/// pool shared with other work, `with_helper` returns once `f` and any such job are done. It
+/// also takes a core for the whole of `f`, so it pays only where `f` hands out work often.
 pub fn with_helper<R: Send>(f: impl FnOnce() -> R + Send) -> R {
     if rayon::current_num_threads() < 2 {
         return f();
