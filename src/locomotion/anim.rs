@@ -48,9 +48,25 @@ pub fn ease(t: f32) -> f32 {
 pub fn tween(s: f32, max_bend: f32) -> f32 {
     let poses = key_poses(max_bend);
     let x = (s.clamp(-1.0, 1.0) + 1.0) * 2.0; // 0..4
-    let i = (x.floor() as usize).min(3);
+                                              // `x` is in [0, 4] (or NaN, which `as` maps to 0): truncation is its floor, without the
+                                              // library call `floor` is on baseline x86-64.
+    let i = (x as usize).min(3);
     let t = ease(x - i as f32);
     poses[i] * (1.0 - t) + poses[i + 1] * t
+}
+
+/// `phase.rem_euclid(1.0)` (0 for a non-finite phase), without the library's `fmodf` for the
+/// phases a step leaves (below 2, where `phase − 1` is exact).
+fn wrap_phase(phase: f32) -> f32 {
+    if (0.0..1.0).contains(&phase) {
+        phase
+    } else if (1.0..2.0).contains(&phase) {
+        phase - 1.0
+    } else if phase.is_finite() {
+        phase.rem_euclid(1.0)
+    } else {
+        0.0
+    }
 }
 
 /// Advances the channel by one step: `speed` over a body of `length`, `accel` the speed change
@@ -70,11 +86,7 @@ pub fn advance(
         + p.beats_per_length * speed.max(0.0) / length.max(1e-3)
         + p.accel_rate * accel.max(0.0);
     let phase = anim.phase + rate * dt;
-    anim.phase = if phase.is_finite() {
-        phase.rem_euclid(1.0)
-    } else {
-        0.0
-    };
+    anim.phase = wrap_phase(phase);
     let swing = tween((anim.phase * TAU).sin(), p.max_bend);
     let turn = if max_turn > 0.0 {
         (dyaw / max_turn).clamp(-1.0, 1.0)
@@ -90,6 +102,28 @@ pub fn advance(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wrap_phase_is_rem_euclid_bit_for_bit() {
+        let mut x = -3.0f32;
+        let mut values = vec![
+            0.0,
+            -0.0,
+            1.0,
+            2.0,
+            1.0 - f32::EPSILON,
+            2.0 - 2.0 * f32::EPSILON,
+        ];
+        while x < 5.0 {
+            values.push(x);
+            x += 0.000_973;
+        }
+        for v in values {
+            assert_eq!(wrap_phase(v).to_bits(), v.rem_euclid(1.0).to_bits(), "{v}");
+        }
+        assert_eq!(wrap_phase(f32::NAN), 0.0);
+        assert_eq!(wrap_phase(f32::INFINITY), 0.0);
+    }
 
     #[test]
     fn tween_hits_key_poses_and_eases_between() {
