@@ -18,8 +18,7 @@ use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{
-    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, MemValue, Mind, Rng, Sex, SpeciesId,
-    World,
+    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, Mind, Rng, Sex, SpeciesId, World,
 };
 use glam::Vec3;
 use rayon::prelude::*;
@@ -32,15 +31,7 @@ mod remap;
 pub use reads::{bearing_range, reads};
 pub use remap::Remap;
 
-/// The parts of an agent the decision stage mutates, moved out of its record during its pass
-/// (the rest of the record is read as it was at the start of the tick).
-#[derive(Debug, Default)]
-struct Brain {
-    mind: Mind,
-    memory: Vec<(String, MemValue)>,
-    rng: Rng,
-}
-
+/// An empty mind: what an agent's record holds while its pass has its mind.
 impl Default for Mind {
     fn default() -> Self {
         Mind::new(0, 0, 0)
@@ -724,12 +715,11 @@ fn agent_pass(
     reads: &[Reads],
 ) {
     // What the pass mutates, out of the record until the end of the pass.
-    let mut brain = Brain {
-        mind: std::mem::take(&mut agent.mind),
-        memory: std::mem::take(&mut agent.memory),
-        rng: agent.rng,
-    };
-    let brain = &mut brain;
+    let mut mind = std::mem::take(&mut agent.mind);
+    let mind = &mut mind;
+    let memory = std::mem::take(&mut agent.memory);
+    let mut rng = agent.rng;
+    let rng = &mut rng;
     let base: &Agent = agent;
     let s = base.species.0 as usize;
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
@@ -742,7 +732,7 @@ fn agent_pass(
     let tick = world.tick;
 
     // 3. Drives.
-    // The agent's own record without its mind and memory (in `brain` during the pass).
+    // The agent's own record without its mind (the pass's until its end).
     let mut me = Agent {
         mind: Default::default(),
         memory: Vec::new(),
@@ -770,9 +760,7 @@ fn agent_pass(
         me.drives.since_meal += dt;
         me.drives.since_mating += dt;
     }
-    me.memory = std::mem::take(&mut brain.memory);
-    let mind = &mut brain.mind;
-    let rng = &mut brain.rng;
+    me.memory = memory;
     let mut error = None;
     let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];
 
@@ -960,8 +948,8 @@ fn agent_pass(
     a.anim = an;
     a.drives = me.drives;
     a.memory = me.memory;
-    a.mind = std::mem::take(&mut brain.mind);
-    a.rng = brain.rng;
+    a.mind = std::mem::take(mind);
+    a.rng = *rng;
 }
 
 /// Cause of a forced behavior change (tests and tools).

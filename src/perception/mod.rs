@@ -194,12 +194,10 @@ pub struct Perception {
     diagonals: Vec<f32>,
     /// Slot of each agent in `near`, by agent index (`u32::MAX` when the grid lacks it).
     slot_of: Vec<u32>,
-    /// Position of each agent a tick before the start of this one, by agent index (pursuers
-    /// read their target's).
-    prev_pos: Vec<Vec3>,
-    /// What the grid-order records are copied from, gathered by agent index: reading every
-    /// agent's record once, in order, on the thread that last wrote it, is cheaper than reading
-    /// the records in the grid's order.
+    /// What others read of each agent this tick, by agent index: the grid-order records are
+    /// copied from it (reading every agent's record once, in order, on the thread that last
+    /// wrote it, is cheaper than reading the records in the grid's order), and agents' passes
+    /// read each other here.
     gathered: Vec<Gathered>,
     /// `near` again, one array per component, for the kin kernel (filled only when a species
     /// perceives by it).
@@ -212,12 +210,14 @@ pub struct Perception {
     obstacle_grid: ObstacleGrid,
 }
 
-/// What perception reads of an agent for its neighbors.
+/// What others read of an agent at the start of the tick.
 #[derive(Debug, Clone, Copy)]
 struct Gathered {
     body: Body,
     tag: Tag,
     diagonal: f32,
+    /// Its position a tick before (pursuers read their target's).
+    prev_pos: Vec3,
 }
 
 /// The part of an agent its neighbors read.
@@ -376,23 +376,21 @@ impl Perception {
     /// for bit), as its neighbors saw it.
     #[inline]
     pub fn velocity(&self, i: usize) -> Option<Vec3> {
-        let k = *self.slot_of.get(i)? as usize;
-        self.near.get(k).map(Body::velocity)
+        self.gathered.get(i).map(|g| g.body.velocity())
     }
 
     /// Radius of the bounding sphere of agent `i` ([`crate::world::Agent::radius`]), as
     /// perception saw it.
     #[inline]
     pub fn radius(&self, i: usize) -> Option<f32> {
-        let k = *self.slot_of.get(i)? as usize;
-        self.diagonals.get(k).map(|d| d * 0.5)
+        self.gathered.get(i).map(|g| g.diagonal * 0.5)
     }
 
     /// Position of agent `i` a tick before the start of this one
     /// ([`crate::world::Agent::prev_pos`]).
     #[inline]
     pub fn prev_pos(&self, i: usize) -> Option<Vec3> {
-        self.prev_pos.get(i).copied()
+        self.gathered.get(i).map(|g| g.prev_pos)
     }
 
     /// Number of agents perceived for.
@@ -447,7 +445,6 @@ impl Perception {
         let unsensed = std::sync::atomic::AtomicBool::new(false);
         self.slot_starts.resize(n + 1, 0);
         self.sum_starts.resize(n + 1, 0);
-        self.prev_pos.resize(n, Vec3::ZERO);
         let unknown = Gathered {
             body: Body::default(),
             tag: Tag {
@@ -455,6 +452,7 @@ impl Perception {
                 sex: crate::world::Sex::Female,
             },
             diagonal: 0.0,
+            prev_pos: Vec3::ZERO,
         };
         self.gathered.resize(n, unknown);
         world
@@ -462,16 +460,14 @@ impl Perception {
             .par_iter()
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
-            .zip(self.prev_pos[..n].par_iter_mut())
             .zip(self.gathered[..n].par_iter_mut())
             .with_min_len(256)
-            .for_each(|((((a, slots), sums), prev), g)| {
+            .for_each(|(((a, slots), sums), g)| {
                 let s = a.species.0 as usize;
                 if s >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
                 (*slots, *sums) = share(s);
-                *prev = a.prev_pos;
                 *g = Gathered {
                     body: Body {
                         heading: a.forward(),
@@ -482,6 +478,7 @@ impl Perception {
                         sex: a.attrs.sex,
                     },
                     diagonal: a.diagonal(),
+                    prev_pos: a.prev_pos,
                 };
             });
         let unsensed = unsensed.into_inner();
