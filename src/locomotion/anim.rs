@@ -47,9 +47,9 @@ pub fn ease(t: f32) -> f32 {
 /// between the two neighboring key poses.
 pub fn tween(s: f32, max_bend: f32) -> f32 {
     let poses = key_poses(max_bend);
-    let x = (s.clamp(-1.0, 1.0) + 1.0) * 2.0; // 0..4
-                                              // `x` is in [0, 4] (or NaN, which `as` maps to 0): truncation is its floor, without the
-                                              // library call `floor` is on baseline x86-64.
+    // In [0, 4] (or NaN, which `as` maps to 0): truncation is its floor, without the library
+    // call `floor` is on baseline x86-64.
+    let x = (s.clamp(-1.0, 1.0) + 1.0) * 2.0;
     let i = (x as usize).min(3);
     let t = ease(x - i as f32);
     poses[i] * (1.0 - t) + poses[i + 1] * t
