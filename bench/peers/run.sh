@@ -4,6 +4,10 @@
 #
 #   bench/peers/run.sh                 # 1,000 agents × 100 steps and 10,000 agents × 10 steps
 #   bench/peers/run.sh 1000:100 2000:50
+#   bench/peers/run.sh --repeat 3 1000:100
+#
+# With --repeat K each pair is run K times, Mesa and shoal alternating, and the row gives the
+# median of each side (the ratio is of the medians); the single runs are printed above it.
 #
 # Mesa is installed from PyPI into bench/peers/.venv on first use (MESA_VENV overrides the path).
 # Both sides: N agents, a square of side sqrt(N / 0.1) (0.1 agent per unit², Mesa's 1,000 on
@@ -25,6 +29,11 @@ fi
 (cd "$root" && cargo build --release -q)
 shoal="$root/target/release/shoal"
 
+repeat=1
+if [ "${1:-}" = --repeat ]; then
+    repeat="${2:?--repeat needs a count}"
+    shift 2
+fi
 runs=("$@")
 if [ ${#runs[@]} -eq 0 ]; then
     runs=(1000:100 10000:10)
@@ -38,24 +47,35 @@ for run in "${runs[@]}"; do
     n="${run%%:*}"
     steps="${run##*:}"
     side=$(python3 -c "import math; print(f'{max(math.sqrt($n / 0.1), 10.0):g}')")
-    m=$("$venv/bin/python" "$here/mesa_boids.py" "$n" "$side" 10 "$steps" "$seed")
-    m_s=$(sed -n 's/.*seconds=\([^ ]*\).*/\1/p' <<<"$m")
-    m_k=$(sed -n 's/.*neighbors=\([^ ]*\).*/\1/p' <<<"$m")
-    s=$("$shoal" bench boids --agents "$n" --ticks "$steps" | tail -1)
-    s1=$("$shoal" bench boids --agents "$n" --ticks "$steps" --threads 1 | tail -1)
-    # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick ns/upd nbrs B/agent.
-    s_ups=$(awk '{print $5}' <<<"$s")
-    s_ms=$(awk '{print $6}' <<<"$s")
-    s_k=$(awk '{print $8}' <<<"$s")
-    s1_ups=$(awk '{print $5}' <<<"$s1")
-    python3 - "$n" "$side" "$steps" "$m_s" "$m_k" "$s_ups" "$s_ms" "$s_k" "$s1_ups" <<'PY'
+    samples=()
+    for ((r = 1; r <= repeat; r++)); do
+        m=$("$venv/bin/python" "$here/mesa_boids.py" "$n" "$side" 10 "$steps" "$seed")
+        m_s=$(sed -n 's/.*seconds=\([^ ]*\).*/\1/p' <<<"$m")
+        m_k=$(sed -n 's/.*neighbors=\([^ ]*\).*/\1/p' <<<"$m")
+        s=$("$shoal" bench boids --agents "$n" --ticks "$steps" | tail -1)
+        s1=$("$shoal" bench boids --agents "$n" --ticks "$steps" --threads 1 | tail -1)
+        # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick ns/upd nbrs B/agent.
+        samples+=("$m_s $m_k $(awk '{print $5, $8}' <<<"$s") $(awk '{print $5}' <<<"$s1")")
+    done
+    python3 - "$n" "$side" "$steps" "${samples[@]}" <<'PY'
+import statistics
 import sys
-n, side, steps, m_s, m_k, s_ups, s_ms, s_k, s1_ups = sys.argv[1:]
-n, steps = int(n), int(steps)
-m_ups = n * steps / float(m_s)
-s_s = float(s_ms) * steps / 1e3
-print(f"{n:<7} {side:<6} {steps:<6} {float(m_s):<10.3f} {m_ups:<12.0f} {m_k:<6} {s_s:<10.4f} "
-      f"{float(s_ups):<12.0f} {s_k:<6} {float(s1_ups):<12.0f} {float(s_ups) / m_ups:<9.0f} "
-      f"{float(s1_ups) / m_ups:<9.0f}")
+n, side, steps = int(sys.argv[1]), sys.argv[2], int(sys.argv[3])
+runs = [a.split() for a in sys.argv[4:]]
+
+
+def row(label, m_s, m_k, s_ups, s_k, s1_ups):
+    m_ups = n * steps / m_s
+    s_s = n * steps / s_ups
+    print(f"{n:<7} {side:<6} {steps:<6} {m_s:<10.3f} {m_ups:<12.0f} {m_k:<6} {s_s:<10.4f} "
+          f"{s_ups:<12.0f} {s_k:<6} {s1_ups:<12.0f} {s_ups / m_ups:<9.0f} {s1_ups / m_ups:<9.0f}"
+          + (f" {label}" if label else ""))
+
+
+if len(runs) > 1:
+    for k, (m_s, m_k, s_ups, s_k, s1_ups) in enumerate(runs, 1):
+        row(f"run {k}", float(m_s), m_k, float(s_ups), s_k, float(s1_ups))
+med = lambda c: statistics.median(float(r[c]) for r in runs)
+row("median" if len(runs) > 1 else "", med(0), runs[0][1], med(2), runs[0][3], med(4))
 PY
 done
