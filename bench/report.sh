@@ -36,5 +36,6 @@ if [ "${1:-}" != quick ]; then
             run $shoal bench $w --agents $n --ticks 20
         done
     done
-    run bench/peers/run.sh 1000:100 10000:10
+    run bench/peers/run.sh --repeat 3 1000:100
+    run bench/peers/run.sh 10000:10
 fi
