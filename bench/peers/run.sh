@@ -3,8 +3,13 @@
 # `shoal bench boids` on the same agent count, space, vision radius and step count.
 #
 #   bench/peers/run.sh                 # 1,000 agents × 100 steps and 10,000 agents × 10 steps
-#   bench/peers/run.sh 1000:100 2000:50
+#   bench/peers/run.sh 1000:500 2000:50
 #   bench/peers/run.sh --repeat 3 1000:100
+#
+# Steps: fewer than `shoal bench boids` times (500 at 1,000 agents, 200 at 10,000). Mesa's flock
+# contracts as it runs: after 100 steps a boid has ~37 others within its vision (shoal's: ~30),
+# after 500 steps ~217 (shoal's: ~32), so Mesa's per-step work grows sevenfold and a longer run
+# no longer compares the same work. At 10,000 agents, 200 Mesa steps would also take 10–20 min.
 #
 # With --repeat K each pair is run K times, Mesa and shoal alternating, and the row gives the
 # median of each side (the ratio is of the medians); the single runs are printed above it.
