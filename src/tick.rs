@@ -783,8 +783,9 @@ fn agent_pass(
                 tick,
                 dt,
             };
-            // The worker's view is refilled in place (no allocation per call); the blackboard
-            // moves in and back out.
+            // The worker's view is refilled in place (no allocation per call). The blackboard
+            // is copied in and back out, not moved: a script that replaces `this` leaves the
+            // agent's own blackboard as it was.
             let memory = me.memory.clone();
             if !view.is::<AgentView>() {
                 *view = Dynamic::from(AgentView::default());

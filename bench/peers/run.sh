@@ -13,7 +13,7 @@
 #
 # With --repeat K each pair is run K times, Mesa and shoal alternating, and the row gives the
 # median of each side (the ratio is of the medians); the single runs are printed above it.
-# Each shoal figure of a run is itself the median of SHOAL_RUNS processes (default 5).
+# Each shoal figure of a run is itself the median of SHOAL_RUNS runs (default 5).
 #
 # Mesa is installed from PyPI into bench/peers/.venv on first use (MESA_VENV overrides the path).
 # Both sides: N agents, a square of side sqrt(N / 0.1) (0.1 agent per unit², Mesa's 1,000 on
@@ -50,15 +50,13 @@ echo "mesa $("$venv/bin/python" -c 'import mesa; print(mesa.__version__)'), pyth
 printf '%-7s %-6s %-6s %-10s %-12s %-6s %-10s %-12s %-6s %-12s %-9s %-9s\n' \
     agents side steps mesa_s mesa_upd/s m_nbrs shoal_s shoal_upd/s s_nbrs shoal1_upd/s ratio ratio_1t
 # A shoal run of 1,000 agents × 100 steps lasts 50 ms, where one preemption shows: each shoal
-# figure is the median of SHOAL_RUNS processes (5 unless set), each timing the whole run.
+# figure is the run of median speed among SHOAL_RUNS (5 unless set), `shoal bench --repeat`.
 # Prints "agent-updates/s neighbors".
 shoal_median() {
-    local k out=()
-    for ((k = 0; k < ${SHOAL_RUNS:-5}; k++)); do
-        # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick ns/upd nbrs B/agent.
-        out+=("$("$shoal" bench boids --agents "$1" --ticks "$2" --threads "$3" | tail -1 | awk '{print $5, $8}')")
-    done
-    printf '%s\n' "${out[@]}" | sort -n | sed -n "$(((${#out[@]} + 1) / 2))p"
+    # Columns of `shoal bench`: workload agents ticks ticks/s agent-upd/s ms/tick ns/upd nbrs
+    # B/agent [slowest fastest].
+    "$shoal" bench boids --agents "$1" --ticks "$2" --threads "$3" --repeat "${SHOAL_RUNS:-5}" |
+        tail -1 | awk '{print $5, $8}'
 }
 
 for run in "${runs[@]}"; do

@@ -412,6 +412,17 @@ pub fn mean_neighbors(w: &BenchWorld) -> f32 {
     total as f32 / p.len() as f32
 }
 
+/// The sample of median speed (agent-updates per second) among `samples`: the lower middle
+/// one for an even count; `None` when there are none.
+pub fn median_sample(mut samples: Vec<Sample>) -> Option<Sample> {
+    if samples.is_empty() {
+        return None;
+    }
+    samples.sort_by(|a, b| a.updates_per_s().total_cmp(&b.updates_per_s()));
+    let middle = (samples.len() - 1) / 2;
+    Some(samples.swap_remove(middle))
+}
+
 /// Steps `w` `ticks` times; returns (seconds, agent-updates).
 #[inline(never)]
 pub fn step_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
@@ -452,7 +463,7 @@ pub fn world_of(
 }
 
 /// Measures `workload` at `n` agents over `ticks` ticks (passes, for the stage workloads), on
-/// the current rayon pool. `None` for `plan` until the planner is wired (see [`plan`]).
+/// the current rayon pool. `None` for `plan` when its map has no path (see [`plan::measure`]).
 pub fn measure(
     workload: Workload,
     n: usize,
@@ -581,6 +592,28 @@ mod tests {
 
     fn behaviors() -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("behaviors")
+    }
+
+    fn sample(seconds: f64) -> Sample {
+        Sample {
+            workload: "boids".into(),
+            agents: 10,
+            ticks: 5,
+            seconds,
+            updates: 50,
+            neighbors: 0.0,
+            bytes_per_agent: None,
+        }
+    }
+
+    #[test]
+    fn the_median_sample_is_the_middle_speed() {
+        assert_eq!(median_sample(Vec::new()), None);
+        let m = median_sample(vec![sample(2.0), sample(1.0), sample(4.0)]).unwrap();
+        assert_eq!(m.seconds, 2.0);
+        // An even count gives the lower middle speed (the slower of the two middle runs).
+        let m = median_sample(vec![sample(1.0), sample(3.0), sample(2.0), sample(4.0)]).unwrap();
+        assert_eq!(m.seconds, 3.0);
     }
 
     #[test]

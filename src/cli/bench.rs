@@ -22,6 +22,11 @@ pub struct BenchArgs {
     /// Folder of the reef species (default: the source tree's `behaviors/`).
     #[arg(long)]
     pub behaviors: Option<PathBuf>,
+    /// Measure each size this many times (a fresh world each time, the same work) and print
+    /// the run of median speed, with the slowest and fastest runs' ticks/s; B/agent is then
+    /// the first run's (later runs reuse memory the first one freed).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeat: u32,
 }
 
 /// Runs `shoal bench`.
@@ -54,8 +59,14 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
          nbrs = kin perceived per agent; B/agent = peak RSS while running, per agent",
         pool.current_num_threads()
     );
+    let repeat = args.repeat.max(1) as usize;
+    if repeat > 1 {
+        println!(
+            "each row: the run of median ticks/s among {repeat}, then the slowest and fastest runs' ticks/s"
+        );
+    }
     println!(
-        "{:<14} {:>8} {:>6} {:>10} {:>14} {:>10} {:>9} {:>8} {:>10}",
+        "{:<14} {:>8} {:>6} {:>10} {:>14} {:>10} {:>9} {:>8} {:>10}{}",
         "workload",
         "agents",
         "ticks",
@@ -64,7 +75,12 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
         "ms/tick",
         "ns/upd",
         "nbrs",
-        "B/agent"
+        "B/agent",
+        if repeat > 1 {
+            format!(" {:>10} {:>10}", "slowest", "fastest")
+        } else {
+            String::new()
+        }
     );
     for w in workloads {
         let sizes: Vec<usize> = if args.agents.is_empty() {
@@ -74,13 +90,21 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
         };
         for n in sizes {
             let ticks = args.ticks.unwrap_or_else(|| w.default_ticks(n)).max(1);
-            let sample = match pool.install(|| bench::measure(w, n, ticks, &behaviors)) {
-                Ok(s) => s,
-                Err(d) => return Ok(super::report(&d)),
-            };
-            match sample {
+            let mut samples = Vec::with_capacity(repeat);
+            for _ in 0..repeat {
+                match pool.install(|| bench::measure(w, n, ticks, &behaviors)) {
+                    Ok(Some(s)) => samples.push(s),
+                    Ok(None) => break,
+                    Err(d) => return Ok(super::report(&d)),
+                }
+            }
+            let first_memory = samples.first().and_then(|s| s.bytes_per_agent);
+            let (slowest, fastest) = samples.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), s| {
+                (lo.min(s.ticks_per_s()), hi.max(s.ticks_per_s()))
+            });
+            match bench::median_sample(samples) {
                 Some(s) => println!(
-                    "{:<14} {:>8} {:>6} {:>10.1} {:>14.0} {:>10.3} {:>9.0} {:>8.1} {:>10}",
+                    "{:<14} {:>8} {:>6} {:>10.1} {:>14.0} {:>10.3} {:>9.0} {:>8.1} {:>10}{}",
                     s.workload,
                     s.agents,
                     s.ticks,
@@ -89,13 +113,17 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
                     s.ms_per_tick(),
                     1e9 / s.updates_per_s().max(1e-9),
                     s.neighbors,
-                    s.bytes_per_agent
-                        .map_or("-".to_string(), |b| format!("{b:.0}")),
+                    first_memory.map_or("-".to_string(), |b| format!("{b:.0}")),
+                    if repeat > 1 {
+                        format!(" {slowest:>10.1} {fastest:>10.1}")
+                    } else {
+                        String::new()
+                    }
                 ),
                 None => {
                     println!(
-                        "{:<14} not available in this build: the formation planner is not wired \
-                         yet (see src/bench/plan.rs)",
+                        "{:<14} no plan: the benchmark map has no path between its corners \
+                         (see src/bench/plan.rs)",
                         w.name()
                     );
                     break;
