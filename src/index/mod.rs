@@ -4,6 +4,12 @@
 //! cell are contiguous and in ascending index order. Neighbor queries visit only the cells that
 //! overlap the query sphere, so perception costs O(N·k), not O(N²). Entries carry a copy of the
 //! position so that a query walks memory linearly.
+//!
+//! Cells are [`X_SPLIT`] times narrower along x than along y and z: the cells of one (y, z) row
+//! are adjacent in memory, so a query reads a row as one run, and narrow cells let that run
+//! stop close to the sphere's own extent in that row (the chord at the row's nearest point), not
+//! at the query box. With cells of the query radius, a flat query then reads ~60 candidates
+//! per 31 neighbors instead of ~90, and a 3D one skips the corner rows the sphere misses.
 
 mod obstacles;
 
@@ -17,8 +23,11 @@ use rayon::prelude::*;
 #[derive(Debug, Clone, Default)]
 pub struct Grid {
     origin: Vec3,
-    inv_cell: f32,
-    cell: f32,
+    inv_cell: Vec3,
+    cell: Vec3,
+    /// How far rounding may put a point's cell from its true position (see
+    /// [`Grid::for_each_row_within`]).
+    slack: f32,
     dims: IVec3,
     /// `starts[c]..starts[c+1]` are the entries of cell `c`.
     starts: Vec<u32>,
@@ -41,14 +50,22 @@ const CHUNK: usize = 32;
 /// Most cells along one axis; larger worlds get bigger cells.
 const MAX_DIM: i32 = 256;
 
+/// Cells along x per cell along y and z (fewer where the cell table would grow too large).
+pub const X_SPLIT: i32 = 4;
+
 impl Grid {
     /// An empty grid.
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Cell size in use.
+    /// Cell size in use along y and z (cells along x may be narrower, see [`X_SPLIT`]).
     pub fn cell_size(&self) -> f32 {
+        self.cell.y
+    }
+
+    /// Cell size in use along each axis.
+    pub fn cell_sizes(&self) -> Vec3 {
         self.cell
     }
 
@@ -116,17 +133,30 @@ impl Grid {
         // A few cells per point at most: a large, sparse world gets larger cells instead of a
         // cell table bigger than the points it indexes.
         let max_cells = 4 * n as i64 + 4096;
-        let dims_for = |cell: f32| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
-        while {
-            let d = dims_for(cell).as_i64vec3();
-            d.x * d.y * d.z > max_cells
-        } {
+        let dims_for = |cell: Vec3| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
+        let cells = |d: IVec3| {
+            let d = d.as_i64vec3();
+            d.x * d.y * d.z
+        };
+        while cells(dims_for(Vec3::splat(cell))) > max_cells {
             cell *= 1.25;
         }
-        self.cell = cell;
-        self.inv_cell = 1.0 / cell;
+        // Narrower cells along x, as many as the same limits allow.
+        let mut cells3 = Vec3::splat(cell);
+        for split in (1..=X_SPLIT).rev() {
+            let c = Vec3::new(cell / split as f32, cell, cell);
+            let d = dims_for(c);
+            if split == 1 || (d.x <= MAX_DIM * X_SPLIT && cells(d) <= max_cells) {
+                cells3 = c;
+                break;
+            }
+        }
+        self.cell = cells3;
+        self.inv_cell = cells3.recip();
         self.origin = bounds.min;
         self.dims = ((size * self.inv_cell).ceil().as_ivec3()).max(IVec3::ONE);
+        let far = bounds.min.abs().max(bounds.max.abs()).max_element() + cell;
+        self.slack = far * 1e-6 + 1e-6;
     }
 
     /// Sorts `self.points` (in cells `self.cell_of`) by cell.
@@ -162,11 +192,6 @@ impl Grid {
     #[inline]
     fn cell_coord(&self, p: Vec3) -> IVec3 {
         cell_coord(self.origin, self.inv_cell, self.dims, p)
-    }
-
-    #[inline]
-    fn cell_index(&self, c: IVec3) -> usize {
-        cell_index(self.dims, c)
     }
 
     /// Entry indices in the grid's order (by cell, ascending within a cell): slot `k` of
@@ -223,8 +248,9 @@ impl Grid {
     }
 
     /// Calls `visit(start, end)` for each run of slots (see [`Grid::entries`]) that may hold
-    /// entries within `radius` of `center`: the cells of one row of the query box, whose
-    /// entries are contiguous. Runs come in the order of [`Grid::for_each_within`].
+    /// entries within `radius` of `center`: the cells of one (y, z) row that the sphere's
+    /// chord in that row overlaps, whose entries are contiguous. Rows the sphere misses are
+    /// skipped. Runs come in the order of [`Grid::for_each_within`].
     #[inline]
     pub fn for_each_row_within(
         &self,
@@ -237,12 +263,43 @@ impl Grid {
         }
         let lo = self.cell_coord(center - Vec3::splat(radius));
         let hi = self.cell_coord(center + Vec3::splat(radius));
+        // The sphere is taken a hair larger (`slack`): a point's cell comes from rounded
+        // arithmetic, and a candidate too many costs a distance test, one too few a neighbor.
+        let r = radius + self.slack;
+        let r2 = r * r;
+        let (o, cell, dims) = (self.origin, self.cell, self.dims);
+        // Distance from `at` to the slab of cell `k` along one axis (zero inside it); the
+        // edge cells, which also hold the points beyond the bounds, reach out to infinity.
+        let gap = |k: i32, at: f32, o: f32, cell: f32, n: i32| {
+            let lo = o + k as f32 * cell;
+            let below = if k > 0 { lo - at } else { 0.0 };
+            let above = if k + 1 < n { at - (lo + cell) } else { 0.0 };
+            below.max(above).max(0.0)
+        };
+        // Cell along x of `x`, clamped like `cell_coord` (the chord ends are finite).
+        let cell_x = |x: f32| {
+            let q = (x - o.x) * self.inv_cell.x;
+            let t = q as i32;
+            (t - (q < t as f32) as i32).clamp(lo.x, hi.x)
+        };
         for z in lo.z..=hi.z {
+            let gz = gap(z, center.z, o.z, cell.z, dims.z);
+            let rest_z = r2 - gz * gz;
             for y in lo.y..=hi.y {
-                let row = self.cell_index(IVec3::new(lo.x, y, z));
-                let row_end = self.cell_index(IVec3::new(hi.x, y, z));
-                // Cells lo.x..=hi.x of one row are adjacent, so their entries are contiguous.
-                let (s, e) = (self.starts[row] as usize, self.starts[row_end + 1] as usize);
+                let gy = gap(y, center.y, o.y, cell.y, dims.y);
+                let rest = rest_z - gy * gy;
+                // A row the sphere misses (NaN only for a non-finite center).
+                if rest.is_nan() || rest < 0.0 {
+                    continue;
+                }
+                let w = rest.sqrt() + self.slack;
+                let (x0, x1) = (cell_x(center.x - w), cell_x(center.x + w));
+                let row = ((z * dims.y + y) * dims.x) as usize;
+                // Cells x0..=x1 of one row are adjacent, so their entries are contiguous.
+                let (s, e) = (
+                    self.starts[row + x0 as usize] as usize,
+                    self.starts[row + x1 as usize + 1] as usize,
+                );
                 if s < e {
                     visit(s, e);
                 }
@@ -264,7 +321,7 @@ impl Grid {
 /// Cell of `p` in a grid at `origin` with cells of `1 / inv_cell` (a point outside is clamped
 /// into an edge cell, a non-finite one into the first).
 #[inline]
-fn cell_coord(origin: Vec3, inv_cell: f32, dims: IVec3, p: Vec3) -> IVec3 {
+fn cell_coord(origin: Vec3, inv_cell: Vec3, dims: IVec3, p: Vec3) -> IVec3 {
     let q = (p - origin) * inv_cell;
     let q = if q.is_finite() { q } else { Vec3::ZERO };
     floor_clamped(q, dims)
@@ -355,5 +412,71 @@ mod tests {
         let mut n = 0;
         g.for_each_within(Vec3::splat(-5.0), 0.5, |_, _, _| n += 1);
         assert_eq!(n, 1);
+    }
+
+    /// Every point within `radius` of `c`, by brute force, sorted.
+    fn brute(pts: &[Vec3], c: Vec3, radius: f32) -> Vec<u32> {
+        (0..pts.len() as u32)
+            .filter(|&i| (pts[i as usize] - c).length() <= radius)
+            .collect()
+    }
+
+    #[test]
+    fn rows_follow_the_sphere_and_still_find_every_point() {
+        // A flat world far from the origin (rounding in the cell arithmetic is largest there),
+        // points on the sphere's rim and beyond the bounds included.
+        let o = Vec3::new(10_000.0, -5.0, -20_000.0);
+        let bounds = Aabb::new(o, o + Vec3::new(300.0, 10.0, 300.0));
+        let mut rng = Rng::new(4, 0);
+        let mut pts: Vec<Vec3> = (0..3000)
+            .map(|_| o + Vec3::new(rng.range(-5.0, 305.0), 5.0, rng.range(-5.0, 305.0)))
+            .collect();
+        let centers: Vec<Vec3> = (0..60).map(|k| pts[k * 41]).collect();
+        for (k, &c) in centers.iter().enumerate() {
+            let a = k as f32 * 0.7;
+            pts.push(c + Vec3::new(a.cos(), 0.0, a.sin()) * 10.0);
+        }
+        let mut g = Grid::new();
+        g.rebuild(bounds, 10.0, pts.iter().copied());
+        assert_eq!(g.cell_sizes(), Vec3::new(10.0 / X_SPLIT as f32, 10.0, 10.0));
+        let (mut candidates, mut boxed) = (0, 0);
+        for &c in &centers {
+            let mut found = Vec::new();
+            g.for_each_within(c, 10.0, |i, _, _| found.push(i));
+            found.sort();
+            assert_eq!(found, brute(&pts, c, 10.0), "around {c}");
+            g.for_each_row_within(c, 10.0, |s, e| candidates += e - s);
+            // What square cells of the radius would read: the 3 × 3 cells the box overlaps.
+            let cell = |v: f32, o: f32| ((v - o) / 10.0).floor();
+            boxed += pts
+                .iter()
+                .filter(|p| {
+                    let near = |v: f32, at: f32, o: f32| {
+                        (cell(at - 10.0, o)..=cell(at + 10.0, o)).contains(&cell(v, o))
+                    };
+                    near(p.x, c.x, o.x) && near(p.z, c.z, o.z)
+                })
+                .count();
+        }
+        // The runs read about 60 % of what square cells would: the chord per row, not the
+        // box, and narrow cells along x.
+        assert!(
+            (candidates as f32) < 0.75 * boxed as f32,
+            "{candidates} candidates where square cells read {boxed}"
+        );
+    }
+
+    #[test]
+    fn rows_the_sphere_misses_are_skipped_in_3d() {
+        // A sphere centered in the middle of a cell does not reach the corner rows of its box
+        // of 3 × 3 rows: a point there is never a candidate.
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::splat(30.0));
+        let corner = Vec3::new(15.0, 10.5, 10.5) - Vec3::new(0.0, 0.8, 0.8);
+        let mut g = Grid::new();
+        g.rebuild(bounds, 10.0, [Vec3::splat(15.0), corner].into_iter());
+        let mut runs = Vec::new();
+        g.for_each_row_within(Vec3::new(15.0, 19.5, 19.5), 9.0, |s, e| runs.push((s, e)));
+        let read: usize = runs.iter().map(|(s, e)| e - s).sum();
+        assert_eq!(read, 1, "{runs:?}");
     }
 }

@@ -261,20 +261,29 @@ impl<'a> KinFold<'a> {
     fn flush(&mut self) {
         let smell = self.probe.smell2 > 0.0;
         // A single separation query (the boids' case) has its own instance: its sums then
-        // stay in registers too.
+        // stay in registers too. So does a perceiver that sums no headings.
         let lone_separation = self.nq == 1 && self.separation[0];
-        match (self.probe.cone.is_some(), smell, lone_separation) {
-            (false, false, true) => self.fold::<false, false, true>(),
-            (false, false, false) => self.fold::<false, false, false>(),
-            (false, true, _) => self.fold::<false, true, false>(),
-            (true, false, _) => self.fold::<true, false, false>(),
-            (true, true, _) => self.fold::<true, true, false>(),
+        match (
+            self.probe.cone.is_some(),
+            smell,
+            lone_separation,
+            self.probe.headings,
+        ) {
+            (false, false, true, false) => self.fold::<false, false, true, false>(),
+            (false, false, true, true) => self.fold::<false, false, true, true>(),
+            (false, false, false, false) => self.fold::<false, false, false, false>(),
+            (false, false, false, true) => self.fold::<false, false, false, true>(),
+            (false, true, _, _) => self.fold::<false, true, false, true>(),
+            (true, false, _, _) => self.fold::<true, false, false, true>(),
+            (true, true, _, _) => self.fold::<true, true, false, true>(),
         }
         self.pending = 0;
     }
 
     #[inline(always)]
-    fn fold<const CONE: bool, const SMELL: bool, const SEPARATION: bool>(&mut self) {
+    fn fold<const CONE: bool, const SMELL: bool, const SEPARATION: bool, const HEADINGS: bool>(
+        &mut self,
+    ) {
         let lanes: &'a KinLanes = self.lanes;
         let p = self.probe;
         let (cx, cy, cz) = (
@@ -295,27 +304,32 @@ impl<'a> KinFold<'a> {
         let sep2 = Vec4::splat(self.radius2[0]);
         let mut sum = self.sum;
         let mut sep = self.q[0];
-        let [px, py, pz] = &lanes.pos;
-        let [hx, hy, hz] = &lanes.heading;
-        let [vx, vy, vz] = &lanes.vel;
-        for &(start, end) in &self.rows[..self.pending] {
-            let (start, n) = (start as usize, (end - start) as usize);
-            // Whole steps from `start`: the last may read up to LANES − 1 entries past the row
-            // (within the padding at worst), masked off by `left`.
-            let span = start..start + n.div_ceil(LANES) * LANES;
-            let column = |c: &'a Vec<f32>| c[span.clone()].chunks_exact(LANES);
-            let rows = column(px)
-                .zip(column(py))
-                .zip(column(pz))
-                .zip(column(hx).zip(column(hy)).zip(column(hz)))
-                .zip(column(vx).zip(column(vy)).zip(column(vz)));
-            // Lanes still within the row, counted down a step at a time.
-            let mut left = Vec4::splat(n as f32);
-            for ((((x, y), z), ((hx, hy), hz)), ((vx, vy), vz)) in rows {
-                let ok = LANE.cmplt(left);
-                left -= Vec4::splat(LANES as f32);
-                let v4 = |c: &[f32]| Vec4::new(c[0], c[1], c[2], c[3]);
-                let (x, y, z) = (v4(x), v4(y), v4(z));
+        let nq = self.nq;
+        let (radius2, separation) = (self.radius2, self.separation);
+        let q = &mut self.q;
+        // The columns as slices, cut to one length (their pointers then stay in registers
+        // and one bounds check covers them all).
+        let m = lanes.pos[0].len();
+        let col = |c: &'a Vec<f32>| &c[..m];
+        let (px, py, pz) = (col(&lanes.pos[0]), col(&lanes.pos[1]), col(&lanes.pos[2]));
+        let (vx, vy, vz) = (col(&lanes.vel[0]), col(&lanes.vel[1]), col(&lanes.vel[2]));
+        let (hx, hy, hz) = if HEADINGS {
+            (
+                col(&lanes.heading[0]),
+                col(&lanes.heading[1]),
+                col(&lanes.heading[2]),
+            )
+        } else {
+            (px, py, pz)
+        };
+        // One step: the candidates in slots `k..k + LANES`, those of lanes `ok` taken (a
+        // macro, not a closure: the sums must stay in this function's registers).
+        macro_rules! step {
+            ($k:expr, $ok:expr) => {{
+                let (k, ok): (usize, Option<glam::BVec4A>) = ($k, $ok);
+                assert!(k + LANES <= m);
+                let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
+                let (x, y, z) = (v4(px), v4(py), v4(pz));
                 let (dx, dy, dz) = (x - cx, y - cy, z - cz);
                 let d2 = dx * dx + dy * dy + dz * dz;
                 let mut vis = d2.cmple(vision2);
@@ -324,9 +338,12 @@ impl<'a> KinFold<'a> {
                     let dot = fx * dx + fy * dy + fz * dz;
                     vis &= len.cmpeq(Vec4::ZERO) | (dot / len).cmpge(cos_min);
                 }
-                let vis = vis & ok;
+                if let Some(ok) = ok {
+                    vis &= ok;
+                }
                 let hit = if SMELL {
-                    vis | (d2.cmple(smell2) & ok)
+                    let smelt = d2.cmple(smell2);
+                    vis | ok.map_or(smelt, |ok| smelt & ok)
                 } else {
                     vis
                 };
@@ -339,7 +356,7 @@ impl<'a> KinFold<'a> {
                 sum.pos[0] += pick(x);
                 sum.pos[1] += pick(y);
                 sum.pos[2] += pick(z);
-                if p.headings {
+                if HEADINGS {
                     sum.head[0] += pick(v4(hx));
                     sum.head[1] += pick(v4(hy));
                     sum.head[2] += pick(v4(hz));
@@ -350,25 +367,38 @@ impl<'a> KinFold<'a> {
                 sum.vel[2] += pick(uz);
                 if SEPARATION {
                     separate(&mut sep, hit, d2, sep2, tiny, dx, dy, dz);
-                    continue;
-                }
-                for k in 0..self.nq {
-                    let r2 = Vec4::splat(self.radius2[k]);
-                    let s = &mut self.q[k];
-                    if self.separation[k] {
-                        separate(s, hit, d2, r2, tiny, dx, dy, dz);
-                    } else {
-                        let take = hit & d2.cmple(r2);
-                        let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
-                        s.a[0] += pick(dx);
-                        s.a[1] += pick(dy);
-                        s.a[2] += pick(dz);
-                        s.b[0] += pick(ux);
-                        s.b[1] += pick(uy);
-                        s.b[2] += pick(uz);
-                        s.n += pick(Vec4::ONE);
+                } else {
+                    for (k, s) in q.iter_mut().enumerate().take(nq) {
+                        let r2 = Vec4::splat(radius2[k]);
+                        if separation[k] {
+                            separate(s, hit, d2, r2, tiny, dx, dy, dz);
+                        } else {
+                            let take = hit & d2.cmple(r2);
+                            let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
+                            s.a[0] += pick(dx);
+                            s.a[1] += pick(dy);
+                            s.a[2] += pick(dz);
+                            s.b[0] += pick(ux);
+                            s.b[1] += pick(uy);
+                            s.b[2] += pick(uz);
+                            s.n += pick(Vec4::ONE);
+                        }
                     }
                 }
+            }};
+        }
+        for &(start, end) in &self.rows[..self.pending] {
+            let (start, end) = (start as usize, end as usize);
+            // Whole steps unmasked; the last, partial one reads up to LANES − 1 entries past
+            // the row (within the padding at worst), masked off.
+            let mut k = start;
+            while k + LANES <= end {
+                step!(k, None);
+                k += LANES;
+            }
+            if k < end {
+                let ok = LANE.cmplt(Vec4::splat((end - k) as f32));
+                step!(k, Some(ok));
             }
         }
         if !SMELL {
