@@ -164,19 +164,53 @@ pub fn blend(kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
 
 /// [`blend`] around a known current velocity (`kin.velocity()`).
 pub fn blend_from(current: Vec3, kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
-    let mut sum = Vec3::ZERO;
-    let mut any = false;
+    let mut b = Blend::new(current, kin);
     for (w, c) in cmds {
-        if c.is_none() || w == 0.0 || !w.is_finite() {
-            continue;
-        }
-        any = true;
-        sum += w * (c.desired_velocity(kin) - current);
+        b.add(w, c);
     }
-    if any {
-        Steer::Velocity(current + sum)
-    } else {
-        Steer::None
+    b.finish()
+}
+
+/// A [`blend`] in progress: commands go in one at a time with [`Blend::add`].
+#[derive(Debug, Clone, Copy)]
+pub struct Blend<'a> {
+    current: Vec3,
+    kin: &'a Kin,
+    sum: Vec3,
+    any: bool,
+}
+
+impl<'a> Blend<'a> {
+    /// Nothing blended yet, around the current velocity `current` (`kin.velocity()`).
+    #[inline]
+    pub fn new(current: Vec3, kin: &'a Kin) -> Self {
+        Blend {
+            current,
+            kin,
+            sum: Vec3::ZERO,
+            any: false,
+        }
+    }
+
+    /// Adds command `c` with weight `w` (ignored if it is [`Steer::None`] or the weight is zero
+    /// or not finite).
+    #[inline]
+    pub fn add(&mut self, w: f32, c: Steer) {
+        if c.is_none() || w == 0.0 || !w.is_finite() {
+            return;
+        }
+        self.any = true;
+        self.sum += w * (c.desired_velocity(self.kin) - self.current);
+    }
+
+    /// The blended command.
+    #[inline]
+    pub fn finish(self) -> Steer {
+        if self.any {
+            Steer::Velocity(self.current + self.sum)
+        } else {
+            Steer::None
+        }
     }
 }
 

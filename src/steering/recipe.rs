@@ -4,7 +4,7 @@
 
 use super::avoid::{self, MovingObstacle};
 use super::group::{self, Neighbor};
-use super::{blend_from, escape, goal, wander, Kin, Steer, Term};
+use super::{blend_from, escape, goal, wander, Blend, Kin, Steer, Term};
 use crate::decision::{self, Ctx};
 use crate::perception::{Category, GroupQuery, GroupSum, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
@@ -282,19 +282,18 @@ pub fn evaluate(
             Steer::None
         }
         RecipeNode::Blend(v) => {
+            // `blend_from` over the parts, each folded in as soon as it is evaluated.
             let kin = ctx.kin();
-            let mut parts: [(f32, Steer); 16] = [(0.0, Steer::None); 16];
-            let n = v.len().min(16);
-            for (k, (w, by, r)) in v.iter().take(16).enumerate() {
+            let current = scratch.velocity(&kin);
+            let mut blend = Blend::new(current, &kin);
+            for (w, by, r) in v.iter().take(16) {
                 let f = by.as_ref().map_or(1.0, |b| decision::value(b, ctx, mind));
                 let weight = w * f;
-                parts[k] = if weight == 0.0 {
-                    (0.0, Steer::None)
-                } else {
-                    (weight, evaluate(r, ctx, mind, rng, scratch, depth + 1))
-                };
+                if weight != 0.0 {
+                    blend.add(weight, evaluate(r, ctx, mind, rng, scratch, depth + 1));
+                }
             }
-            blend_from(scratch.velocity(&kin), &kin, parts[..n].iter().copied())
+            blend.finish()
         }
         RecipeNode::Script(slot) => {
             let kin = ctx.kin();
