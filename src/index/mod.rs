@@ -8,8 +8,8 @@
 //! Cells are [`X_SPLIT`] times narrower along x than along y and z: the cells of one (y, z) row
 //! are adjacent in memory, so a query reads a row as one run, and narrow cells let that run
 //! stop within a narrow cell of the query box's own x extent instead of a whole cell of the
-//! radius beyond it. With cells of the query radius, a flat query then reads ~67 candidates for
-//! 31 neighbors instead of ~90, at no extra cost per row.
+//! radius beyond it. With cells of the query radius, a flat query then reads ~66 candidates for
+//! 31 neighbors instead of ~87, at no extra cost per row.
 
 mod obstacles;
 
