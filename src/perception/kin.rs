@@ -430,7 +430,12 @@ impl<'a> KinFold<'a> {
             seen: sum.seen.element_sum() as u32,
             nearest2: sum.near2.min_element(),
             pos: vec_of(&sum.pos),
-            heading: vec_of(&sum.head),
+            // The instances for cones and smell sum headings whatever the probe asks.
+            heading: if self.probe.headings {
+                vec_of(&sum.head)
+            } else {
+                Vec3A::ZERO
+            },
             vel: vec_of(&sum.vel),
         }
     }
@@ -581,5 +586,48 @@ mod tests {
         // Rows may also stop before the end of the data: the lanes past them are masked.
         let k = fold(&l, probe, &[(0, 3)], &[], &mut []);
         assert_eq!(k.count, 3);
+    }
+
+    #[test]
+    fn headings_are_summed_only_when_asked_and_nothing_else_changes() {
+        // Ten neighbors in a row (two whole steps and a partial one), with and without a cone.
+        let pts: Vec<(Vec3, Vec3)> = (0..11)
+            .map(|k| {
+                (
+                    Vec3::new(k as f32 * 0.5, 0.0, 1.0),
+                    Vec3::new(0.0, 1.0, 2.0),
+                )
+            })
+            .collect();
+        let l = lanes(&pts);
+        for cone in [None, Some((Vec3::X, -0.5))] {
+            let probe = |headings| Probe {
+                here: Vec3::ZERO,
+                me: 0,
+                vision2: 100.0,
+                smell2: 0.0,
+                cone,
+                headings,
+            };
+            let queries = [GroupQuery::Separation { radius: 1.2 }];
+            let (mut a, mut b) = ([GroupSum::default()], [GroupSum::default()]);
+            let with = fold(&l, probe(true), &[(0, 11)], &queries, &mut a);
+            let without = fold(&l, probe(false), &[(0, 11)], &queries, &mut b);
+            assert_eq!(with.count, 10, "{cone:?}");
+            let unit = Vec3A::new(0.0, 1.0, 2.0).normalize();
+            assert!((with.heading - unit * 10.0).length() < 1e-5, "{cone:?}");
+            assert_eq!(without.heading, Vec3A::ZERO, "{cone:?}");
+            assert_eq!(
+                KinSums {
+                    heading: Vec3A::ZERO,
+                    ..with
+                },
+                without,
+                "{cone:?}"
+            );
+            assert_eq!(a, b, "{cone:?}");
+            // Within 1.2 of the origin: (0.5, 0, 1) only (slot 0 is the perceiver's own).
+            assert_eq!(a[0].n, 1, "{cone:?}");
+        }
     }
 }
