@@ -180,7 +180,7 @@ pub struct Perception {
     percepts: Vec<Percept>,
     slot_starts: Vec<u32>,
     counts: Vec<u16>,
-    summaries: Vec<[Summary; Category::COUNT]>,
+    summaries: Vec<SummaryRow>,
     /// Group sums of every agent, `sum_starts[i]..sum_starts[i + 1]` for agent `i`.
     sums: Vec<GroupSum>,
     sum_starts: Vec<u32>,
@@ -268,7 +268,7 @@ const EMPTY: Percept = Percept {
 struct AgentOut<'a> {
     slots: &'a mut [Percept],
     count: &'a mut u16,
-    summary: &'a mut [Summary; Category::COUNT],
+    summary: &'a mut SummaryRow,
     sums: &'a mut [GroupSum],
 }
 
@@ -277,8 +277,17 @@ struct Outs<'a> {
     lo: usize,
     percepts: &'a mut [Percept],
     counts: &'a mut [u16],
-    summaries: &'a mut [[Summary; Category::COUNT]],
+    summaries: &'a mut [SummaryRow],
     sums: &'a mut [GroupSum],
+}
+
+/// One agent's summaries, by [`Category`], and whether every one but the kin summary is known
+/// to be empty (then the kin kernel rewrites that one alone: a boid's tick does not touch the
+/// five cache lines of the others).
+#[derive(Debug, Clone, Copy, Default)]
+struct SummaryRow {
+    by: [Summary; Category::COUNT],
+    only_kin: bool,
 }
 
 /// Agents per task of the parallel walk.
@@ -363,7 +372,7 @@ impl Perception {
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> &[Summary; Category::COUNT] {
-        &self.summaries[i]
+        &self.summaries[i].by
     }
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
@@ -495,8 +504,7 @@ impl Perception {
         self.percepts.resize(slots as usize, EMPTY);
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
-        self.summaries
-            .resize(n, [Summary::default(); Category::COUNT]);
+        self.summaries.resize(n, SummaryRow::default());
         let entries = agents.entries();
         self.near.resize(entries.len(), Body::default());
         let gathered = &self.gathered[..];
@@ -653,7 +661,9 @@ impl Perception {
                 |_| *p,
             );
         }
-        let len = fold.finish(&mut self.summaries[i]).0.len();
+        let row = &mut self.summaries[i];
+        row.only_kin = false;
+        let len = fold.finish(&mut row.by).0.len();
         self.counts[i] = len as u16;
     }
 }
@@ -1101,7 +1111,7 @@ fn perceive_one<const KEEP: bool>(
     cos_min: f32,
     reads: &Reads,
     slots: &mut [Percept],
-    summary: &mut [Summary; Category::COUNT],
+    summary: &mut SummaryRow,
     sums: &mut [GroupSum],
 ) -> u16 {
     let world = view.world;
@@ -1145,8 +1155,11 @@ fn perceive_one<const KEEP: bool>(
         if !view.relations.eats_items(s) && view.obstacle_grid.near(me.pos).is_empty() {
             let probe = probe(me.pos, me_slot, sense, &eye, reads);
             let acc = kernel(view, lanes, probe, radius, groups, sums);
-            summary.fill(Summary::default());
-            let sm = &mut summary[Category::Kin as usize];
+            if !summary.only_kin {
+                summary.by.fill(Summary::default());
+                summary.only_kin = true;
+            }
+            let sm = &mut summary.by[Category::Kin as usize];
             *sm = Summary {
                 count: acc.count,
                 seen: acc.seen,
@@ -1328,7 +1341,8 @@ fn perceive_one<const KEEP: bool>(
         });
     }
 
-    let (slots, nearest) = fold.finish(summary);
+    summary.only_kin = false;
+    let (slots, nearest) = fold.finish(&mut summary.by);
     let len = slots.len();
 
     // Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
@@ -1848,6 +1862,67 @@ mod tests {
         assert!(p.percepts(0).is_empty());
         let food = p.summaries(0)[Category::Food as usize];
         assert_eq!((food.count, food.nearest), (1, None));
+    }
+
+    #[test]
+    fn a_reused_buffer_holds_no_summary_of_a_rock_that_is_gone() {
+        // Agents near a rock take the general path and summarize it; once the rock is removed
+        // they take the kin kernel, which rewrites only the kin summary of a row it cleared
+        // itself: the rock's summary must be gone, as in a fresh perception.
+        let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 1);
+        let mut rng = Rng::new(3, 0);
+        for k in 0..200 {
+            let pos = Vec3::new(
+                rng.range(-10.0, 10.0),
+                rng.range(-10.0, 10.0),
+                rng.range(-10.0, 10.0),
+            );
+            w.agents.push(agent(k, 0, pos, rng.range(-3.0, 3.0)));
+        }
+        w.add_obstacle(Shape::Sphere {
+            center: Vec3::ZERO,
+            radius: 2.0,
+        });
+        let mut groups = GroupQueries::new();
+        groups.insert(GroupQuery::Separation { radius: 2.0 });
+        let reads = Reads {
+            percepts: false,
+            agent_percepts: false,
+            bearing_range: Some(0.0),
+            groups,
+            headings: false,
+        };
+        let sense = SenseParams {
+            vision_radius: 5.0,
+            vision_half_angle: std::f32::consts::PI,
+            smell_radius: 0.0,
+            occlusion: false,
+            ..SenseParams::default()
+        };
+        let mut rel = Relations::new(1);
+        rel.set(0, 0, Some(Category::Kin));
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 5.0, w.agents.iter().map(|a| a.pos));
+        let run = |p: &mut Perception, w: &World| {
+            p.run_selective(w, &ag, &Grid::new(), &[sense], &rel, &[reads]);
+        };
+        let mut reused = Perception::new();
+        run(&mut reused, &w);
+        let near_rock = (0..w.agents.len())
+            .filter(|&i| reused.summaries(i)[Category::Obstacle as usize].count > 0)
+            .count();
+        assert!(near_rock > 10, "{near_rock} agents see the rock");
+        // Twice without the rock (the second run finds rows the kernel itself cleared).
+        w.obstacles[0].active = false;
+        for _ in 0..2 {
+            run(&mut reused, &w);
+            let mut fresh = Perception::new();
+            run(&mut fresh, &w);
+            for i in 0..w.agents.len() {
+                assert_eq!(reused.summaries(i), fresh.summaries(i), "agent {i}");
+                assert_eq!(reused.summaries(i)[Category::Obstacle as usize].count, 0);
+            }
+        }
     }
 
     #[test]
