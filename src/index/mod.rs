@@ -288,12 +288,14 @@ impl Grid {
     }
 }
 
-/// Cell of `p` in a grid at `origin` with cells of `1 / inv_cell` (a point outside is clamped
-/// into an edge cell, a non-finite one into the first).
+/// Cell of `p` in a grid at `origin` with cells of `1 / inv_cell` (a point outside, however
+/// far, is clamped into an edge cell; a NaN coordinate counts as the first cell along its axis).
+/// Infinities are clamped, not zeroed: a query box `center ± radius` with a huge finite radius
+/// overflows to ±∞ along the narrow x cells first, and must still reach the edge cells.
 #[inline]
 fn cell_coord(origin: Vec3, inv_cell: Vec3, dims: IVec3, p: Vec3) -> IVec3 {
     let q = (p - origin) * inv_cell;
-    let q = if q.is_finite() { q } else { Vec3::ZERO };
+    let q = Vec3::select(q.is_nan_mask(), Vec3::ZERO, q);
     floor_clamped(q, dims)
 }
 
@@ -303,7 +305,7 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
     ((c.z * dims.y + c.y) * dims.x + c.x) as usize
 }
 
-/// `q.floor().as_ivec3().clamp(0, dims − 1)` for finite `q`, without `floorf` (a library call
+/// `q.floor().as_ivec3().clamp(0, dims − 1)` for `q` without NaN (±∞ saturate), without `floorf` (a library call
 /// on baseline x86-64): truncate (saturating), then step down where truncation rounded up.
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
@@ -431,5 +433,22 @@ mod tests {
             (candidates as f32) < 0.85 * square as f32,
             "{candidates} candidates where square cells read {square}"
         );
+    }
+
+    #[test]
+    fn a_huge_radius_reaches_every_cell() {
+        // With cells of 0.25 along x, `center.x + 1e38` overflows to +∞ where the same box
+        // along y and z stays finite: the box must still span the grid, not collapse to a cell.
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::new(100.0, 0.0, 100.0));
+        let pts: Vec<Vec3> = (0..100)
+            .flat_map(|x| (0..100).map(move |z| Vec3::new(x as f32 + 0.5, 0.0, z as f32 + 0.5)))
+            .collect();
+        let mut g = Grid::new();
+        g.rebuild(bounds, 1.0, pts.iter().copied());
+        for r in [1e30, 1e38, 2e38, f32::MAX, f32::INFINITY] {
+            let mut n = 0;
+            g.for_each_within(Vec3::new(50.0, 50.0, 50.0), r, |_, _, _| n += 1);
+            assert_eq!(n, pts.len(), "radius {r}");
+        }
     }
 }

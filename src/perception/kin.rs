@@ -609,25 +609,31 @@ mod tests {
                 cone,
                 headings,
             };
-            let queries = [GroupQuery::Separation { radius: 1.2 }];
-            let (mut a, mut b) = ([GroupSum::default()], [GroupSum::default()]);
-            let with = fold(&l, probe(true), &[(0, 11)], &queries, &mut a);
-            let without = fold(&l, probe(false), &[(0, 11)], &queries, &mut b);
-            assert_eq!(with.count, 10, "{cone:?}");
-            let unit = Vec3A::new(0.0, 1.0, 2.0).normalize();
-            assert!((with.heading - unit * 10.0).length() < 1e-5, "{cone:?}");
-            assert_eq!(without.heading, Vec3A::ZERO, "{cone:?}");
-            assert_eq!(
-                KinSums {
+            // A lone separation (the boid's own instance) and two queries (the general one).
+            let sep = GroupQuery::Separation { radius: 1.2 };
+            let mean = GroupQuery::Mean { radius: 2.6 };
+            for queries in [&[sep][..], &[sep, mean][..]] {
+                let (mut a, mut b) = ([GroupSum::default(); 2], [GroupSum::default(); 2]);
+                let with = fold(&l, probe(true), &[(0, 11)], queries, &mut a);
+                let without = fold(&l, probe(false), &[(0, 11)], queries, &mut b);
+                let case = format!("{cone:?} {}", queries.len());
+                assert_eq!(with.count, 10, "{case}");
+                let unit = Vec3A::new(0.0, 1.0, 2.0).normalize();
+                assert!((with.heading - unit * 10.0).length() < 1e-5, "{case}");
+                assert_eq!(without.heading, Vec3A::ZERO, "{case}");
+                let without_headings = KinSums {
                     heading: Vec3A::ZERO,
                     ..with
-                },
-                without,
-                "{cone:?}"
-            );
-            assert_eq!(a, b, "{cone:?}");
-            // Within 1.2 of the origin: (0.5, 0, 1) only (slot 0 is the perceiver's own).
-            assert_eq!(a[0].n, 1, "{cone:?}");
+                };
+                assert_eq!(without_headings, without, "{case}");
+                assert_eq!(a, b, "{case}");
+                // Within 1.2 of the origin: (0.5, 0, 1) only (slot 0 is the perceiver's own);
+                // within 2.6: x up to 2.0 (√(2² + 1) ≤ 2.6 < √(2.5² + 1)), four of them.
+                assert_eq!(a[0].n, 1, "{case}");
+                if queries.len() == 2 {
+                    assert_eq!(a[1].n, 4, "{case}");
+                }
+            }
         }
     }
 }
