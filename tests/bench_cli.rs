@@ -1,18 +1,8 @@
 //! `shoal bench` through the command line: the table it prints, and `--repeat`'s median row.
 
-use std::process::Command;
+mod common;
 
-fn shoal(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::shoal;
 
 /// The numeric columns of the row of `workload`.
 fn row(stdout: &str, workload: &str) -> Vec<f64> {

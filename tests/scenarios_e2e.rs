@@ -1,20 +1,10 @@
 //! End to end: every shipped scenario runs through the CLI, its recording has the documented
 //! schema and the content the scenario is about, and a re-run gives identical bytes.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn shoal(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::shoal;
+use std::path::{Path, PathBuf};
 
 struct Row {
     tick: u64,

@@ -56,12 +56,7 @@ impl Grid {
         Self::default()
     }
 
-    /// Cell size in use along y and z (cells along x may be narrower, see [`X_SPLIT`]).
-    pub fn cell_size(&self) -> f32 {
-        self.cell.y
-    }
-
-    /// Cell size in use along each axis.
+    /// Cell size in use along each axis (narrower along x, see [`X_SPLIT`]).
     pub fn cell_sizes(&self) -> Vec3 {
         self.cell
     }
@@ -305,8 +300,9 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
     ((c.z * dims.y + c.y) * dims.x + c.x) as usize
 }
 
-/// `q.floor().as_ivec3().clamp(0, dims − 1)` for `q` without NaN (±∞ saturate), without `floorf` (a library call
-/// on baseline x86-64): truncate (saturating), then step down where truncation rounded up.
+/// `q.floor().as_ivec3().clamp(0, dims − 1)` for `q` without NaN (±∞ saturate), without
+/// `floorf` (a library call on baseline x86-64): truncate (saturating), then step down where
+/// truncation rounded up.
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
     let t = q.as_ivec3();
@@ -365,10 +361,7 @@ mod tests {
             let mut found = Vec::new();
             g.for_each_within(c, 9.0, |i, _, _| found.push(i));
             found.sort();
-            let brute: Vec<u32> = (0..pts.len() as u32)
-                .filter(|&i| (pts[i as usize] - c).length() <= 9.0)
-                .collect();
-            assert_eq!(found, brute);
+            assert_eq!(found, brute(&pts, c, 9.0));
         }
     }
 

@@ -320,6 +320,7 @@ impl<'a> KinFold<'a> {
                 col(&lanes.heading[2]),
             )
         } else {
+            // Never read: `HEADINGS` is false.
             (px, py, pz)
         };
         // One step: the candidates in slots `k..k + LANES`, those of lanes `ok` taken (a

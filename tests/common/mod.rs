@@ -1,4 +1,5 @@
-//! Helpers shared by the species tests: small worlds built with the library API.
+//! Helpers shared by the tests: small worlds built with the library API, and the CLI run as a
+//! process.
 #![allow(dead_code)]
 
 use glam::Vec3;
@@ -8,6 +9,7 @@ use shoal::species::{load_species, Species, SpeciesSet};
 use shoal::tick::Pipeline;
 use shoal::world::{Aabb, Agent, AgentId, World};
 use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::Arc;
 
 /// The shipped behaviors folder.
@@ -226,4 +228,17 @@ pub fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
         std::fs::write(&p, text).expect("write");
     }
     dir
+}
+
+/// Runs the `shoal` binary with `args`: (exit code, stdout, stderr).
+pub fn shoal(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
