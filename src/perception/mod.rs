@@ -176,14 +176,23 @@ impl Default for Reads {
 /// Per-agent perception results of one tick.
 #[derive(Debug, Clone, Default)]
 pub struct Perception {
-    /// Percept slots of every agent, `slot_starts[i]..slot_starts[i + 1]` for agent `i`.
+    /// Percept slots of every agent by row (see `order`), `slot_starts[r]..slot_starts[r + 1]`
+    /// for row `r`.
     percepts: Vec<Percept>,
     slot_starts: Vec<u32>,
     counts: Vec<u16>,
     summaries: Vec<SummaryRow>,
-    /// Group sums of every agent, `sum_starts[i]..sum_starts[i + 1]` for agent `i`.
+    /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`.
     sums: Vec<GroupSum>,
     sum_starts: Vec<u32>,
+    /// The agent perceived for in each row of the outputs: the agent grid's order when the grid
+    /// indexes exactly the world's agents (perceivers next to each other in the walk are next to
+    /// each other in space, so their neighborhoods are read from cache), else agent order.
+    order: Vec<u32>,
+    /// Row of each agent, by agent index (the inverse of `order`).
+    row_of: Vec<u32>,
+    /// `gathered` again, by row: what each perceiver reads of itself, in the walk's order.
+    selves: Vec<Gathered>,
     /// What a perceiver reads of each agent, gathered once per tick in the agent grid's order,
     /// so that a neighbor costs one small sequential read instead of a walk into the full agent
     /// and two `sin_cos`.
@@ -210,7 +219,8 @@ pub struct Perception {
     obstacle_grid: ObstacleGrid,
 }
 
-/// What others read of an agent at the start of the tick.
+/// What others read of an agent at the start of the tick, and what it reads of itself as a
+/// perceiver.
 #[derive(Debug, Clone, Copy)]
 struct Gathered {
     body: Body,
@@ -218,6 +228,9 @@ struct Gathered {
     diagonal: f32,
     /// Its position a tick before (pursuers read their target's).
     prev_pos: Vec3,
+    pos: Vec3,
+    yaw: f32,
+    pitch: f32,
 }
 
 /// The part of an agent its neighbors read.
@@ -365,20 +378,22 @@ impl Perception {
     /// category; none when its species reads no individual percept.
     #[inline]
     pub fn percepts(&self, i: usize) -> &[Percept] {
-        let s = self.slot_starts[i] as usize;
-        &self.percepts[s..s + self.counts[i] as usize]
+        let r = self.row_of[i] as usize;
+        let s = self.slot_starts[r] as usize;
+        &self.percepts[s..s + self.counts[r] as usize]
     }
 
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> &[Summary; Category::COUNT] {
-        &self.summaries[i].by
+        &self.summaries[self.row_of[i] as usize].by
     }
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
     #[inline]
     pub fn group_sums(&self, i: usize) -> &[GroupSum] {
-        &self.sums[self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize]
+        let r = self.row_of[i] as usize;
+        &self.sums[self.sum_starts[r] as usize..self.sum_starts[r + 1] as usize]
     }
 
     /// Velocity of agent `i` at the start of the tick ([`crate::world::Agent::velocity`], bit
@@ -440,8 +455,7 @@ impl Perception {
         let n = world.agents.len();
         let default = SenseParams::default();
         let everything = Reads::default();
-        // Slot and sum layout of this tick: every agent's share is rewritten below.
-        // Each agent's share (by its species), in parallel, then the running totals.
+        // Each agent's share of the output buffers (by its species).
         let share = |s: usize| {
             let r = reads.get(s).unwrap_or(&everything);
             let slots = if r.percepts {
@@ -452,8 +466,6 @@ impl Perception {
             (slots, r.groups.len() as u32)
         };
         let unsensed = std::sync::atomic::AtomicBool::new(false);
-        self.slot_starts.resize(n + 1, 0);
-        self.sum_starts.resize(n + 1, 0);
         let unknown = Gathered {
             body: Body::default(),
             tag: Tag {
@@ -462,21 +474,21 @@ impl Perception {
             },
             diagonal: 0.0,
             prev_pos: Vec3::ZERO,
+            pos: Vec3::ZERO,
+            yaw: 0.0,
+            pitch: 0.0,
         };
+        // Every agent's record read once, in order, on the thread that last wrote it.
         self.gathered.resize(n, unknown);
         world
             .agents
             .par_iter()
-            .zip(self.slot_starts[..n].par_iter_mut())
-            .zip(self.sum_starts[..n].par_iter_mut())
             .zip(self.gathered[..n].par_iter_mut())
             .with_min_len(256)
-            .for_each(|(((a, slots), sums), g)| {
-                let s = a.species.0 as usize;
-                if s >= senses.len() {
+            .for_each(|(a, g)| {
+                if a.species.0 as usize >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
-                (*slots, *sums) = share(s);
                 *g = Gathered {
                     body: Body {
                         heading: a.forward(),
@@ -488,9 +500,63 @@ impl Perception {
                     },
                     diagonal: a.diagonal(),
                     prev_pos: a.prev_pos,
+                    pos: a.pos,
+                    yaw: a.yaw,
+                    pitch: a.pitch,
                 };
             });
         let unsensed = unsensed.into_inner();
+        let entries = agents.entries();
+        // Species that may perceive by the kin kernel.
+        self.kernel.clear();
+        self.kernel
+            .extend((0..senses.len().max(reads.len())).map(|s| {
+                let r = reads.get(s).unwrap_or(&everything);
+                kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
+            }));
+        let kernel = self.kernel.iter().any(|&k| k);
+        // The walk's order: the grid's when it indexes exactly these agents (its inverse is
+        // then the row of each) and perceivers take the general path, else agent order.
+        // The general path reads each neighbor's scattered records, which perceivers next to
+        // each other in space share; the kin kernel reads compact lanes that stay in cache, and
+        // the agent pass then reads the outputs faster in agent order.
+        let by_grid = !kernel && agents.slots().len() == n && entries.len() == n;
+        self.order.clear();
+        self.row_of.clear();
+        if by_grid {
+            self.order.extend_from_slice(entries);
+            self.row_of.extend_from_slice(agents.slots());
+        } else {
+            self.order.extend(0..n as u32);
+            self.row_of.extend(0..n as u32);
+        }
+        // Each row's perceiver (copied into the walk's order when that is the grid's), with its
+        // share of the buffers.
+        self.selves.resize(if by_grid { n } else { 0 }, unknown);
+        self.slot_starts.resize(n + 1, 0);
+        self.sum_starts.resize(n + 1, 0);
+        let gathered = &self.gathered[..];
+        if by_grid {
+            self.selves
+                .par_iter_mut()
+                .zip(self.slot_starts[..n].par_iter_mut())
+                .zip(self.sum_starts[..n].par_iter_mut())
+                .zip(self.order.par_iter())
+                .with_min_len(256)
+                .for_each(|(((me, slots), sums), &i)| {
+                    *me = gathered[i as usize];
+                    (*slots, *sums) = share(me.tag.species as usize);
+                });
+        } else {
+            self.slot_starts[..n]
+                .par_iter_mut()
+                .zip(self.sum_starts[..n].par_iter_mut())
+                .zip(gathered.par_iter())
+                .with_min_len(256)
+                .for_each(|((slots, sums), me)| {
+                    (*slots, *sums) = share(me.tag.species as usize);
+                });
+        }
         let running = |starts: &mut [u32]| {
             let mut total = 0;
             for v in &mut starts[..n] {
@@ -505,25 +571,21 @@ impl Perception {
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
         self.summaries.resize(n, SummaryRow::default());
-        let entries = agents.entries();
-        self.near.resize(entries.len(), Body::default());
-        let gathered = &self.gathered[..];
-        let body = |b: &mut Body, j: u32| {
-            if let Some(g) = gathered.get(j as usize) {
-                *b = g.body;
+        // What a neighbor in grid slot `k` looks like: read in slot order from `selves` when the
+        // rows are the slots.
+        let selves = if by_grid { &self.selves[..] } else { gathered };
+        let of_slot = |k: usize| -> &Gathered {
+            if by_grid {
+                &selves[k]
+            } else {
+                gathered.get(entries[k] as usize).unwrap_or(&unknown)
             }
         };
+        self.near.resize(entries.len(), Body::default());
         // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
-        self.kernel.clear();
-        self.kernel
-            .extend((0..senses.len().max(reads.len())).map(|s| {
-                let r = reads.get(s).unwrap_or(&everything);
-                kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
-            }));
-        let kernel = self.kernel.iter().any(|&k| k);
         if kernel {
             self.lanes.fill(agents.positions(), &mut self.near, |k, b| {
-                body(b, entries[k]);
+                *b = of_slot(k).body;
                 (b.heading, b.velocity())
             });
         } else {
@@ -531,22 +593,21 @@ impl Perception {
                 .fill(&[], &mut [], |_, _: &mut Body| (Vec3::ZERO, Vec3::ZERO));
             self.near
                 .par_iter_mut()
-                .zip(entries.par_iter())
+                .enumerate()
                 .with_min_len(256)
-                .for_each(|(b, &j)| body(b, j));
+                .for_each(|(k, b)| *b = of_slot(k).body);
         }
-        let tag = |j: u32| {
-            let g = gathered.get(j as usize).unwrap_or(&unknown);
-            (g.tag, g.diagonal)
-        };
         self.tags.resize(entries.len(), unknown.tag);
         self.diagonals.resize(entries.len(), unknown.diagonal);
         self.tags
             .par_iter_mut()
             .zip(self.diagonals.par_iter_mut())
-            .zip(entries.par_iter())
+            .enumerate()
             .with_min_len(256)
-            .for_each(|((t, d), &j)| (*t, *d) = tag(j));
+            .for_each(|(k, (t, d))| {
+                let g = of_slot(k);
+                (*t, *d) = (g.tag, g.diagonal);
+            });
         self.slot_of.clear();
         if agents.slots().len() == n {
             // The grid indexes exactly these agents: its inverse is the slot of each.
@@ -569,6 +630,7 @@ impl Perception {
         let tags = &self.tags[..];
         let diagonals = &self.diagonals[..];
         let slot_of = &self.slot_of[..];
+        let order = &self.order[..];
         let lanes = (kernel && self.lanes.len() == near.len()).then_some(&self.lanes);
         let reach = senses
             .iter()
@@ -585,10 +647,12 @@ impl Perception {
             summaries: &mut self.summaries,
             sums: &mut self.sums,
         };
-        outs.for_each(&self.slot_starts, &self.sum_starts, &|i, out| {
-            let s = world.agents[i].species.0 as usize;
+        outs.for_each(&self.slot_starts, &self.sum_starts, &|r, out| {
+            let i = order[r] as usize;
+            let me = &selves[r];
+            let s = me.tag.species as usize;
             let sense = senses.get(s).unwrap_or(&default);
-            let r = reads.get(s).unwrap_or(&everything);
+            let rd = reads.get(s).unwrap_or(&everything);
             // Cosine bound of the vision cone (as `volume::in_cone` computes it).
             let cos_min = cos_mins.get(s).copied().unwrap_or(default_cos_min);
             let view = View {
@@ -607,10 +671,11 @@ impl Perception {
             *out.count = if out.slots.is_empty() {
                 perceive_one::<false>(
                     i,
+                    me,
                     &view,
                     sense,
                     cos_min,
-                    r,
+                    rd,
                     out.slots,
                     out.summary,
                     out.sums,
@@ -618,10 +683,11 @@ impl Perception {
             } else {
                 perceive_one::<true>(
                     i,
+                    me,
                     &view,
                     sense,
                     cos_min,
-                    r,
+                    rd,
                     out.slots,
                     out.summary,
                     out.sums,
@@ -639,6 +705,7 @@ impl Perception {
         if i >= self.counts.len() {
             return;
         }
+        let i = self.row_of[i] as usize;
         let range = self.slot_starts[i] as usize..self.slot_starts[i + 1] as usize;
         let slots = &mut self.percepts[range];
         // Fed percepts stand for no object of the world: no neighbor for the group rules.
@@ -1106,6 +1173,7 @@ fn kernel_species(s: usize, sense: &SenseParams, reads: &Reads, relations: &Rela
 #[allow(clippy::too_many_arguments)]
 fn perceive_one<const KEEP: bool>(
     i: usize,
+    me: &Gathered,
     view: &View,
     sense: &SenseParams,
     cos_min: f32,
@@ -1115,8 +1183,7 @@ fn perceive_one<const KEEP: bool>(
     sums: &mut [GroupSum],
 ) -> u16 {
     let world = view.world;
-    let me = &world.agents[i];
-    let s = me.species.0 as usize;
+    let s = me.tag.species as usize;
     let (yaw, pitch) = (me.yaw, me.pitch);
     // The body frame, only where a cone or a sense volume reads it. `frame::dorsal` is
     // `forward × left`: reuse both (the forward vector is in the body cache).
@@ -1130,10 +1197,7 @@ fn perceive_one<const KEEP: bool>(
             full_circle,
         }
     } else {
-        let fwd = match view.slot_of.get(i).and_then(|&k| view.near.get(k as usize)) {
-            Some(b) => b.heading,
-            None => me.forward(),
-        };
+        let fwd = me.body.heading;
         let left = frame::left(yaw);
         Eye {
             fwd,
@@ -1230,7 +1294,7 @@ fn perceive_one<const KEEP: bool>(
 
     let relations = view.relations;
     let mates = relations.mates.get(s).copied().unwrap_or(false);
-    let (here, my_sex) = (me.pos, me.attrs.sex);
+    let (here, my_sex) = (me.pos, me.tag.sex);
     let here_a = Vec3A::from(here);
     let row = relations.row(s);
     let entries = view.agents.entries();
@@ -2069,6 +2133,91 @@ mod tests {
         }
         assert!(a.summaries(0)[Category::Kin as usize].count > 0);
     }
+    #[test]
+    fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
+        // Fish (with mates, food, rocks and a predator) take the general path, which walks the
+        // perceivers in the grid's order. A grid with one entry beyond the agents makes the same
+        // perception walk in agent order: every agent's results must be the same, bit for bit.
+        let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 1);
+        let mut rng = Rng::new(9, 0);
+        let point = |rng: &mut Rng| {
+            Vec3::new(
+                rng.range(-18.0, 18.0),
+                rng.range(-18.0, 18.0),
+                rng.range(-18.0, 18.0),
+            )
+        };
+        for k in 0..400 {
+            let species = u16::from(k % 40 == 0);
+            let mut a = agent(k, species, point(&mut rng), rng.range(-3.0, 3.0));
+            a.pitch = rng.range(-0.5, 0.5);
+            a.speed = rng.range(0.0, 2.0);
+            if k % 2 == 1 {
+                a.attrs.sex = crate::world::Sex::Male;
+            }
+            w.agents.push(a);
+        }
+        for _ in 0..60 {
+            let p = point(&mut rng);
+            w.add_food(p);
+        }
+        for id in 0..6 {
+            w.obstacles.push(crate::world::Obstacle {
+                id,
+                shape: Shape::Sphere {
+                    center: point(&mut rng),
+                    radius: 1.5,
+                },
+                active: true,
+            });
+        }
+        let sense = SenseParams {
+            smell_radius: 6.0,
+            vision_radius: 4.0,
+            max_percepts: 8,
+            ..SenseParams::default()
+        };
+        let mut rel = rel();
+        rel.set_mates(0, true);
+        let mut groups = GroupQueries::new();
+        groups.insert(GroupQuery::Separation { radius: 2.0 });
+        groups.insert(GroupQuery::Mean { radius: 3.0 });
+        let reads = Reads {
+            groups,
+            ..Reads::default()
+        };
+        let mut fg = Grid::new();
+        fg.rebuild(w.bounds, 6.0, w.food.iter().map(|f| f.pos));
+        let perceive = |extra: Option<Vec3>| {
+            let mut ag = Grid::new();
+            let points: Vec<Vec3> = w.agents.iter().map(|a| a.pos).chain(extra).collect();
+            ag.rebuild(w.bounds, 6.0, points.into_iter());
+            let mut p = Perception::new();
+            p.run_selective(&w, &ag, &fg, &[sense; 2], &rel, &[reads; 2]);
+            p
+        };
+        let (by_grid, by_agent) = (perceive(None), perceive(Some(Vec3::splat(19.0))));
+        let n = w.agents.len();
+        assert_ne!(by_grid.order, (0..n as u32).collect::<Vec<_>>());
+        assert_eq!(by_agent.order, (0..n as u32).collect::<Vec<_>>());
+        let mut kept = 0;
+        for i in 0..n {
+            assert_eq!(by_grid.percepts(i), by_agent.percepts(i), "agent {i}");
+            assert_eq!(by_grid.summaries(i), by_agent.summaries(i), "agent {i}");
+            assert_eq!(by_grid.group_sums(i), by_agent.group_sums(i), "agent {i}");
+            kept += by_grid.percepts(i).len();
+        }
+        assert!(kept > n, "most fish keep percepts");
+        // Fed percepts land on the agent they are for, whatever its row.
+        let mut fed = by_grid.clone();
+        let p = by_grid.percepts(7)[0];
+        fed.inject(3, w.agents[3].pos, &[p]);
+        assert_eq!(fed.percepts(3), &[p]);
+        for i in (0..n).filter(|&i| i != 3) {
+            assert_eq!(fed.percepts(i), by_grid.percepts(i), "agent {i}");
+        }
+    }
+
     #[test]
     fn few_slots_still_keep_the_nearest_of_each_category() {
         // A kin at 1 m, the shark at 5 m and food at 6 m: however few percepts a species asks
