@@ -716,14 +716,13 @@ fn agent_pass(
     scripts_every_tick: bool,
     reads: &[Reads],
 ) {
-    // What the pass mutates, out of the record until the end of the pass.
+    // The mind is out of the record until the end of the pass (the record is read through
+    // `Ctx` meanwhile); the random stream is the pass's own copy.
     let mut mind = std::mem::take(&mut agent.mind);
     let mind = &mut mind;
-    let memory = std::mem::take(&mut agent.memory);
     let mut rng = agent.rng;
     let rng = &mut rng;
-    let base: &Agent = agent;
-    let s = base.species.0 as usize;
+    let s = agent.species.0 as usize;
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
     let def = &sp.def;
@@ -733,13 +732,9 @@ fn agent_pass(
     let dt = world.dt;
     let tick = world.tick;
 
-    // 3. Drives.
-    // The agent's own record without its mind (the pass's until its end).
-    let mut me = Agent {
-        mind: Default::default(),
-        memory: Vec::new(),
-        ..*base
-    };
+    // 3. Drives, in the agent's own record (what others read of it is perception's copy from
+    // the start of the tick).
+    let me = agent;
     if def.drives.native {
         let stim = |c: Category| {
             let d = summaries[c as usize].nearest_dist;
@@ -762,7 +757,6 @@ fn agent_pass(
         me.drives.since_meal += dt;
         me.drives.since_mating += dt;
     }
-    me.memory = memory;
     let mut error = None;
     let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];
 
@@ -777,7 +771,7 @@ fn agent_pass(
                 world,
                 perception,
                 species: sp,
-                agent: &me,
+                agent: &*me,
                 percepts,
                 summaries,
                 group_queries,
@@ -799,7 +793,7 @@ fn agent_pass(
             }
             let r = scripts::run_slots(sp, script, mind, view, scope);
             if let Some(mut v) = view.write_lock::<AgentView>() {
-                scripts::write_back(&v, &mut me);
+                scripts::write_back(&v, me);
                 *rng = v.rng;
                 for (k, m) in v.outbox.drain(..).take(2).enumerate() {
                     messages[2 + k] = Some(m);
@@ -814,7 +808,7 @@ fn agent_pass(
         world,
         perception,
         species: sp,
-        agent: &me,
+        agent: &*me,
         percepts,
         summaries,
         group_queries,
@@ -855,14 +849,14 @@ fn agent_pass(
         }
     }
     if let Some(v) = pending {
-        scripts::write_back(&v, &mut me);
+        scripts::write_back(&v, me);
         *rng = v.rng;
     }
     let ctx = Ctx {
         world,
         perception,
         species: sp,
-        agent: &me,
+        agent: &*me,
         percepts,
         summaries,
         group_queries,
@@ -939,7 +933,7 @@ fn agent_pass(
     out.behavior = mind.current;
 
     // The agent's new state, in its own record.
-    let a = agent;
+    let a = me;
     a.prev_pos = a.pos;
     a.pos = world.bounds.closest_point(motion.pos);
     a.yaw = motion.yaw;
@@ -949,8 +943,6 @@ fn agent_pass(
     a.pitch_rate = motion.pitch_rate;
     a.forward_cache = ForwardCache::new(a.yaw, a.pitch, info.forward);
     a.anim = an;
-    a.drives = me.drives;
-    a.memory = me.memory;
     a.mind = std::mem::take(mind);
     a.rng = *rng;
 }

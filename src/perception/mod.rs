@@ -478,16 +478,39 @@ impl Perception {
             yaw: 0.0,
             pitch: 0.0,
         };
-        // Every agent's record read once, in order, on the thread that last wrote it.
+        let entries = agents.entries();
+        // Species that may perceive by the kin kernel.
+        self.kernel.clear();
+        self.kernel
+            .extend((0..senses.len().max(reads.len())).map(|s| {
+                let r = reads.get(s).unwrap_or(&everything);
+                kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
+            }));
+        let kernel = self.kernel.iter().any(|&k| k);
+        // The walk's order: the grid's when it indexes exactly these agents (its inverse is
+        // then the row of each) and perceivers take the general path, else agent order.
+        // The general path reads each neighbor's scattered records, which perceivers next to
+        // each other in space share; the kin kernel reads compact lanes that stay in cache, and
+        // the agent pass then reads the outputs faster in agent order.
+        let by_grid = !kernel && agents.slots().len() == n && entries.len() == n;
+        // Every agent's record read once, in order, on the thread that last wrote it; in agent
+        // order, its share of the buffers with it.
         self.gathered.resize(n, unknown);
+        self.slot_starts.resize(n + 1, 0);
+        self.sum_starts.resize(n + 1, 0);
         world
             .agents
             .par_iter()
             .zip(self.gathered[..n].par_iter_mut())
+            .zip(self.slot_starts[..n].par_iter_mut())
+            .zip(self.sum_starts[..n].par_iter_mut())
             .with_min_len(256)
-            .for_each(|(a, g)| {
+            .for_each(|(((a, g), slots), sums)| {
                 if a.species.0 as usize >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+                if !by_grid {
+                    (*slots, *sums) = share(a.species.0 as usize);
                 }
                 *g = Gathered {
                     body: Body {
@@ -506,21 +529,6 @@ impl Perception {
                 };
             });
         let unsensed = unsensed.into_inner();
-        let entries = agents.entries();
-        // Species that may perceive by the kin kernel.
-        self.kernel.clear();
-        self.kernel
-            .extend((0..senses.len().max(reads.len())).map(|s| {
-                let r = reads.get(s).unwrap_or(&everything);
-                kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
-            }));
-        let kernel = self.kernel.iter().any(|&k| k);
-        // The walk's order: the grid's when it indexes exactly these agents (its inverse is
-        // then the row of each) and perceivers take the general path, else agent order.
-        // The general path reads each neighbor's scattered records, which perceivers next to
-        // each other in space share; the kin kernel reads compact lanes that stay in cache, and
-        // the agent pass then reads the outputs faster in agent order.
-        let by_grid = !kernel && agents.slots().len() == n && entries.len() == n;
         self.order.clear();
         self.row_of.clear();
         if by_grid {
@@ -530,11 +538,9 @@ impl Perception {
             self.order.extend(0..n as u32);
             self.row_of.extend(0..n as u32);
         }
-        // Each row's perceiver (copied into the walk's order when that is the grid's), with its
-        // share of the buffers.
+        // In the grid's order, each row's perceiver copied into it, with its share of the
+        // buffers.
         self.selves.resize(if by_grid { n } else { 0 }, unknown);
-        self.slot_starts.resize(n + 1, 0);
-        self.sum_starts.resize(n + 1, 0);
         let gathered = &self.gathered[..];
         if by_grid {
             self.selves
@@ -545,15 +551,6 @@ impl Perception {
                 .with_min_len(256)
                 .for_each(|(((me, slots), sums), &i)| {
                     *me = gathered[i as usize];
-                    (*slots, *sums) = share(me.tag.species as usize);
-                });
-        } else {
-            self.slot_starts[..n]
-                .par_iter_mut()
-                .zip(self.sum_starts[..n].par_iter_mut())
-                .zip(gathered.par_iter())
-                .with_min_len(256)
-                .for_each(|((slots, sums), me)| {
                     (*slots, *sums) = share(me.tag.species as usize);
                 });
         }
@@ -962,20 +959,17 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
     /// smallest distance, mates also counting as kin), with the nearest of each category put
     /// back among the kept; returns the kept percepts and a bit mask of the slots that are some
     /// category's nearest.
-    fn finish(self, summary: &mut [Summary; Category::COUNT]) -> (&'a mut [Percept], u32) {
+    fn finish(&mut self, summary: &mut [Summary; Category::COUNT]) -> (&'a mut [Percept], u32) {
         self.sums_into(summary);
-        let Fold {
-            kept,
-            nearest: candidates,
-            offered,
-            ..
-        } = self;
-        let mut len = kept.len;
-        let slots = kept.slots;
-        let mut best = nearest_kept(&slots[..len]);
-        if KEEP {
-            (len, best) = restore_nearest(slots, len, summary, &candidates, offered);
-        }
+        // Taken, not moved out of `self`: the fold stays where it is (no copy of its
+        // candidates).
+        let slots = std::mem::take(&mut self.kept.slots);
+        let (len, best) = if KEEP {
+            restore_nearest(slots, self.kept.len, summary, &self.nearest, self.offered)
+        } else {
+            // Nothing kept without `KEEP`.
+            (0, [None; Category::COUNT])
+        };
         let mut nearest = 0u32;
         for (sm, b) in summary.iter_mut().zip(best) {
             if sm.count > 0 {
