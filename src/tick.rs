@@ -782,13 +782,12 @@ fn agent_pass(
             // The worker's view is refilled in place (no allocation per call). The blackboard
             // is copied in and back out, not moved: a script that replaces `this` leaves the
             // agent's own blackboard as it was.
-            let memory = me.memory.clone();
             if !view.is::<AgentView>() {
                 *view = Dynamic::from(AgentView::default());
             }
             if let Some(mut v) = view.write_lock::<AgentView>() {
                 let behavior = &names.1[s][mind.current as usize];
-                scripts::fill_view(&mut v, &ctx, mind, &names.0[s], behavior, memory);
+                scripts::fill_view(&mut v, &ctx, mind, &names.0[s], behavior);
                 v.rng = *rng;
             }
             let r = scripts::run_slots(sp, script, mind, view, scope);

@@ -573,7 +573,6 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
                                 mind,
                                 sname,
                                 &bnames[mind.current as usize],
-                                a.memory.clone(),
                             );
                         }
                         let _ = scripts::run_slots(sp, script, mind, this, scope);

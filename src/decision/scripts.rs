@@ -26,27 +26,19 @@ pub fn view_of(
     behavior: &ImmutableString,
 ) -> AgentView {
     let mut v = AgentView::default();
-    fill_view(
-        &mut v,
-        ctx,
-        mind,
-        species_name,
-        behavior,
-        ctx.agent.memory.clone(),
-    );
+    fill_view(&mut v, ctx, mind, species_name, behavior);
     v
 }
 
 /// Refills an existing view in place for another call (what [`view_of`] builds, without
-/// allocating: strings and the recipe list are shared, the blackboard `memory` is moved in and
-/// the outbox is emptied).
+/// allocating: strings and the recipe list are shared, the agent's blackboard is copied into the
+/// view's, reusing its keys' and strings' room, and the outbox is emptied).
 pub fn fill_view(
     v: &mut AgentView,
     ctx: &Ctx,
     mind: &Mind,
     species_name: &ImmutableString,
     behavior: &ImmutableString,
-    memory: Vec<(String, crate::world::MemValue)>,
 ) {
     let a: &Agent = ctx.agent;
     for (cv, s) in v.cats.iter_mut().zip(ctx.summaries.iter()) {
@@ -103,7 +95,7 @@ pub fn fill_view(
     if v.heard.as_str() != heard {
         v.heard = shared_name(heard);
     }
-    v.memory = memory;
+    v.memory.clone_from(&a.memory);
     v.rng = a.rng;
     v.outbox.clear();
     if !Arc::ptr_eq(&v.recipes, &ctx.species.recipe_names) {

@@ -185,14 +185,15 @@ pub struct Perception {
     /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`.
     sums: Vec<GroupSum>,
     sum_starts: Vec<u32>,
-    /// The agent perceived for in each row of the outputs: the agent grid's order when the grid
-    /// indexes exactly the world's agents (perceivers next to each other in the walk are next to
-    /// each other in space, so their neighborhoods are read from cache), else agent order.
-    order: Vec<u32>,
-    /// Row of each agent, by agent index (the inverse of `order`).
+    /// Row of each agent's outputs, by agent index, when the rows are in the agent grid's
+    /// order (the grid's slot of each agent); empty when they are in agent order. Perceivers on
+    /// the general path are walked in the grid's order when the grid indexes exactly the world's
+    /// agents: perceivers next to each other in the walk are then next to each other in space,
+    /// and their neighborhoods are read from cache.
     row_of: Vec<u32>,
-    /// `gathered` again, by row: what each perceiver reads of itself, in the walk's order.
-    selves: Vec<Gathered>,
+    /// Yaw and pitch of the agent of each row, when the rows are in the grid's order (the rest
+    /// of what a perceiver reads of itself is in `near`, `tags` and the grid's positions).
+    angles: Vec<[f32; 2]>,
     /// What a perceiver reads of each agent, gathered once per tick in the agent grid's order,
     /// so that a neighbor costs one small sequential read instead of a walk into the full agent
     /// and two `sin_cos`.
@@ -219,8 +220,7 @@ pub struct Perception {
     obstacle_grid: ObstacleGrid,
 }
 
-/// What others read of an agent at the start of the tick, and what it reads of itself as a
-/// perceiver.
+/// What others read of an agent at the start of the tick.
 #[derive(Debug, Clone, Copy)]
 struct Gathered {
     body: Body,
@@ -228,9 +228,20 @@ struct Gathered {
     diagonal: f32,
     /// Its position a tick before (pursuers read their target's).
     prev_pos: Vec3,
+    /// Its heading's angles (copied to the perceivers' rows in the grid's order).
+    yaw: f32,
+    pitch: f32,
+}
+
+/// What a perceiver reads of itself.
+#[derive(Debug, Clone, Copy)]
+struct Me {
     pos: Vec3,
     yaw: f32,
     pitch: f32,
+    /// Forward unit vector.
+    heading: Vec3,
+    tag: Tag,
 }
 
 /// The part of an agent its neighbors read.
@@ -374,11 +385,21 @@ impl Perception {
         Self::default()
     }
 
+    /// Row of agent `i`'s outputs.
+    #[inline]
+    fn row(&self, i: usize) -> usize {
+        if self.row_of.is_empty() {
+            i
+        } else {
+            self.row_of[i] as usize
+        }
+    }
+
     /// Percepts of agent `i`: the nearest [`SenseParams::max_percepts`], and the nearest of each
     /// category; none when its species reads no individual percept.
     #[inline]
     pub fn percepts(&self, i: usize) -> &[Percept] {
-        let r = self.row_of[i] as usize;
+        let r = self.row(i);
         let s = self.slot_starts[r] as usize;
         &self.percepts[s..s + self.counts[r] as usize]
     }
@@ -386,13 +407,13 @@ impl Perception {
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> &[Summary; Category::COUNT] {
-        &self.summaries[self.row_of[i] as usize].by
+        &self.summaries[self.row(i)].by
     }
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
     #[inline]
     pub fn group_sums(&self, i: usize) -> &[GroupSum] {
-        let r = self.row_of[i] as usize;
+        let r = self.row(i);
         &self.sums[self.sum_starts[r] as usize..self.sum_starts[r + 1] as usize]
     }
 
@@ -474,7 +495,6 @@ impl Perception {
             },
             diagonal: 0.0,
             prev_pos: Vec3::ZERO,
-            pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,
         };
@@ -523,35 +543,28 @@ impl Perception {
                     },
                     diagonal: a.diagonal(),
                     prev_pos: a.prev_pos,
-                    pos: a.pos,
                     yaw: a.yaw,
                     pitch: a.pitch,
                 };
             });
         let unsensed = unsensed.into_inner();
-        self.order.clear();
         self.row_of.clear();
-        if by_grid {
-            self.order.extend_from_slice(entries);
-            self.row_of.extend_from_slice(agents.slots());
-        } else {
-            self.order.extend(0..n as u32);
-            self.row_of.extend(0..n as u32);
-        }
-        // In the grid's order, each row's perceiver copied into it, with its share of the
-        // buffers.
-        self.selves.resize(if by_grid { n } else { 0 }, unknown);
+        self.angles.clear();
         let gathered = &self.gathered[..];
         if by_grid {
-            self.selves
+            // In the grid's order, each row's heading angles, and its share of the buffers.
+            self.row_of.extend_from_slice(agents.slots());
+            self.angles.resize(n, [0.0; 2]);
+            self.angles
                 .par_iter_mut()
                 .zip(self.slot_starts[..n].par_iter_mut())
                 .zip(self.sum_starts[..n].par_iter_mut())
-                .zip(self.order.par_iter())
+                .zip(entries.par_iter())
                 .with_min_len(256)
-                .for_each(|(((me, slots), sums), &i)| {
-                    *me = gathered[i as usize];
-                    (*slots, *sums) = share(me.tag.species as usize);
+                .for_each(|(((angles, slots), sums), &i)| {
+                    let g = &gathered[i as usize];
+                    *angles = [g.yaw, g.pitch];
+                    (*slots, *sums) = share(g.tag.species as usize);
                 });
         }
         let running = |starts: &mut [u32]| {
@@ -568,16 +581,8 @@ impl Perception {
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
         self.summaries.resize(n, SummaryRow::default());
-        // What a neighbor in grid slot `k` looks like: read in slot order from `selves` when the
-        // rows are the slots.
-        let selves = if by_grid { &self.selves[..] } else { gathered };
-        let of_slot = |k: usize| -> &Gathered {
-            if by_grid {
-                &selves[k]
-            } else {
-                gathered.get(entries[k] as usize).unwrap_or(&unknown)
-            }
-        };
+        let of_slot =
+            |k: usize| -> &Gathered { gathered.get(entries[k] as usize).unwrap_or(&unknown) };
         self.near.resize(entries.len(), Body::default());
         // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
         if kernel {
@@ -627,7 +632,8 @@ impl Perception {
         let tags = &self.tags[..];
         let diagonals = &self.diagonals[..];
         let slot_of = &self.slot_of[..];
-        let order = &self.order[..];
+        let angles = &self.angles[..];
+        let positions = agents.positions();
         let lanes = (kernel && self.lanes.len() == near.len()).then_some(&self.lanes);
         let reach = senses
             .iter()
@@ -645,8 +651,30 @@ impl Perception {
             sums: &mut self.sums,
         };
         outs.for_each(&self.slot_starts, &self.sum_starts, &|r, out| {
-            let i = order[r] as usize;
-            let me = &selves[r];
+            // The perceiver of row `r`, and what it reads of itself: in the grid's order from
+            // the slot-ordered copies, in agent order from its record.
+            let (i, me) = if by_grid {
+                let [yaw, pitch] = angles[r];
+                let me = Me {
+                    pos: positions[r].into(),
+                    yaw,
+                    pitch,
+                    heading: near[r].heading,
+                    tag: tags[r],
+                };
+                (entries[r] as usize, me)
+            } else {
+                let a = &world.agents[r];
+                let me = Me {
+                    pos: a.pos,
+                    yaw: a.yaw,
+                    pitch: a.pitch,
+                    heading: gathered[r].body.heading,
+                    tag: gathered[r].tag,
+                };
+                (r, me)
+            };
+            let me = &me;
             let s = me.tag.species as usize;
             let sense = senses.get(s).unwrap_or(&default);
             let rd = reads.get(s).unwrap_or(&everything);
@@ -702,7 +730,7 @@ impl Perception {
         if i >= self.counts.len() {
             return;
         }
-        let i = self.row_of[i] as usize;
+        let i = self.row(i);
         let range = self.slot_starts[i] as usize..self.slot_starts[i + 1] as usize;
         let slots = &mut self.percepts[range];
         // Fed percepts stand for no object of the world: no neighbor for the group rules.
@@ -1167,7 +1195,7 @@ fn kernel_species(s: usize, sense: &SenseParams, reads: &Reads, relations: &Rela
 #[allow(clippy::too_many_arguments)]
 fn perceive_one<const KEEP: bool>(
     i: usize,
-    me: &Gathered,
+    me: &Me,
     view: &View,
     sense: &SenseParams,
     cos_min: f32,
@@ -1191,7 +1219,7 @@ fn perceive_one<const KEEP: bool>(
             full_circle,
         }
     } else {
-        let fwd = me.body.heading;
+        let fwd = me.heading;
         let left = frame::left(yaw);
         Eye {
             fwd,
@@ -2192,8 +2220,9 @@ mod tests {
         };
         let (by_grid, by_agent) = (perceive(None), perceive(Some(Vec3::splat(19.0))));
         let n = w.agents.len();
-        assert_ne!(by_grid.order, (0..n as u32).collect::<Vec<_>>());
-        assert_eq!(by_agent.order, (0..n as u32).collect::<Vec<_>>());
+        assert_eq!(by_grid.row_of.len(), n, "walked in the grid's order");
+        assert_ne!(by_grid.row_of, (0..n as u32).collect::<Vec<_>>());
+        assert!(by_agent.row_of.is_empty(), "walked in agent order");
         let mut kept = 0;
         for i in 0..n {
             assert_eq!(by_grid.percepts(i), by_agent.percepts(i), "agent {i}");
