@@ -12,7 +12,7 @@ use crate::drives::{self, Stimuli};
 use crate::events::{Cause, Event, MessageKind};
 use crate::index::Grid;
 use crate::locomotion::{self, anim, Motion};
-use crate::perception::{Category, GroupQueries, Perception, Reads, Source};
+use crate::perception::{Category, GroupQueries, Perception, Reads, Source, Summary};
 use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
@@ -643,13 +643,12 @@ impl Pipeline {
             return;
         };
         let agent = world.agents[i].clone();
-        let summaries = self
-            .perception
-            .summaries(i.min(self.perception.len().saturating_sub(1)));
-        let percepts = if i < self.perception.len() {
-            self.perception.percepts(i)
+        // An agent perception has not seen (one born this tick) has perceived nothing yet.
+        const NOTHING: [Summary; Category::COUNT] = [Summary::NONE; Category::COUNT];
+        let (summaries, percepts) = if i < self.perception.len() {
+            (self.perception.summaries(i), self.perception.percepts(i))
         } else {
-            &[]
+            (&NOTHING, &[][..])
         };
         let ctx = Ctx {
             world,

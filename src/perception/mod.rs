@@ -449,7 +449,8 @@ impl Perception {
     }
 
     /// Runs perception for every agent of `world`. `senses[s]` are species `s`'s senses. Every
-    /// agent keeps its percepts, each with its bearing and elevation.
+    /// agent keeps its percepts, each with its bearing and elevation. `agents` is the grid of
+    /// the agents' positions (entry `i` at `world.agents[i].pos`), `food` that of the food's.
     pub fn run(
         &mut self,
         world: &World,
@@ -513,6 +514,14 @@ impl Perception {
         // each other in space share; the kin kernel reads compact lanes that stay in cache, and
         // the agent pass then reads the outputs faster in agent order.
         let by_grid = !kernel && agents.slots().len() == n && entries.len() == n;
+        // The walk in the grid's order reads each perceiver's position from the grid: it must
+        // be the grid of these agents' positions (as `Pipeline::perceive` builds it).
+        debug_assert!(
+            !by_grid
+                || n == 0
+                || agents.positions()[agents.slots()[0] as usize] == world.agents[0].pos.into(),
+            "the agent grid indexes other positions than the world's agents"
+        );
         // Every agent's record read once, in order, on the thread that last wrote it; in agent
         // order, its share of the buffers with it.
         self.gathered.resize(n, unknown);

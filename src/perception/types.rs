@@ -188,16 +188,21 @@ pub struct Summary {
     pub mean_velocity: Vec3,
 }
 
+impl Summary {
+    /// Nothing of the category perceived.
+    pub const NONE: Summary = Summary {
+        count: 0,
+        seen: 0,
+        nearest: None,
+        nearest_dist: f32::INFINITY,
+        centroid: Vec3::ZERO,
+        mean_heading: Vec3::ZERO,
+        mean_velocity: Vec3::ZERO,
+    };
+}
+
 impl Default for Summary {
     fn default() -> Self {
-        Summary {
-            count: 0,
-            seen: 0,
-            nearest: None,
-            nearest_dist: f32::INFINITY,
-            centroid: Vec3::ZERO,
-            mean_heading: Vec3::ZERO,
-            mean_velocity: Vec3::ZERO,
-        }
+        Summary::NONE
     }
 }
