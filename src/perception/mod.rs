@@ -176,7 +176,7 @@ impl Default for Reads {
 /// Per-agent perception results of one tick.
 #[derive(Debug, Clone, Default)]
 pub struct Perception {
-    /// Percept slots of every agent by row (see `order`), `slot_starts[r]..slot_starts[r + 1]`
+    /// Percept slots of every agent by row (see `by_grid`), `slot_starts[r]..slot_starts[r + 1]`
     /// for row `r`.
     percepts: Vec<Percept>,
     slot_starts: Vec<u32>,
@@ -185,12 +185,12 @@ pub struct Perception {
     /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`.
     sums: Vec<GroupSum>,
     sum_starts: Vec<u32>,
-    /// Row of each agent's outputs, by agent index, when the rows are in the agent grid's
-    /// order (the grid's slot of each agent); empty when they are in agent order. Perceivers on
-    /// the general path are walked in the grid's order when the grid indexes exactly the world's
-    /// agents: perceivers next to each other in the walk are then next to each other in space,
-    /// and their neighborhoods are read from cache.
-    row_of: Vec<u32>,
+    /// Whether the outputs' rows are in the agent grid's order (an agent's row is then its slot,
+    /// `slot_of`), not in agent order. Perceivers on the general path are walked in the grid's
+    /// order when the grid indexes exactly the world's agents: perceivers next to each other in
+    /// the walk are then next to each other in space, and their neighborhoods are read from
+    /// cache.
+    by_grid: bool,
     /// Yaw and pitch of the agent of each row, when the rows are in the grid's order (the rest
     /// of what a perceiver reads of itself is in `near`, `tags` and the grid's positions).
     angles: Vec<[f32; 2]>,
@@ -388,10 +388,10 @@ impl Perception {
     /// Row of agent `i`'s outputs.
     #[inline]
     fn row(&self, i: usize) -> usize {
-        if self.row_of.is_empty() {
-            i
+        if self.by_grid {
+            self.slot_of[i] as usize
         } else {
-            self.row_of[i] as usize
+            i
         }
     }
 
@@ -557,12 +557,11 @@ impl Perception {
                 };
             });
         let unsensed = unsensed.into_inner();
-        self.row_of.clear();
+        self.by_grid = by_grid;
         self.angles.clear();
         let gathered = &self.gathered[..];
         if by_grid {
             // In the grid's order, each row's heading angles, and its share of the buffers.
-            self.row_of.extend_from_slice(agents.slots());
             self.angles.resize(n, [0.0; 2]);
             self.angles
                 .par_iter_mut()
@@ -1615,6 +1614,15 @@ mod tests {
         p
     }
 
+    /// A point drawn uniformly in the cube `[-half, half]³`.
+    fn random_point(rng: &mut Rng, half: f32) -> Vec3 {
+        Vec3::new(
+            rng.range(-half, half),
+            rng.range(-half, half),
+            rng.range(-half, half),
+        )
+    }
+
     fn rel() -> Relations {
         let mut r = Relations::new(2);
         r.set(0, 0, Some(Category::Kin));
@@ -1819,11 +1827,7 @@ mod tests {
         w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
         let mut rng = Rng::new(4, 0);
         for k in 0..40 {
-            let pos = Vec3::new(
-                rng.range(-6.0, 6.0),
-                rng.range(-6.0, 6.0),
-                rng.range(-6.0, 6.0),
-            );
+            let pos = random_point(&mut rng, 6.0);
             let mut a = agent(k + 1, 0, pos, rng.range(-3.0, 3.0));
             a.speed = rng.range(0.0, 2.0);
             w.agents.push(a);
@@ -1968,11 +1972,7 @@ mod tests {
         let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 1);
         let mut rng = Rng::new(3, 0);
         for k in 0..200 {
-            let pos = Vec3::new(
-                rng.range(-10.0, 10.0),
-                rng.range(-10.0, 10.0),
-                rng.range(-10.0, 10.0),
-            );
+            let pos = random_point(&mut rng, 10.0);
             w.agents.push(agent(k, 0, pos, rng.range(-3.0, 3.0)));
         }
         w.add_obstacle(Shape::Sphere {
@@ -2032,11 +2032,7 @@ mod tests {
         let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
         let mut rng = Rng::new(7, 0);
         for k in 0..400 {
-            let pos = Vec3::new(
-                rng.range(-15.0, 15.0),
-                rng.range(-15.0, 15.0),
-                rng.range(-15.0, 15.0),
-            );
+            let pos = random_point(&mut rng, 15.0);
             let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
             a.pitch = rng.range(-0.5, 0.5);
             a.speed = rng.range(0.0, 2.0);
@@ -2119,11 +2115,7 @@ mod tests {
         let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 3);
         let mut rng = Rng::new(5, 0);
         for k in 0..300 {
-            let pos = Vec3::new(
-                rng.range(-15.0, 15.0),
-                rng.range(-15.0, 15.0),
-                rng.range(-15.0, 15.0),
-            );
+            let pos = random_point(&mut rng, 15.0);
             let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
             a.pitch = rng.range(-0.5, 0.5);
             a.speed = rng.range(0.0, 2.0);
@@ -2171,13 +2163,7 @@ mod tests {
         // perception walk in agent order: every agent's results must be the same, bit for bit.
         let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 1);
         let mut rng = Rng::new(9, 0);
-        let point = |rng: &mut Rng| {
-            Vec3::new(
-                rng.range(-18.0, 18.0),
-                rng.range(-18.0, 18.0),
-                rng.range(-18.0, 18.0),
-            )
-        };
+        let point = |rng: &mut Rng| random_point(rng, 18.0);
         for k in 0..400 {
             let species = u16::from(k % 40 == 0);
             let mut a = agent(k, species, point(&mut rng), rng.range(-3.0, 3.0));
@@ -2229,9 +2215,9 @@ mod tests {
         };
         let (by_grid, by_agent) = (perceive(None), perceive(Some(Vec3::splat(19.0))));
         let n = w.agents.len();
-        assert_eq!(by_grid.row_of.len(), n, "walked in the grid's order");
-        assert_ne!(by_grid.row_of, (0..n as u32).collect::<Vec<_>>());
-        assert!(by_agent.row_of.is_empty(), "walked in agent order");
+        assert!(by_grid.by_grid, "walked in the grid's order");
+        assert_ne!(by_grid.slot_of, (0..n as u32).collect::<Vec<_>>());
+        assert!(!by_agent.by_grid, "walked in agent order");
         let mut kept = 0;
         for i in 0..n {
             assert_eq!(by_grid.percepts(i), by_agent.percepts(i), "agent {i}");
