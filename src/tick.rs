@@ -24,6 +24,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 mod awake;
 mod reads;
@@ -97,6 +98,36 @@ pub struct Stats {
     pub behavior_ticks: Vec<Vec<u64>>,
 }
 
+/// Wall time spent in each stage of the tick, summed over the ticks since the last
+/// [`Pipeline::reset_stage_times`] (what a profile of the pipeline starts from: `shoal bench
+/// --stages` prints it). Stages 3–6 run together, per agent, so they are one figure.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Stage 1: the spatial index (agent and food grids).
+    pub index: Duration,
+    /// Stage 2: perception.
+    pub perception: Duration,
+    /// Stages 3–6: drives, decision, steering and locomotion, per agent.
+    pub agents: Duration,
+    /// Stage 7: world events, in agent order.
+    pub events: Duration,
+    /// Ticks summed (calls of [`Pipeline::perceive`] alone count for stages 1–2 only).
+    pub ticks: u64,
+}
+
+impl StageTimes {
+    /// The stages' names and their mean milliseconds per tick, in pipeline order.
+    pub fn ms_per_tick(&self) -> [(&'static str, f64); 4] {
+        let per = |d: Duration| 1e3 * d.as_secs_f64() / self.ticks.max(1) as f64;
+        [
+            ("index", per(self.index)),
+            ("perception", per(self.perception)),
+            ("agents", per(self.agents)),
+            ("events", per(self.events)),
+        ]
+    }
+}
+
 /// The tick pipeline and its reusable buffers.
 pub struct Pipeline {
     /// The species in use (swapped on reload).
@@ -131,6 +162,7 @@ pub struct Pipeline {
     species_counts: Vec<u32>,
     /// Per worker thread (by rayon thread index): buffers kept across ticks.
     workers: Vec<std::sync::Mutex<Worker>>,
+    times: StageTimes,
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -166,6 +198,7 @@ impl Pipeline {
             full_bearings: false,
             species_counts: Vec::new(),
             workers: Vec::new(),
+            times: StageTimes::default(),
         };
         p.set_species(species);
         p
@@ -222,6 +255,17 @@ impl Pipeline {
     /// Percepts of the last tick's perception stage, by agent index.
     pub fn perception(&self) -> &Perception {
         &self.perception
+    }
+
+    /// Wall time spent in each stage since the last [`Pipeline::reset_stage_times`] (or since
+    /// the pipeline was made).
+    pub fn stage_times(&self) -> StageTimes {
+        self.times
+    }
+
+    /// Starts the stage times again from zero.
+    pub fn reset_stage_times(&mut self) {
+        self.times = StageTimes::default();
     }
 
     /// Spawns an agent of species `s` at `pos` heading `(yaw, pitch)`; attributes and initial
@@ -302,6 +346,7 @@ impl Pipeline {
     /// Stages 1–2 alone: rebuilds the spatial index and runs perception on `world` (results in
     /// [`Pipeline::perception`]). [`Pipeline::step`] starts with this.
     pub fn perceive(&mut self, world: &World) {
+        let start = Instant::now();
         let set = &self.species;
         // 1. Spatial index. Cells of the query radius of the most numerous species, a quarter
         // of it along x: its queries read 9 runs of contiguous entries (3 in a flat world),
@@ -335,6 +380,7 @@ impl Pipeline {
             });
         self.food_grid
             .rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
+        let indexed = Instant::now();
         // 2. Perception. Agents fed percepts need slots for them, whatever their species reads.
         if !self.injected.is_empty() {
             for r in &mut self.reads {
@@ -356,6 +402,10 @@ impl Pipeline {
                 self.perception.inject(i, world.agents[i].pos, percepts);
             }
         }
+        let perceived = Instant::now();
+        self.times.index += indexed - start;
+        self.times.perception += perceived - indexed;
+        self.times.ticks += 1;
     }
 
     /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
@@ -377,6 +427,7 @@ impl Pipeline {
         let n = world.agents.len();
         let set = self.species.clone();
         self.perceive(world);
+        let start = Instant::now();
         // 3–6. Per agent: drives, decision, steering, locomotion. Each agent's pass reads and
         // then rewrites its own record; the records are out of the world meanwhile, and what
         // an agent reads of another is perception's copy from the start of the tick.
@@ -440,8 +491,11 @@ impl Pipeline {
         if let Err(panic) = pass {
             std::panic::resume_unwind(panic);
         }
+        let passed = Instant::now();
         // 7. World events, applied in agent order.
         self.apply(world);
+        self.times.agents += passed - start;
+        self.times.events += passed.elapsed();
     }
 
     fn apply(&mut self, world: &mut World) {

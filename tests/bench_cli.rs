@@ -59,3 +59,40 @@ fn a_repeat_of_zero_is_refused() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--repeat"), "{err}");
 }
+
+#[test]
+fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
+    let (code, out, err) = shoal(&[
+        "bench", "boids", "--agents", "300", "--ticks", "4", "--stages",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    let at = lines
+        .iter()
+        .position(|l| l.starts_with("boids"))
+        .unwrap_or_else(|| panic!("no boids row in:\n{out}"));
+    let stages = lines
+        .get(at + 1)
+        .and_then(|l| l.trim().strip_prefix("stages, ms/tick: "))
+        .unwrap_or_else(|| panic!("no stages line under the row:\n{out}"));
+    let parts: Vec<(&str, f64)> = stages
+        .split(", ")
+        .map(|p| {
+            let (name, ms) = p.split_once(' ').expect("name and figure");
+            (name, ms.parse().expect("a number"))
+        })
+        .collect();
+    let names: Vec<&str> = parts.iter().map(|p| p.0).collect();
+    assert_eq!(names, ["index", "perception", "agents", "events"], "{out}");
+    let ms_per_tick = row(&out, "boids")[4];
+    let staged: f64 = parts.iter().map(|p| p.1).sum();
+    // Each figure is rounded to 0.001 ms.
+    assert!(
+        staged <= ms_per_tick + 0.002,
+        "{staged} > {ms_per_tick}:\n{out}"
+    );
+    assert!(parts[1].1 > 0.0 && parts[2].1 > 0.0, "{out}");
+    // Without the flag, no such line.
+    let (_, out, _) = shoal(&["bench", "boids", "--agents", "300", "--ticks", "2"]);
+    assert!(!out.contains("stages"), "{out}");
+}

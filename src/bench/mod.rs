@@ -151,6 +151,8 @@ pub struct Sample {
     /// Peak resident memory while running, above what the process held before the world was
     /// built, per agent (bytes), where measured (Linux).
     pub bytes_per_agent: Option<f64>,
+    /// Wall time by stage over the timed ticks (the tick workloads and `perceive`).
+    pub stages: Option<crate::tick::StageTimes>,
 }
 
 impl Sample {
@@ -480,6 +482,7 @@ pub fn measure(
     // Peak while running: construction transients (spawning) are not counted, what the world
     // keeps resident is.
     let tracked = reset_peak_memory();
+    w.run.pipeline.reset_stage_times();
     let (seconds, updates) = match workload {
         Workload::Perceive => perceive_timed(&mut w, ticks),
         Workload::Decide => decide_timed(&w, ticks, true),
@@ -500,6 +503,10 @@ pub fn measure(
         updates,
         neighbors: mean_neighbors(&w),
         bytes_per_agent,
+        stages: match workload {
+            Workload::Decide | Workload::DecideNative => None,
+            _ => Some(w.run.pipeline.stage_times()),
+        },
     }))
 }
 
@@ -602,6 +609,7 @@ mod tests {
             updates: 50,
             neighbors: 0.0,
             bytes_per_agent: None,
+            stages: None,
         }
     }
 
@@ -634,6 +642,38 @@ mod tests {
                 "{w:?}"
             );
         }
+    }
+
+    #[test]
+    fn stage_times_cover_the_timed_ticks_and_no_more() {
+        let s = measure(Workload::Boids, 300, 4, &behaviors())
+            .unwrap()
+            .unwrap();
+        let t = s.stages.expect("a tick workload times its stages");
+        assert_eq!(t.ticks, 4, "the warm-up ticks are not counted");
+        let staged = t.index + t.perception + t.agents + t.events;
+        assert!(
+            staged.as_secs_f64() <= s.seconds,
+            "{t:?} within {}",
+            s.seconds
+        );
+        assert!(!t.perception.is_zero() && !t.agents.is_zero(), "{t:?}");
+        // Stages 1–2 alone: nothing is counted for the others.
+        let p = measure(Workload::Perceive, 300, 3, &behaviors())
+            .unwrap()
+            .unwrap();
+        let t = p.stages.expect("perceive times its stages");
+        assert_eq!(
+            (t.ticks, t.agents, t.events),
+            (3, std::time::Duration::ZERO, std::time::Duration::ZERO)
+        );
+        assert!(!t.perception.is_zero(), "{t:?}");
+        let names: Vec<&str> = t.ms_per_tick().iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, ["index", "perception", "agents", "events"]);
+        let decide = measure(Workload::Decide, 300, 1, &behaviors())
+            .unwrap()
+            .unwrap();
+        assert_eq!(decide.stages, None, "the decision stage is timed whole");
     }
 
     #[test]

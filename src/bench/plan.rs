@@ -71,5 +71,6 @@ pub fn measure(passes: u64) -> Option<Sample> {
         updates: expanded,
         neighbors: 0.0,
         bytes_per_agent: None,
+        stages: None,
     })
 }

@@ -27,6 +27,10 @@ pub struct BenchArgs {
     /// the first run's (later runs reuse memory the first one freed).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub repeat: u32,
+    /// Under each row, the wall time per tick of each stage of the pipeline (index,
+    /// perception, agents: drives to locomotion, events), for the run of the row.
+    #[arg(long)]
+    pub stages: bool,
 }
 
 /// Runs `shoal bench`.
@@ -103,23 +107,33 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
                 (lo.min(s.ticks_per_s()), hi.max(s.ticks_per_s()))
             });
             match bench::median_sample(samples) {
-                Some(s) => println!(
-                    "{:<14} {:>8} {:>6} {:>10.1} {:>14.0} {:>10.3} {:>9.0} {:>8.1} {:>10}{}",
-                    s.workload,
-                    s.agents,
-                    s.ticks,
-                    s.ticks_per_s(),
-                    s.updates_per_s(),
-                    s.ms_per_tick(),
-                    1e9 / s.updates_per_s().max(1e-9),
-                    s.neighbors,
-                    first_memory.map_or("-".to_string(), |b| format!("{b:.0}")),
-                    if repeat > 1 {
-                        format!(" {slowest:>10.1} {fastest:>10.1}")
-                    } else {
-                        String::new()
+                Some(s) => {
+                    println!(
+                        "{:<14} {:>8} {:>6} {:>10.1} {:>14.0} {:>10.3} {:>9.0} {:>8.1} {:>10}{}",
+                        s.workload,
+                        s.agents,
+                        s.ticks,
+                        s.ticks_per_s(),
+                        s.updates_per_s(),
+                        s.ms_per_tick(),
+                        1e9 / s.updates_per_s().max(1e-9),
+                        s.neighbors,
+                        first_memory.map_or("-".to_string(), |b| format!("{b:.0}")),
+                        if repeat > 1 {
+                            format!(" {slowest:>10.1} {fastest:>10.1}")
+                        } else {
+                            String::new()
+                        }
+                    );
+                    if let Some(t) = s.stages.filter(|_| args.stages) {
+                        let parts: Vec<String> = t
+                            .ms_per_tick()
+                            .iter()
+                            .map(|(name, ms)| format!("{name} {ms:.3}"))
+                            .collect();
+                        println!("  stages, ms/tick: {}", parts.join(", "));
                     }
-                ),
+                }
                 None => {
                     println!(
                         "{:<14} no plan: the benchmark map has no path between its corners \
