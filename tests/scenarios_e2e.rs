@@ -75,6 +75,23 @@ fn run_checked(scenario: &str, extra: &[&str]) -> (tempfile::TempDir, PathBuf) {
         serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["status"], "complete");
     assert!(!dir.join("INCOMPLETE").exists());
+    // Where the wall time went: six shares of the whole (each rounded to 0.1 %).
+    let shares = manifest["summary"]["time_shares"].as_object().unwrap();
+    let keys: Vec<&str> = shares.keys().map(|k| k.as_str()).collect();
+    assert_eq!(
+        keys,
+        [
+            "agents",
+            "events",
+            "index",
+            "other",
+            "perception",
+            "recording"
+        ]
+    );
+    let total: f64 = shares.values().map(|v| v.as_f64().unwrap()).sum();
+    assert!((total - 1.0).abs() <= 0.004, "{shares:?}");
+    assert!(shares["perception"].as_f64().unwrap() > 0.0, "{shares:?}");
     assert!(manifest["files"]
         .as_object()
         .unwrap()

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Arguments of `shoal run`.
 #[derive(clap::Args, Debug, Default)]
@@ -88,7 +88,9 @@ pub fn execute(
     // Expectations the scenario declares are judged along the way and reported in the summary.
     let mut tracker = shoal::scenario::expect::Tracker::new(&run.scenario).ok();
     let progress = !quiet && std::io::stderr().is_terminal();
+    run.pipeline.reset_stage_times();
     let start = Instant::now();
+    let mut recording = Duration::ZERO;
     let mut last_draw = Instant::now();
     let total = run.total_ticks.max(1);
     let result: anyhow::Result<()> = pool.install(|| {
@@ -97,7 +99,9 @@ pub fn execute(
                 anyhow::bail!("interrupted (Ctrl-C)");
             }
             run.step();
+            let stepped = Instant::now();
             rec.record_tick(&run)?;
+            recording += stepped.elapsed();
             if let Some(t) = tracker.as_mut() {
                 t.observe(&run.world, &run.pipeline);
             }
@@ -128,6 +132,7 @@ pub fn execute(
     match result {
         Ok(()) => {
             let mut summary = summary(&run, elapsed);
+            summary["time_shares"] = time_shares(&run, elapsed, recording);
             let verdicts = tracker
                 .filter(|t| !t.is_empty())
                 .map(|t| t.finish(&run.world, &run.pipeline))
@@ -204,6 +209,35 @@ pub fn summary(run: &Run, elapsed: f64) -> serde_json::Value {
     })
 }
 
+/// The parts of [`time_shares`], in pipeline order.
+const TIME_PARTS: [&str; 6] = [
+    "index",
+    "perception",
+    "agents",
+    "events",
+    "recording",
+    "other",
+];
+
+/// Where the run's wall time went: each stage of the tick, the recording, and the rest (what
+/// the scenario does around the tick: its timed events, food, squads' plans; expectations;
+/// the progress bar), as shares of the whole, rounded to 0.1 %.
+fn time_shares(run: &Run, elapsed: f64, recording: Duration) -> serde_json::Value {
+    let whole = elapsed.max(1e-9);
+    let share = |d: Duration| (d.as_secs_f64() / whole * 1000.0).round() / 1000.0;
+    let t = run.pipeline.stage_times();
+    let staged = t.index + t.perception + t.agents + t.events + recording;
+    let other = Duration::from_secs_f64(elapsed).saturating_sub(staged);
+    serde_json::json!({
+        "index": share(t.index),
+        "perception": share(t.perception),
+        "agents": share(t.agents),
+        "events": share(t.events),
+        "recording": share(recording),
+        "other": share(other),
+    })
+}
+
 fn print_summary(run: &Run, s: &serde_json::Value) {
     println!(
         "scenario {} (seed {}): {} ticks, {:.1} s simulated",
@@ -240,7 +274,19 @@ fn print_summary(run: &Run, s: &serde_json::Value) {
             println!("    {sp:<14} {}", text.join(", "));
         }
     }
-    println!("  speed: {} ticks/s", s["ticks_per_second"]);
+    println!(
+        "  speed: {:.0} ticks/s",
+        s["ticks_per_second"].as_f64().unwrap_or(0.0)
+    );
+    let shares = &s["time_shares"];
+    if shares.is_object() {
+        // In pipeline order (the JSON object's keys are sorted).
+        let parts: Vec<String> = TIME_PARTS
+            .iter()
+            .map(|k| format!("{k} {:.0}%", shares[*k].as_f64().unwrap_or(0.0) * 100.0))
+            .collect();
+        println!("  wall time: {}", parts.join(", "));
+    }
 }
 
 /// Runs `shoal run`.
