@@ -86,9 +86,9 @@ fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
     assert_eq!(names, ["index", "perception", "agents", "events"], "{out}");
     let ms_per_tick = row(&out, "boids")[4];
     let staged: f64 = parts.iter().map(|p| p.1).sum();
-    // Each figure is rounded to 0.001 ms.
+    // Each of the five figures is rounded to 0.001 ms.
     assert!(
-        staged <= ms_per_tick + 0.002,
+        staged <= ms_per_tick + 0.003,
         "{staged} > {ms_per_tick}:\n{out}"
     );
     assert!(parts[1].1 > 0.0 && parts[2].1 > 0.0, "{out}");

@@ -89,9 +89,17 @@ fn run_checked(scenario: &str, extra: &[&str]) -> (tempfile::TempDir, PathBuf) {
             "recording"
         ]
     );
+    let share = |k: &str| shares[k].as_f64().unwrap();
     let total: f64 = shares.values().map(|v| v.as_f64().unwrap()).sum();
     assert!((total - 1.0).abs() <= 0.004, "{shares:?}");
-    assert!(shares["perception"].as_f64().unwrap() > 0.0, "{shares:?}");
+    // The rest is what the tick's stages and the recording leave: a stage missing from the
+    // sums would land there.
+    let staged = share("index") + share("perception") + share("agents") + share("events");
+    assert!(staged >= 0.5, "{shares:?}");
+    assert!(
+        share("perception") > 0.0 && share("agents") > 0.0,
+        "{shares:?}"
+    );
     assert!(manifest["files"]
         .as_object()
         .unwrap()
@@ -204,4 +212,51 @@ fn school_formation_sardines_form_one_school() {
     assert!(p0 < 0.5, "starts unordered: {p0}");
     assert!(crossed.is_some(), "polarization never crossed 0.8");
     assert!(s1 < 12.0, "ends cohesive: mean distance to centroid {s1}");
+}
+
+#[test]
+fn the_run_summary_says_where_the_wall_time_went() {
+    let t = tempfile::tempdir().unwrap();
+    let dir = t.path().join("run");
+    let (code, out, err) = shoal(&[
+        "run",
+        "scenarios/tiny.ron",
+        "--out",
+        dir.to_str().unwrap(),
+        "--duration",
+        "2",
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let speed = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("speed: "))
+        .unwrap_or_else(|| panic!("no speed line:\n{out}"));
+    let whole = speed.strip_suffix(" ticks/s").expect("ticks/s");
+    assert!(whole.parse::<u64>().is_ok_and(|v| v > 0), "{out}");
+    let line = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("wall time: "))
+        .unwrap_or_else(|| panic!("no wall time line:\n{out}"));
+    let parts: Vec<(&str, f64)> = line
+        .split(", ")
+        .map(|p| {
+            let (name, pct) = p.split_once(' ').expect("name and share");
+            (name, pct.trim_end_matches('%').parse().expect("a number"))
+        })
+        .collect();
+    let names: Vec<&str> = parts.iter().map(|p| p.0).collect();
+    assert_eq!(
+        names,
+        [
+            "index",
+            "perception",
+            "agents",
+            "events",
+            "recording",
+            "other"
+        ],
+        "{out}"
+    );
+    let total: f64 = parts.iter().map(|p| p.1).sum();
+    assert!((total - 100.0).abs() <= 0.4, "{out}");
 }

@@ -645,19 +645,18 @@ mod tests {
     }
 
     #[test]
-    fn stage_times_cover_the_timed_ticks_and_no_more() {
+    fn stage_times_count_the_timed_ticks_within_their_wall_time() {
         let s = measure(Workload::Boids, 300, 4, &behaviors())
             .unwrap()
             .unwrap();
         let t = s.stages.expect("a tick workload times its stages");
         assert_eq!(t.ticks, 4, "the warm-up ticks are not counted");
-        let staged = t.index + t.perception + t.agents + t.events;
-        assert!(
-            staged.as_secs_f64() <= s.seconds,
-            "{t:?} within {}",
-            s.seconds
-        );
-        assert!(!t.perception.is_zero() && !t.agents.is_zero(), "{t:?}");
+        let staged = (t.index + t.perception + t.agents + t.events).as_secs_f64();
+        assert!(staged <= s.seconds, "{t:?} within {}", s.seconds);
+        // (That they cover most of it is checked on a whole run, in `tests/scenarios_e2e.rs`:
+        // over four short ticks one preemption between two stages could outweigh them.)
+        let parts = [t.index, t.perception, t.agents, t.events];
+        assert!(parts.iter().all(|d| !d.is_zero()), "{t:?}");
         // Stages 1–2 alone: nothing is counted for the others.
         let p = measure(Workload::Perceive, 300, 3, &behaviors())
             .unwrap()

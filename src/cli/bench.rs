@@ -27,8 +27,9 @@ pub struct BenchArgs {
     /// the first run's (later runs reuse memory the first one freed).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub repeat: u32,
-    /// Under each row, the wall time per tick of each stage of the pipeline (index,
-    /// perception, agents: drives to locomotion, events), for the run of the row.
+    /// Under each row of the tick workloads and `perceive`, the wall time per tick of each
+    /// stage of the pipeline (index, perception, agents: drives to locomotion, events), for
+    /// the run of the row.
     #[arg(long)]
     pub stages: bool,
 }

@@ -220,8 +220,10 @@ const TIME_PARTS: [&str; 6] = [
 ];
 
 /// Where the run's wall time went: each stage of the tick, the recording, and the rest (what
-/// the scenario does around the tick: its timed events, food, squads' plans; expectations;
-/// the progress bar), as shares of the whole, rounded to 0.1 %.
+/// the scenario does around the pipeline: its timed events, food, squads' plans; the tick's
+/// own setup, such as waking a helper thread; expectations; the progress bar), as shares of the
+/// whole, rounded to 0.1 %. The whole ends with the last tick: the final flush of the
+/// recording is not in it.
 fn time_shares(run: &Run, elapsed: f64, recording: Duration) -> serde_json::Value {
     let whole = elapsed.max(1e-9);
     let share = |d: Duration| (d.as_secs_f64() / whole * 1000.0).round() / 1000.0;
@@ -283,7 +285,7 @@ fn print_summary(run: &Run, s: &serde_json::Value) {
         // In pipeline order (the JSON object's keys are sorted).
         let parts: Vec<String> = TIME_PARTS
             .iter()
-            .map(|k| format!("{k} {:.0}%", shares[*k].as_f64().unwrap_or(0.0) * 100.0))
+            .map(|k| format!("{k} {:.1}%", shares[*k].as_f64().unwrap_or(0.0) * 100.0))
             .collect();
         println!("  wall time: {}", parts.join(", "));
     }
