@@ -3,7 +3,8 @@
 #   bench/report.sh            # everything (about 20 minutes on 2 cores, Mesa included)
 #   bench/report.sh quick      # without the scaling sweeps and the peer comparison
 # Each `shoal bench` line measures REPEAT times (3 unless set) and prints the run of median
-# speed with the slowest and fastest (`--repeat`); memory is the first run's.
+# speed with the slowest and fastest (`--repeat`); memory is the first run's. The tick workloads
+# print, under each row, the median run's time per tick in each stage (`--stages`).
 set -uo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -19,13 +20,13 @@ echo "date: $(date -u '+%Y-%m-%d %H:%M UTC')"
 echo "commit: $(git rev-parse --short HEAD 2>/dev/null || echo '?')"
 echo "nproc: $(nproc)"
 lscpu | grep -E '^(Model name|CPU\(s\)|Thread|L1d|L2|L3|Hypervisor)' || true
-run $shoal bench boids --repeat "$repeat"
-run $shoal bench boids --threads 1 --repeat "$repeat"
-run $shoal bench flock --repeat "$repeat"
-run $shoal bench reef --repeat "$repeat"
-run $shoal bench reef-native --repeat "$repeat"
-run $shoal bench reef --agents 100000 --ticks 20 --repeat "$repeat"
-run $shoal bench reef-native --agents 100000 --ticks 20 --repeat "$repeat"
+run $shoal bench boids --repeat "$repeat" --stages
+run $shoal bench boids --threads 1 --repeat "$repeat" --stages
+run $shoal bench flock --repeat "$repeat" --stages
+run $shoal bench reef --repeat "$repeat" --stages
+run $shoal bench reef-native --repeat "$repeat" --stages
+run $shoal bench reef --agents 100000 --ticks 20 --repeat "$repeat" --stages
+run $shoal bench reef-native --agents 100000 --ticks 20 --repeat "$repeat" --stages
 run $shoal bench decide --repeat "$repeat"
 run $shoal bench decide --threads 1 --repeat "$repeat"
 run $shoal bench decide-native --threads 1 --repeat "$repeat"
