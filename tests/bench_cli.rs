@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::shoal;
+use common::{named_figures, shoal};
 
 /// The numeric columns of the row of `workload`.
 fn row(stdout: &str, workload: &str) -> Vec<f64> {
@@ -75,13 +75,7 @@ fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
         .get(at + 1)
         .and_then(|l| l.trim().strip_prefix("stages, ms/tick: "))
         .unwrap_or_else(|| panic!("no stages line under the row:\n{out}"));
-    let parts: Vec<(&str, f64)> = stages
-        .split(", ")
-        .map(|p| {
-            let (name, ms) = p.split_once(' ').expect("name and figure");
-            (name, ms.parse().expect("a number"))
-        })
-        .collect();
+    let parts = named_figures(stages);
     let names: Vec<&str> = parts.iter().map(|p| p.0).collect();
     assert_eq!(names, ["index", "perception", "agents", "events"], "{out}");
     let ms_per_tick = row(&out, "boids")[4];

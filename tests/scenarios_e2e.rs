@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::shoal;
+use common::{named_figures, shoal};
 use std::path::{Path, PathBuf};
 
 struct Row {
@@ -237,13 +237,7 @@ fn the_run_summary_says_where_the_wall_time_went() {
         .lines()
         .find_map(|l| l.trim().strip_prefix("wall time: "))
         .unwrap_or_else(|| panic!("no wall time line:\n{out}"));
-    let parts: Vec<(&str, f64)> = line
-        .split(", ")
-        .map(|p| {
-            let (name, pct) = p.split_once(' ').expect("name and share");
-            (name, pct.trim_end_matches('%').parse().expect("a number"))
-        })
-        .collect();
+    let parts = named_figures(line);
     let names: Vec<&str> = parts.iter().map(|p| p.0).collect();
     assert_eq!(
         names,

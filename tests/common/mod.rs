@@ -230,6 +230,23 @@ pub fn folder(files: &[(&str, &str)]) -> tempfile::TempDir {
     dir
 }
 
+/// The `name figure` pairs of a printed line such as `index 0.2, perception 3.4` (a figure may
+/// end in `%`, which is dropped).
+pub fn named_figures(line: &str) -> Vec<(&str, f64)> {
+    line.split(", ")
+        .map(|p| {
+            let (name, figure) = p
+                .split_once(' ')
+                .unwrap_or_else(|| panic!("`{p}` is not a name and a figure"));
+            let figure = figure.trim_end_matches('%');
+            let value = figure
+                .parse()
+                .unwrap_or_else(|_| panic!("`{figure}` is not a number"));
+            (name, value)
+        })
+        .collect()
+}
+
 /// Runs the `shoal` binary with `args`: (exit code, stdout, stderr).
 pub fn shoal(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
