@@ -116,15 +116,24 @@ pub struct StageTimes {
 }
 
 impl StageTimes {
+    /// The stages' names, in pipeline order.
+    pub const NAMES: [&'static str; 4] = ["index", "perception", "agents", "events"];
+
+    /// The stages' names and their summed times, in pipeline order.
+    pub fn parts(&self) -> [(&'static str, Duration); 4] {
+        let [a, b, c, d] = Self::NAMES;
+        [
+            (a, self.index),
+            (b, self.perception),
+            (c, self.agents),
+            (d, self.events),
+        ]
+    }
+
     /// The stages' names and their mean milliseconds per tick, in pipeline order.
     pub fn ms_per_tick(&self) -> [(&'static str, f64); 4] {
         let per = |d: Duration| 1e3 * d.as_secs_f64() / self.ticks.max(1) as f64;
-        [
-            ("index", per(self.index)),
-            ("perception", per(self.perception)),
-            ("agents", per(self.agents)),
-            ("events", per(self.events)),
-        ]
+        self.parts().map(|(name, d)| (name, per(d)))
     }
 }
 

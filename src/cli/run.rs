@@ -209,16 +209,6 @@ pub fn summary(run: &Run, elapsed: f64) -> serde_json::Value {
     })
 }
 
-/// The parts of [`time_shares`], in pipeline order.
-const TIME_PARTS: [&str; 6] = [
-    "index",
-    "perception",
-    "agents",
-    "events",
-    "recording",
-    "other",
-];
-
 /// Where the run's wall time went: each stage of the tick, the recording, and the rest (what
 /// the scenario does around the pipeline: its timed events, food, squads' plans; the tick's
 /// own setup, such as waking a helper thread; expectations; the progress bar), as shares of the
@@ -227,17 +217,24 @@ const TIME_PARTS: [&str; 6] = [
 fn time_shares(run: &Run, elapsed: f64, recording: Duration) -> serde_json::Value {
     let whole = elapsed.max(1e-9);
     let share = |d: Duration| (d.as_secs_f64() / whole * 1000.0).round() / 1000.0;
-    let t = run.pipeline.stage_times();
-    let staged = t.index + t.perception + t.agents + t.events + recording;
-    let other = Duration::from_secs_f64(elapsed).saturating_sub(staged);
-    serde_json::json!({
-        "index": share(t.index),
-        "perception": share(t.perception),
-        "agents": share(t.agents),
-        "events": share(t.events),
-        "recording": share(recording),
-        "other": share(other),
-    })
+    let stages = run.pipeline.stage_times().parts();
+    let timed = stages.iter().map(|p| p.1).sum::<Duration>() + recording;
+    let other = Duration::from_secs_f64(elapsed).saturating_sub(timed);
+    let parts = stages
+        .into_iter()
+        .chain([("recording", recording), ("other", other)]);
+    serde_json::Value::Object(
+        parts
+            .map(|(name, d)| (name.to_string(), serde_json::json!(share(d))))
+            .collect(),
+    )
+}
+
+/// The names of [`time_shares`] in pipeline order (its JSON object sorts them).
+fn time_part_names() -> impl Iterator<Item = &'static str> {
+    shoal::tick::StageTimes::NAMES
+        .into_iter()
+        .chain(["recording", "other"])
 }
 
 fn print_summary(run: &Run, s: &serde_json::Value) {
@@ -283,9 +280,8 @@ fn print_summary(run: &Run, s: &serde_json::Value) {
     let shares = &s["time_shares"];
     if shares.is_object() {
         // In pipeline order (the JSON object's keys are sorted).
-        let parts: Vec<String> = TIME_PARTS
-            .iter()
-            .map(|k| format!("{k} {:.1}%", shares[*k].as_f64().unwrap_or(0.0) * 100.0))
+        let parts: Vec<String> = time_part_names()
+            .map(|k| format!("{k} {:.1}%", shares[k].as_f64().unwrap_or(0.0) * 100.0))
             .collect();
         println!("  wall time: {}", parts.join(", "));
     }
