@@ -283,6 +283,33 @@ impl Grid {
     }
 }
 
+/// Cells along each axis of [`curve_key`]'s lattice (2¹⁰).
+const CURVE_BITS: u32 = 10;
+
+/// Position of `p` along a Z-order (Morton) curve through `region`: points near each other in
+/// space mostly get keys near each other. A group spawned in `region` is numbered in this order
+/// (see [`crate::scenario::Run::spawn_group`]), so that agents close in space are close in
+/// memory, which is the order perception's neighbor lanes and the agent pass read them in.
+/// `region` is cut into 2¹⁰ cells along each axis (a flat axis into one); a point outside is
+/// clamped to its edge and a NaN coordinate counts as the region's minimum.
+pub fn curve_key(region: &Aabb, p: Vec3) -> u32 {
+    let cells = (1u32 << CURVE_BITS) as f32;
+    let size = region.size();
+    let inv = Vec3::select(size.cmpgt(Vec3::splat(1e-6)), cells / size, Vec3::ZERO);
+    let q = ((p - region.min) * inv).clamp(Vec3::ZERO, Vec3::splat(cells - 1.0));
+    let q = Vec3::select(q.is_nan_mask(), Vec3::ZERO, q).as_uvec3();
+    spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2
+}
+
+/// The low [`CURVE_BITS`] bits of `v` spread two bits apart (bit `i` to bit `3i`).
+fn spread(v: u32) -> u32 {
+    let mut x = v & 0x3ff;
+    x = (x | x << 16) & 0x0300_00ff;
+    x = (x | x << 8) & 0x0300_f00f;
+    x = (x | x << 4) & 0x030c_30c3;
+    (x | x << 2) & 0x0924_9249
+}
+
 /// Cell of `p` in a grid at `origin` with cells of `1 / inv_cell` (a point outside, however
 /// far, is clamped into an edge cell; a NaN coordinate counts as the first cell along its axis).
 /// Infinities are clamped, not zeroed: a query box `center ± radius` with a huge finite radius
@@ -318,6 +345,33 @@ pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
 mod tests {
     use super::*;
     use crate::world::Rng;
+
+    #[test]
+    fn spread_puts_bit_i_at_bit_3i() {
+        for v in [0u32, 1, 2, 3, 0x155, 0x2aa, 0x3ff, 0x7ff, 0xffff_ffff] {
+            let want = (0..CURVE_BITS)
+                .filter(|i| v >> i & 1 == 1)
+                .fold(0u32, |acc, i| acc | 1 << (3 * i));
+            assert_eq!(spread(v), want, "{v:#x}");
+        }
+    }
+
+    #[test]
+    fn curve_keys_interleave_the_cell_coordinates() {
+        let region = Aabb::new(Vec3::ZERO, Vec3::splat(1024.0));
+        // Cell (x, y, z) = (1, 0, 0) → bit 0; (0, 1, 0) → bit 1; (0, 0, 1) → bit 2.
+        assert_eq!(curve_key(&region, Vec3::new(1.5, 0.5, 0.5)), 0b001);
+        assert_eq!(curve_key(&region, Vec3::new(0.5, 1.5, 0.5)), 0b010);
+        assert_eq!(curve_key(&region, Vec3::new(0.5, 0.5, 1.5)), 0b100);
+        // (3, 2, 5): x = 011, y = 010, z = 101 → bits z2 y2 x2 z1 y1 x1 z0 y0 x0 = 100 011 101.
+        assert_eq!(curve_key(&region, Vec3::new(3.2, 2.7, 5.9)), 0b100_011_101);
+        // The far corner is the largest key; outside points clamp; a flat axis adds nothing.
+        assert_eq!(curve_key(&region, Vec3::splat(1024.0)), (1 << 30) - 1);
+        assert_eq!(curve_key(&region, Vec3::splat(-5.0)), 0);
+        assert_eq!(curve_key(&region, Vec3::new(f32::NAN, 0.5, 0.5)), 0);
+        let flat = Aabb::new(Vec3::ZERO, Vec3::new(1024.0, 0.0, 1024.0));
+        assert_eq!(curve_key(&flat, Vec3::new(3.2, 0.0, 5.9)), 0b100_001_101);
+    }
 
     #[test]
     fn floor_clamped_is_floor_then_clamp() {

@@ -311,6 +311,14 @@ pub struct Run {
     pub squads: crate::squad::Squads,
 }
 
+/// Where and how one agent of a group starts: drawn before the group is numbered.
+struct Place {
+    pos: Vec3,
+    yaw: f32,
+    /// Hunger, libido, fear and fatigue, where the group sets them.
+    drives: [Option<f32>; 4],
+}
+
 fn uniform_in(r: &Aabb, rng: &mut Rng) -> Vec3 {
     Vec3::new(
         rng.range(r.min.x, r.max.x),
@@ -366,7 +374,11 @@ impl Run {
         run
     }
 
-    /// Spawns a group; `salt` separates the random streams of different groups.
+    /// Spawns a group; `salt` separates the random streams of different groups. The group's
+    /// places, headings and drive overrides are drawn first, in the order the group lists its
+    /// agents; the agents are then numbered along a Z-order curve through the region
+    /// ([`crate::index::curve_key`]), so that agents close in space are close in the world's
+    /// agent list, the order perception and the agent pass walk it in.
     pub fn spawn_group(&mut self, g: &GroupDef, salt: u64) {
         let Some(s) = self.scenario.species.index_of(&g.species) else {
             return;
@@ -375,42 +387,69 @@ impl Run {
             self.world.seed ^ 0x5EED_0000,
             salt.wrapping_add(self.world.tick << 16),
         );
+        let count = g.count.max(0) as usize;
         // Room for the whole group at once: growing by doubling would leave the outgrown
         // buffers behind in the allocator, about one more agent record per agent.
-        let count = g.count.max(0) as usize;
         self.world.agents.reserve(count);
         self.pipeline.events.reserve(count);
-        for _ in 0..count {
-            let pos = uniform_in(&g.region, &mut rng);
+        // Each agent's draws, from the group's stream in the order the group lists them.
+        let place = |rng: &mut Rng| {
+            let pos = uniform_in(&g.region, rng);
             let yaw = match g.heading {
                 HeadingDef::Random => rng.range(-std::f32::consts::PI, std::f32::consts::PI),
                 HeadingDef::Yaw(d) => d.to_radians(),
                 HeadingDef::Toward(t) => crate::frame::heading_of(t - pos).map_or(0.0, |h| h.0),
             };
-            let id = self.pipeline.spawn(&mut self.world, s, pos, yaw, 0.0);
+            let mut draw = |v: Option<Draw>| {
+                v.map(|v| match v {
+                    Draw::Fixed(x) => x,
+                    Draw::Uniform(lo, hi) => rng.range(lo, hi),
+                })
+            };
+            let d = &g.drives;
+            let drives = [
+                draw(d.hunger),
+                draw(d.libido),
+                draw(d.fear),
+                draw(d.fatigue),
+            ];
+            Place { pos, yaw, drives }
+        };
+        // The curve key of each agent's place and the stream's state before its draws (16
+        // bytes an agent, where keeping the places would take 48): sorted, the agents are
+        // drawn again in curve order. Equal keys fall back on the states, so the order is one
+        // order whatever the sort.
+        let mut order: Vec<u128> = (0..count)
+            .map(|_| {
+                let state = rng.0;
+                let key = crate::index::curve_key(&g.region, place(&mut rng).pos);
+                u128::from(key) << 64 | u128::from(state)
+            })
+            .collect();
+        order.sort_unstable();
+        let params = &self.scenario.species.species[s].def.drives.params;
+        for p in order.into_iter().map(|o| place(&mut Rng(o as u64))) {
+            let id = self.pipeline.spawn(&mut self.world, s, p.pos, p.yaw, 0.0);
             let a = self.world.agents.last_mut().expect("just spawned");
             debug_assert_eq!(a.id, id);
-            let d = &g.drives;
-            let mut set = |v: Option<Draw>, f: &mut f32| {
+            let [hunger, libido, fear, fatigue] = p.drives;
+            let dr = &mut a.drives;
+            for (v, f) in [
+                (hunger, &mut dr.hunger),
+                (libido, &mut dr.libido),
+                (fear, &mut dr.fear),
+                (fatigue, &mut dr.fatigue),
+            ] {
                 if let Some(v) = v {
-                    *f = match v {
-                        Draw::Fixed(x) => x,
-                        Draw::Uniform(lo, hi) => rng.range(lo, hi),
-                    };
+                    *f = v;
                 }
-            };
-            set(d.hunger, &mut a.drives.hunger);
-            set(d.libido, &mut a.drives.libido);
-            set(d.fear, &mut a.drives.fear);
-            set(d.fatigue, &mut a.drives.fatigue);
-            let params = &self.scenario.species.species[s].def.drives.params;
-            if d.hunger.is_some() {
-                a.drives.eaten = (1.0 - a.drives.hunger).max(0.0) * params.appetite;
-                a.drives.since_meal = 0.0;
             }
-            if d.hunger.is_some() || d.libido.is_some() {
-                a.drives.since_mating =
-                    crate::drives::since_mating_for(a.drives.libido, a.drives.hunger, params);
+            if hunger.is_some() {
+                dr.eaten = (1.0 - dr.hunger).max(0.0) * params.appetite;
+                dr.since_meal = 0.0;
+            }
+            if hunger.is_some() || libido.is_some() {
+                dr.since_mating = crate::drives::since_mating_for(dr.libido, dr.hunger, params);
             }
         }
     }
