@@ -10,7 +10,7 @@ use crate::decision::{self, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
 use crate::events::{Cause, Event, MessageKind};
-use crate::index::Grid;
+use crate::index::{Grid, Layout};
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{Category, GroupQueries, Perception, Reads, Source, Summary};
 use crate::script::AgentView;
@@ -18,7 +18,7 @@ use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{
-    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, Mind, Rng, Sex, SpeciesId, World,
+    Aabb, Agent, AgentId, Anim, Attributes, Drives, ForwardCache, Mind, Rng, Sex, SpeciesId, World,
 };
 use glam::Vec3;
 use rayon::prelude::*;
@@ -172,6 +172,11 @@ pub struct Pipeline {
     /// Per worker thread (by rayon thread index): buffers kept across ticks.
     workers: Vec<std::sync::Mutex<Worker>>,
     times: StageTimes,
+}
+
+/// Cell size of the agent grid when species `s` is the most numerous: its query radius.
+fn agent_cell(set: &SpeciesSet, s: usize) -> f32 {
+    set.senses.get(s).map_or(1.0, |s| s.query_radius()).max(0.5)
 }
 
 fn draw(d: Draw, rng: &mut Rng) -> f32 {
@@ -352,6 +357,13 @@ impl Pipeline {
         id
     }
 
+    /// The layout of the agent grid for `n` agents over `bounds`, most of them of species `s`
+    /// (its cells are that species' query radius). A group numbered in its cells' order is
+    /// walked by perception and the agent pass in the order perception's lanes hold it.
+    pub fn agent_layout(&self, bounds: Aabb, s: usize, n: usize) -> Layout {
+        Layout::new(bounds, agent_cell(&self.species, s), n)
+    }
+
     /// Stages 1–2 alone: rebuilds the spatial index and runs perception on `world` (results in
     /// [`Pipeline::perception`]). [`Pipeline::step`] starts with this.
     pub fn perceive(&mut self, world: &World) {
@@ -378,11 +390,7 @@ impl Pipeline {
                 .max_by_key(|&s| (self.species_counts[s], std::cmp::Reverse(s)))
                 .unwrap_or(0)
         };
-        let cell = set
-            .senses
-            .get(most)
-            .map_or(1.0, |s| s.query_radius())
-            .max(0.5);
+        let cell = agent_cell(set, most);
         self.agent_grid
             .rebuild_with(world.bounds, cell, world.agents.len(), |i| {
                 world.agents[i].pos

@@ -1,9 +1,8 @@
-//! A group's agents are numbered along a Z-order curve through its region, so that agents close
-//! in space are close in the world's agent list; the places, headings and drives drawn for the
-//! group are those it drew before (only who gets which number changes).
+//! A group's agents are numbered in the order of the agent grid's cells, so that agents close in
+//! space are close in the world's agent list; the places, headings and drives drawn for the
+//! group are those it drew in list order (only who gets which number changes).
 
 use glam::Vec3;
-use shoal::index::curve_key;
 use shoal::scenario::{Overrides, Run, Scenario};
 use shoal::world::{Aabb, Agent, Rng};
 use std::path::Path;
@@ -33,7 +32,7 @@ fn fish_region() -> Aabb {
 }
 
 #[test]
-fn a_group_is_numbered_along_the_curve_through_its_region() {
+fn a_group_is_numbered_in_the_order_of_the_agent_grids_cells() {
     let r = run();
     let agents = &r.world.agents;
     assert_eq!(agents.len(), 503);
@@ -43,8 +42,13 @@ fn a_group_is_numbered_along_the_curve_through_its_region() {
     }
     let (fish, sharks) = agents.split_at(500);
     let region = fish_region();
-    let keys: Vec<u32> = fish.iter().map(|a| curve_key(&region, a.pos)).collect();
-    assert!(keys.windows(2).all(|w| w[0] <= w[1]), "not in curve order");
+    // The grid of the first tick: cells of the fish's query radius, for all 503 agents.
+    let layout = r.pipeline.agent_layout(r.world.bounds, 0, 503);
+    let keys: Vec<u32> = fish.iter().map(|a| layout.cell_of(a.pos)).collect();
+    assert!(
+        keys.windows(2).all(|w| w[0] <= w[1]),
+        "not in the grid's order"
+    );
     // Consecutive fish are close: the mean step from one to the next is under a third of
     // the mean distance between two fish of the group (what it is in the order drawn).
     let step = fish
@@ -78,7 +82,7 @@ fn a_group_is_numbered_along_the_curve_through_its_region() {
 }
 
 #[test]
-fn numbering_along_the_curve_keeps_the_draws_of_the_group() {
+fn numbering_in_grid_order_keeps_the_draws_of_the_group() {
     // The group's stream (seed ^ 0x5EED_0000, stream = the group's place in the list) drawn in
     // list order, as each fish draws: position (x, y, z), random yaw, then hunger (fear is
     // fixed, so not drawn). The numbered fish hold exactly these draws, each set whole.

@@ -112,41 +112,8 @@ impl Grid {
 
     /// Sets the cell size, origin and dimensions for `n` points over `bounds`.
     fn layout(&mut self, bounds: Aabb, cell: f32, n: usize) {
-        let size = bounds.size().max(Vec3::splat(1e-3));
-        let mut cell = if cell.is_finite() && cell > 1e-3 {
-            cell
-        } else {
-            1.0
-        };
-        let max_extent = size.max_element();
-        if max_extent / cell > MAX_DIM as f32 {
-            cell = max_extent / MAX_DIM as f32;
-        }
-        // A few cells per point at most: a large, sparse world gets larger cells instead of a
-        // cell table bigger than the points it indexes.
-        let max_cells = 4 * n as i64 + 4096;
-        let dims_for = |cell: Vec3| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
-        let cells = |d: IVec3| {
-            let d = d.as_i64vec3();
-            d.x * d.y * d.z
-        };
-        while cells(dims_for(Vec3::splat(cell))) > max_cells {
-            cell *= 1.25;
-        }
-        // Narrower cells along x, as many as the same limits allow.
-        let mut cells3 = Vec3::splat(cell);
-        for split in (1..=X_SPLIT).rev() {
-            let c = Vec3::new(cell / split as f32, cell, cell);
-            let d = dims_for(c);
-            if split == 1 || (d.x <= MAX_DIM * X_SPLIT && cells(d) <= max_cells) {
-                cells3 = c;
-                break;
-            }
-        }
-        self.cell = cells3;
-        self.inv_cell = cells3.recip();
-        self.origin = bounds.min;
-        self.dims = ((size * self.inv_cell).ceil().as_ivec3()).max(IVec3::ONE);
+        let l = Layout::new(bounds, cell, n);
+        (self.cell, self.inv_cell, self.origin, self.dims) = (l.cell, l.inv_cell, l.origin, l.dims);
     }
 
     /// Sorts `self.points` (in cells `self.cell_of`) by cell.
@@ -283,31 +250,67 @@ impl Grid {
     }
 }
 
-/// Cells along each axis of [`curve_key`]'s lattice (2¹⁰).
-const CURVE_BITS: u32 = 10;
-
-/// Position of `p` along a Z-order (Morton) curve through `region`: points near each other in
-/// space mostly get keys near each other. A group spawned in `region` is numbered in this order
-/// (see [`crate::scenario::Run::spawn_group`]), so that agents close in space are close in
-/// memory, which is the order perception's neighbor lanes and the agent pass read them in.
-/// `region` is cut into 2¹⁰ cells along each axis (a flat axis into one); a point outside is
-/// clamped to its edge and a NaN coordinate counts as the region's minimum.
-pub fn curve_key(region: &Aabb, p: Vec3) -> u32 {
-    let cells = (1u32 << CURVE_BITS) as f32;
-    let size = region.size();
-    let inv = Vec3::select(size.cmpgt(Vec3::splat(1e-6)), cells / size, Vec3::ZERO);
-    let q = ((p - region.min) * inv).clamp(Vec3::ZERO, Vec3::splat(cells - 1.0));
-    let q = Vec3::select(q.is_nan_mask(), Vec3::ZERO, q).as_uvec3();
-    spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2
+/// Where a grid over some bounds puts a point: its cells' size, origin and count along each axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layout {
+    cell: Vec3,
+    inv_cell: Vec3,
+    origin: Vec3,
+    dims: IVec3,
 }
 
-/// The low [`CURVE_BITS`] bits of `v` spread two bits apart (bit `i` to bit `3i`).
-fn spread(v: u32) -> u32 {
-    let mut x = v & 0x3ff;
-    x = (x | x << 16) & 0x0300_00ff;
-    x = (x | x << 8) & 0x0300_f00f;
-    x = (x | x << 4) & 0x030c_30c3;
-    (x | x << 2) & 0x0924_9249
+impl Layout {
+    /// The layout [`Grid::rebuild`] uses for `n` points over `bounds` with cells of about
+    /// `cell`.
+    pub fn new(bounds: Aabb, cell: f32, n: usize) -> Layout {
+        let size = bounds.size().max(Vec3::splat(1e-3));
+        let mut cell = if cell.is_finite() && cell > 1e-3 {
+            cell
+        } else {
+            1.0
+        };
+        let max_extent = size.max_element();
+        if max_extent / cell > MAX_DIM as f32 {
+            cell = max_extent / MAX_DIM as f32;
+        }
+        // A few cells per point at most: a large, sparse world gets larger cells instead of a
+        // cell table bigger than the points it indexes.
+        let max_cells = 4 * n as i64 + 4096;
+        let dims_for = |cell: Vec3| ((size / cell).ceil().as_ivec3()).max(IVec3::ONE);
+        let cells = |d: IVec3| {
+            let d = d.as_i64vec3();
+            d.x * d.y * d.z
+        };
+        while cells(dims_for(Vec3::splat(cell))) > max_cells {
+            cell *= 1.25;
+        }
+        // Narrower cells along x, as many as the same limits allow.
+        let mut cells3 = Vec3::splat(cell);
+        for split in (1..=X_SPLIT).rev() {
+            let c = Vec3::new(cell / split as f32, cell, cell);
+            let d = dims_for(c);
+            if split == 1 || (d.x <= MAX_DIM * X_SPLIT && cells(d) <= max_cells) {
+                cells3 = c;
+                break;
+            }
+        }
+        let inv_cell = cells3.recip();
+        Layout {
+            cell: cells3,
+            inv_cell,
+            origin: bounds.min,
+            dims: ((size * inv_cell).ceil().as_ivec3()).max(IVec3::ONE),
+        }
+    }
+
+    /// The cell `p` falls in: a grid with this layout lists its entries by this number, in
+    /// ascending order.
+    pub fn cell_of(&self, p: Vec3) -> u32 {
+        cell_index(
+            self.dims,
+            cell_coord(self.origin, self.inv_cell, self.dims, p),
+        ) as u32
+    }
 }
 
 /// Cell of `p` in a grid at `origin` with cells of `1 / inv_cell` (a point outside, however
@@ -347,30 +350,39 @@ mod tests {
     use crate::world::Rng;
 
     #[test]
-    fn spread_puts_bit_i_at_bit_3i() {
-        for v in [0u32, 1, 2, 3, 0x155, 0x2aa, 0x3ff, 0x7ff, 0xffff_ffff] {
-            let want = (0..CURVE_BITS)
-                .filter(|i| v >> i & 1 == 1)
-                .fold(0u32, |acc, i| acc | 1 << (3 * i));
-            assert_eq!(spread(v), want, "{v:#x}");
+    fn a_layout_numbers_points_by_the_cell_its_grid_puts_them_in() {
+        // Hand-computed: 40 × 8 × 40 with cells of 8 → x cells of 8 / 4 = 2, dims (20, 1, 5);
+        // (5, 1, 17) is in cell (2, 0, 2), number (2·1 + 0)·20 + 2 = 42.
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::new(40.0, 8.0, 40.0));
+        let l = Layout::new(bounds, 8.0, 1000);
+        assert_eq!(
+            (l.cell, l.dims),
+            (Vec3::new(2.0, 8.0, 8.0), IVec3::new(20, 1, 5))
+        );
+        assert_eq!(l.cell_of(Vec3::new(5.0, 1.0, 17.0)), 42);
+        // The grid built over the same points lists them in that order.
+        let mut rng = Rng::new(5, 0);
+        let bounds = Aabb::new(Vec3::new(-10.0, 0.0, -20.0), Vec3::new(30.0, 8.0, 20.0));
+        let pts: Vec<Vec3> = (0..500)
+            .map(|_| {
+                bounds.min
+                    + bounds.size() * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())
+            })
+            .collect();
+        let mut g = Grid::new();
+        g.rebuild(bounds, 3.0, pts.iter().copied());
+        let l = Layout::new(bounds, 3.0, pts.len());
+        assert_eq!(g.cell_sizes(), l.cell);
+        let keys: Vec<u32> = g
+            .entries()
+            .iter()
+            .map(|&i| l.cell_of(pts[i as usize]))
+            .collect();
+        // Each entry's slot lies within its cell's run.
+        for (slot, &k) in keys.iter().enumerate() {
+            let k = k as usize;
+            assert!((g.starts[k] as usize..g.starts[k + 1] as usize).contains(&slot));
         }
-    }
-
-    #[test]
-    fn curve_keys_interleave_the_cell_coordinates() {
-        let region = Aabb::new(Vec3::ZERO, Vec3::splat(1024.0));
-        // Cell (x, y, z) = (1, 0, 0) → bit 0; (0, 1, 0) → bit 1; (0, 0, 1) → bit 2.
-        assert_eq!(curve_key(&region, Vec3::new(1.5, 0.5, 0.5)), 0b001);
-        assert_eq!(curve_key(&region, Vec3::new(0.5, 1.5, 0.5)), 0b010);
-        assert_eq!(curve_key(&region, Vec3::new(0.5, 0.5, 1.5)), 0b100);
-        // (3, 2, 5): x = 011, y = 010, z = 101 → bits z2 y2 x2 z1 y1 x1 z0 y0 x0 = 100 011 101.
-        assert_eq!(curve_key(&region, Vec3::new(3.2, 2.7, 5.9)), 0b100_011_101);
-        // The far corner is the largest key; outside points clamp; a flat axis adds nothing.
-        assert_eq!(curve_key(&region, Vec3::splat(1024.0)), (1 << 30) - 1);
-        assert_eq!(curve_key(&region, Vec3::splat(-5.0)), 0);
-        assert_eq!(curve_key(&region, Vec3::new(f32::NAN, 0.5, 0.5)), 0);
-        let flat = Aabb::new(Vec3::ZERO, Vec3::new(1024.0, 0.0, 1024.0));
-        assert_eq!(curve_key(&flat, Vec3::new(3.2, 0.0, 5.9)), 0b100_001_101);
     }
 
     #[test]

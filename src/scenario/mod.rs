@@ -376,9 +376,10 @@ impl Run {
 
     /// Spawns a group; `salt` separates the random streams of different groups. The group's
     /// places, headings and drive overrides are drawn first, in the order the group lists its
-    /// agents; the agents are then numbered along a Z-order curve through the region
-    /// ([`crate::index::curve_key`]), so that agents close in space are close in the world's
-    /// agent list, the order perception and the agent pass walk it in.
+    /// agents; the agents are then numbered in the order of the agent grid's cells
+    /// ([`Pipeline::agent_layout`], the grid the next tick builds), so that agents close in
+    /// space are close in the world's agent list, and perception and the agent pass, which walk
+    /// that list, read the grid's lanes and their own results in step.
     pub fn spawn_group(&mut self, g: &GroupDef, salt: u64) {
         let Some(s) = self.scenario.species.index_of(&g.species) else {
             return;
@@ -415,14 +416,17 @@ impl Run {
             ];
             Place { pos, yaw, drives }
         };
-        // The curve key of each agent's place and the stream's state before its draws (16
+        // The grid cell of each agent's place and the stream's state before its draws (16
         // bytes an agent, where keeping the places would take 48): sorted, the agents are
-        // drawn again in curve order. Equal keys fall back on the states, so the order is one
-        // order whatever the sort.
+        // drawn again in cell order. Equal cells fall back on the states, so the order is one
+        // order whatever the sort. The cells are those of a grid sized by this species, as the
+        // grid is when the group is the world's most numerous.
+        let n = self.world.agents.len() + count;
+        let layout = self.pipeline.agent_layout(self.world.bounds, s, n);
         let mut order: Vec<u128> = (0..count)
             .map(|_| {
                 let state = rng.0;
-                let key = crate::index::curve_key(&g.region, place(&mut rng).pos);
+                let key = layout.cell_of(place(&mut rng).pos);
                 u128::from(key) << 64 | u128::from(state)
             })
             .collect();
