@@ -15,7 +15,7 @@ const SCENARIO: &str = r#"Scenario(
     species: ["reef_fish", "shark"],
     groups: [
         (species: "reef_fish", count: 500, region: (min: (-30.0, 1.0, -30.0), max: (30.0, 11.0, 30.0)),
-         drives: (hunger: Some(Uniform(0.6, 0.9)), fear: Some(Fixed(0.25)))),
+         drives: (hunger: Uniform(0.6, 0.9), fear: Some(Fixed(0.25)))),
         (species: "shark", count: 3, region: (min: (20.0, 5.0, 20.0), max: (25.0, 7.0, 25.0)),
          heading: Toward(0.0, 6.0, 0.0)),
     ],

@@ -78,6 +78,23 @@ fn the_base_species_is_valid() {
 }
 
 #[test]
+fn an_optional_value_may_be_written_bare_or_in_some() {
+    for (written, want) in [
+        ("range: Some(3.0)", Some(3.0)),
+        ("range: 3.0", Some(3.0)),
+        ("range: None", None),
+    ] {
+        let ron = MINNOW.replace(
+            "    initial: \"idle\",",
+            &format!("    avoid: ({written}),\n    initial: \"idle\","),
+        );
+        let dir = folder(&[("minnow.ron", &ron), ("minnow.rhai", MINNOW_RHAI)]);
+        let sp = load(&dir.path().join("minnow.ron"), dir.path());
+        assert_eq!(sp.def.avoid.range, want, "{written}");
+    }
+}
+
+#[test]
 fn ron_syntax_error_points_where_the_comma_is_missing() {
     let bad = MINNOW.replace("initial: \"idle\",\n", "initial: \"idle\"\n");
     assert_eq!(

@@ -11,10 +11,13 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 /// RON options used for every file the engine reads: newtype variants may be written with their
-/// fields directly (`AvoidStatic(m0: 2.0)` or `AvoidStatic()`).
+/// fields directly (`AvoidStatic(m0: 2.0)` or `AvoidStatic()`), and an optional value may be
+/// written bare (`hunger: Fixed(0.9)`) as well as `Some(Fixed(0.9))`.
 pub fn ron_options() -> ron::Options {
+    use ron::extensions::Extensions;
     ron::Options::default()
-        .with_default_extension(ron::extensions::Extensions::UNWRAP_VARIANT_NEWTYPES)
+        .with_default_extension(Extensions::UNWRAP_VARIANT_NEWTYPES)
+        .with_default_extension(Extensions::IMPLICIT_SOME)
 }
 
 /// What designers call the types of the file format, for messages.
