@@ -174,6 +174,14 @@ pub struct Pipeline {
     times: StageTimes,
 }
 
+/// The species with the most agents in `counts` (the first of equals): its query radius sizes
+/// the agent grid's cells.
+fn most_numerous(counts: &[u32]) -> usize {
+    (0..counts.len())
+        .max_by_key(|&s| (counts[s], std::cmp::Reverse(s)))
+        .unwrap_or(0)
+}
+
 /// Cell size of the agent grid when species `s` is the most numerous: its query radius.
 fn agent_cell(set: &SpeciesSet, s: usize) -> f32 {
     set.senses.get(s).map_or(1.0, |s| s.query_radius()).max(0.5)
@@ -357,11 +365,23 @@ impl Pipeline {
         id
     }
 
-    /// The layout of the agent grid for `n` agents over `bounds`, most of them of species `s`
-    /// (its cells are that species' query radius). A group numbered in its cells' order is
-    /// walked by perception and the agent pass in the order perception's lanes hold it.
-    pub fn agent_layout(&self, bounds: Aabb, s: usize, n: usize) -> Layout {
-        Layout::new(bounds, agent_cell(&self.species, s), n)
+    /// The agent grid of the last tick (or [`Pipeline::perceive`]).
+    pub fn agent_grid(&self) -> &Grid {
+        &self.agent_grid
+    }
+
+    /// The layout of the agent grid over `bounds` for `counts[s]` agents of each species `s`:
+    /// cells of the most numerous species' query radius, as [`Pipeline::perceive`] builds it. A
+    /// group numbered in its cells' order is walked by perception and the agent pass in the
+    /// order perception's lanes hold it.
+    pub fn agent_layout(&self, bounds: Aabb, counts: &[u32]) -> Layout {
+        let most = if self.species.species.len() <= 1 {
+            0
+        } else {
+            most_numerous(counts)
+        };
+        let n = counts.iter().map(|&c| c as usize).sum();
+        Layout::new(bounds, agent_cell(&self.species, most), n)
     }
 
     /// Stages 1–2 alone: rebuilds the spatial index and runs perception on `world` (results in
@@ -386,9 +406,7 @@ impl Pipeline {
                     *c += 1;
                 }
             }
-            (0..self.species_counts.len())
-                .max_by_key(|&s| (self.species_counts[s], std::cmp::Reverse(s)))
-                .unwrap_or(0)
+            most_numerous(&self.species_counts)
         };
         let cell = agent_cell(set, most);
         self.agent_grid

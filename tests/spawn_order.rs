@@ -43,7 +43,7 @@ fn a_group_is_numbered_in_the_order_of_the_agent_grids_cells() {
     let (fish, sharks) = agents.split_at(500);
     let region = fish_region();
     // The grid of the first tick: cells of the fish's query radius, for all 503 agents.
-    let layout = r.pipeline.agent_layout(r.world.bounds, 0, 503);
+    let layout = r.pipeline.agent_layout(r.world.bounds, &[500, 3]);
     let keys: Vec<u32> = fish.iter().map(|a| layout.cell_of(a.pos)).collect();
     assert!(
         keys.windows(2).all(|w| w[0] <= w[1]),
@@ -107,7 +107,7 @@ fn numbering_in_grid_order_keeps_the_draws_of_the_group() {
         .collect();
     assert_ne!(
         got, drawn,
-        "the fish are in the order drawn, not along the curve"
+        "the fish are in the order drawn, not the grid's"
     );
     drawn.sort_unstable();
     got.sort_unstable();
@@ -118,4 +118,49 @@ fn numbering_in_grid_order_keeps_the_draws_of_the_group() {
         assert_eq!((a.id, a.pos, a.yaw), (b.id, b.pos, b.yaw));
         assert_eq!(a.drives.hunger.to_bits(), b.drives.hunger.to_bits());
     }
+}
+
+/// Each group's agents, as the grid of the first tick lists them: in ascending index order.
+fn in_grid_order(r: &mut Run, groups: &[std::ops::Range<usize>]) {
+    let world = r.world.clone();
+    r.pipeline.perceive(&world);
+    let entries = r.pipeline.agent_grid().entries();
+    for g in groups {
+        let order: Vec<u32> = entries
+            .iter()
+            .copied()
+            .filter(|&i| g.contains(&(i as usize)))
+            .collect();
+        assert_eq!(order.len(), g.len());
+        assert!(
+            order.windows(2).all(|w| w[0] < w[1]),
+            "group {g:?} is not in the grid's order"
+        );
+    }
+}
+
+#[test]
+fn every_group_is_numbered_against_the_grid_of_the_first_tick() {
+    // Two big groups of one species, a few sharks between them and sardines, the most
+    // numerous species over all: the grid's cells are the sardines' (narrower than the fish's),
+    // and its cell budget counts every group. Each group, however small or early, is listed by
+    // that grid in its own order.
+    let text = r#"Scenario(
+    seed: 5,
+    dt: 0.05,
+    duration: 1.0,
+    bounds: (min: (-300.0, 0.0, -300.0), max: (300.0, 20.0, 300.0)),
+    species: ["reef_fish", "shark", "sardine"],
+    groups: [
+        (species: "reef_fish", count: 600, region: (min: (-280.0, 1.0, -280.0), max: (280.0, 19.0, 280.0))),
+        (species: "shark", count: 40, region: (min: (-280.0, 1.0, -280.0), max: (280.0, 19.0, 280.0))),
+        (species: "reef_fish", count: 600, region: (min: (-280.0, 1.0, -280.0), max: (280.0, 19.0, 280.0))),
+        (species: "sardine", count: 1500, region: (min: (-280.0, 1.0, -280.0), max: (280.0, 19.0, 280.0))),
+    ],
+)"#;
+    let sc = Scenario::load_str(Path::new("behaviors/spawn_groups.ron"), text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut r = Run::new(sc, Overrides::default());
+    assert_eq!(r.world.agents.len(), 2740);
+    in_grid_order(&mut r, &[0..600, 600..640, 640..1240, 1240..2740]);
 }

@@ -10,6 +10,7 @@ pub use def::*;
 pub use reload::ScenarioReload;
 
 use crate::diag::{Diagnostic, Diagnostics};
+use crate::index::Layout;
 use crate::species::validate::{locate, ron_diag, ron_options};
 use crate::species::{load_species, Draw, Species, SpeciesSet};
 use crate::tick::Pipeline;
@@ -362,8 +363,19 @@ impl Run {
             squads: crate::squad::Squads::default(),
         };
         std::mem::swap(&mut run.pipeline, &mut pipeline);
+        // Every group is numbered against the grid of the first tick, which counts them all and
+        // the squads' members.
+        let layout = run.layout_with(
+            groups.iter().map(|g| (g.species.as_str(), g.count)).chain(
+                run.scenario
+                    .def
+                    .squads
+                    .iter()
+                    .map(|q| (q.species.as_str(), i64::from(q.count))),
+            ),
+        );
         for (k, g) in groups.iter().enumerate() {
-            run.spawn_group(g, k as u64);
+            run.spawn_group_in(g, k as u64, &layout);
         }
         run.squads = crate::squad::Squads::start(
             run.scenario.ground.clone(),
@@ -376,11 +388,34 @@ impl Run {
 
     /// Spawns a group; `salt` separates the random streams of different groups. The group's
     /// places, headings and drive overrides are drawn first, in the order the group lists its
-    /// agents; the agents are then numbered in the order of the agent grid's cells
-    /// ([`Pipeline::agent_layout`], the grid the next tick builds), so that agents close in
-    /// space are close in the world's agent list, and perception and the agent pass, which walk
-    /// that list, read the grid's lanes and their own results in step.
+    /// agents; the agents are then numbered in the order of the cells of the agent grid the next
+    /// tick builds (the world's agents and this group; [`Pipeline::agent_layout`]), so that
+    /// agents close in space are close in the world's agent list, and perception and the agent
+    /// pass, which walk that list, read the grid's lanes and their own results in step.
     pub fn spawn_group(&mut self, g: &GroupDef, salt: u64) {
+        let layout = self.layout_with([(g.species.as_str(), g.count)]);
+        self.spawn_group_in(g, salt, &layout);
+    }
+
+    /// The layout of the agent grid once `added` (species name, count) join the world's agents.
+    fn layout_with<'a>(&self, added: impl IntoIterator<Item = (&'a str, i64)>) -> Layout {
+        let set = &self.scenario.species;
+        let mut counts = vec![0u32; set.species.len()];
+        for a in &self.world.agents {
+            if let Some(c) = counts.get_mut(a.species.0 as usize) {
+                *c += 1;
+            }
+        }
+        for (name, n) in added {
+            if let Some(c) = set.index_of(name).and_then(|s| counts.get_mut(s)) {
+                *c = c.saturating_add(n.clamp(0, u32::MAX as i64) as u32);
+            }
+        }
+        self.pipeline.agent_layout(self.world.bounds, &counts)
+    }
+
+    /// [`Run::spawn_group`], numbering the group in the cells of `layout`.
+    fn spawn_group_in(&mut self, g: &GroupDef, salt: u64, layout: &Layout) {
         let Some(s) = self.scenario.species.index_of(&g.species) else {
             return;
         };
@@ -418,11 +453,8 @@ impl Run {
         };
         // The grid cell of each agent's place and the stream's state before its draws (16
         // bytes an agent, where keeping the places would take 48): sorted, the agents are
-        // drawn again in cell order. Equal cells fall back on the states, so the order is one
-        // order whatever the sort. The cells are those of a grid sized by this species, as the
-        // grid is when the group is the world's most numerous.
-        let n = self.world.agents.len() + count;
-        let layout = self.pipeline.agent_layout(self.world.bounds, s, n);
+        // drawn again in cell order. Equal cells fall back on the states (all distinct), so the
+        // order is one order whatever the sort.
         let mut order: Vec<u128> = (0..count)
             .map(|_| {
                 let state = rng.0;
