@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every figure BENCHMARKS.md records, printing each command before its output.
-#   bench/report.sh            # everything (about 20 minutes on 2 cores, Mesa included)
+#   bench/report.sh            # everything (about 5 minutes on 2 cores once bench/peers has
+#                              # installed Mesa in its virtualenv, which the first run does)
 #   bench/report.sh quick      # without the scaling sweeps and the peer comparison
 # Each `shoal bench` line measures REPEAT times (3 unless set) and prints the run of median
 # speed with the slowest and fastest (`--repeat`); memory is the first run's. The tick workloads
