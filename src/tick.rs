@@ -375,13 +375,8 @@ impl Pipeline {
     /// group numbered in its cells' order is walked by perception and the agent pass in the
     /// order perception's lanes hold it.
     pub fn agent_layout(&self, bounds: Aabb, counts: &[u32]) -> Layout {
-        let most = if self.species.species.len() <= 1 {
-            0
-        } else {
-            most_numerous(counts)
-        };
         let n = counts.iter().map(|&c| c as usize).sum();
-        Layout::new(bounds, agent_cell(&self.species, most), n)
+        Layout::new(bounds, agent_cell(&self.species, most_numerous(counts)), n)
     }
 
     /// Stages 1–2 alone: rebuilds the spatial index and runs perception on `world` (results in
@@ -401,11 +396,7 @@ impl Pipeline {
         } else {
             self.species_counts.clear();
             self.species_counts.resize(set.species.len(), 0);
-            for a in &world.agents {
-                if let Some(c) = self.species_counts.get_mut(a.species.0 as usize) {
-                    *c += 1;
-                }
-            }
+            world.count_species(&mut self.species_counts);
             most_numerous(&self.species_counts)
         };
         let cell = agent_cell(set, most);

@@ -22,10 +22,7 @@ use rayon::prelude::*;
 /// A uniform grid of point entries (agents or food).
 #[derive(Debug, Clone, Default)]
 pub struct Grid {
-    origin: Vec3,
-    inv_cell: Vec3,
-    cell: Vec3,
-    dims: IVec3,
+    layout: Layout,
     /// `starts[c]..starts[c+1]` are the entries of cell `c`.
     starts: Vec<u32>,
     /// Entry indices sorted by cell, ascending within a cell.
@@ -58,7 +55,7 @@ impl Grid {
 
     /// Cell size in use along each axis (narrower along x, see [`X_SPLIT`]).
     pub fn cell_sizes(&self) -> Vec3 {
-        self.cell
+        self.layout.cell
     }
 
     /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points.
@@ -71,14 +68,14 @@ impl Grid {
     ) {
         self.points.clear();
         self.points.extend(points.map(Vec3A::from));
-        self.layout(bounds, cell, self.points.len());
-        let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
+        let layout = Layout::new(bounds, cell, self.points.len());
+        self.layout = layout;
         self.cell_of.clear();
         self.cell_of.par_extend(
             self.points
                 .par_iter()
                 .with_min_len(256)
-                .map(|&p| cell_index(dims, cell_coord(origin, inv_cell, dims, p.into())) as u32),
+                .map(|&p| layout.cell_of(p.into())),
         );
         self.place();
     }
@@ -92,8 +89,8 @@ impl Grid {
         n: usize,
         point: impl Fn(usize) -> Vec3 + Sync,
     ) {
-        self.layout(bounds, cell, n);
-        let (origin, inv_cell, dims) = (self.origin, self.inv_cell, self.dims);
+        let layout = Layout::new(bounds, cell, n);
+        self.layout = layout;
         // Points and their cells in one parallel pass.
         self.points.resize(n, Vec3A::ZERO);
         self.cell_of.resize(n, 0);
@@ -105,20 +102,15 @@ impl Grid {
             .for_each(|(i, (q, c))| {
                 let p = point(i);
                 *q = Vec3A::from(p);
-                *c = cell_index(dims, cell_coord(origin, inv_cell, dims, p)) as u32;
+                *c = layout.cell_of(p);
             });
         self.place();
     }
 
-    /// Sets the cell size, origin and dimensions for `n` points over `bounds`.
-    fn layout(&mut self, bounds: Aabb, cell: f32, n: usize) {
-        let l = Layout::new(bounds, cell, n);
-        (self.cell, self.inv_cell, self.origin, self.dims) = (l.cell, l.inv_cell, l.origin, l.dims);
-    }
-
     /// Sorts `self.points` (in cells `self.cell_of`) by cell.
     fn place(&mut self) {
-        let ncells = (self.dims.x * self.dims.y * self.dims.z) as usize;
+        let dims = self.layout.dims;
+        let ncells = (dims.x * dims.y * dims.z) as usize;
         self.starts.clear();
         self.starts.resize(ncells + 1, 0);
         for &c in &self.cell_of {
@@ -148,7 +140,7 @@ impl Grid {
 
     #[inline]
     fn cell_coord(&self, p: Vec3) -> IVec3 {
-        cell_coord(self.origin, self.inv_cell, self.dims, p)
+        self.layout.coord(p)
     }
 
     /// Entry indices in the grid's order (by cell, ascending within a cell): slot `k` of
@@ -236,7 +228,7 @@ impl Grid {
 
     #[inline]
     fn cell_index(&self, c: IVec3) -> usize {
-        cell_index(self.dims, c)
+        cell_index(self.layout.dims, c)
     }
 
     /// Slot of each entry index in the grid's order: `entries()[slots()[i]] == i`.
@@ -251,7 +243,7 @@ impl Grid {
 }
 
 /// Where a grid over some bounds puts a point: its cells' size, origin and count along each axis.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Layout {
     cell: Vec3,
     inv_cell: Vec3,
@@ -305,11 +297,15 @@ impl Layout {
 
     /// The cell `p` falls in: a grid with this layout lists its entries by this number, in
     /// ascending order.
+    #[inline]
     pub fn cell_of(&self, p: Vec3) -> u32 {
-        cell_index(
-            self.dims,
-            cell_coord(self.origin, self.inv_cell, self.dims, p),
-        ) as u32
+        cell_index(self.dims, self.coord(p)) as u32
+    }
+
+    /// The cell coordinates of `p` (see [`cell_coord`]).
+    #[inline]
+    fn coord(&self, p: Vec3) -> IVec3 {
+        cell_coord(self.origin, self.inv_cell, self.dims, p)
     }
 }
 
@@ -372,7 +368,7 @@ mod tests {
         let mut g = Grid::new();
         g.rebuild(bounds, 3.0, pts.iter().copied());
         let l = Layout::new(bounds, 3.0, pts.len());
-        assert_eq!(g.cell_sizes(), l.cell);
+        assert_eq!(g.layout, l);
         let keys: Vec<u32> = g
             .entries()
             .iter()

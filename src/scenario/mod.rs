@@ -401,11 +401,7 @@ impl Run {
     fn layout_with<'a>(&self, added: impl IntoIterator<Item = (&'a str, i64)>) -> Layout {
         let set = &self.scenario.species;
         let mut counts = vec![0u32; set.species.len()];
-        for a in &self.world.agents {
-            if let Some(c) = counts.get_mut(a.species.0 as usize) {
-                *c += 1;
-            }
-        }
+        self.world.count_species(&mut counts);
         for (name, n) in added {
             if let Some(c) = set.index_of(name).and_then(|s| counts.get_mut(s)) {
                 *c = c.saturating_add(n.clamp(0, u32::MAX as i64) as u32);

@@ -201,6 +201,16 @@ impl World {
         id
     }
 
+    /// Adds to `counts[s]` the number of agents of species `s` (species past the end of
+    /// `counts` are not counted).
+    pub fn count_species(&self, counts: &mut [u32]) {
+        for a in &self.agents {
+            if let Some(c) = counts.get_mut(a.species.0 as usize) {
+                *c += 1;
+            }
+        }
+    }
+
     /// Index of the agent with this id (agents are sorted by id).
     pub fn agent_index(&self, id: AgentId) -> Option<usize> {
         self.agents.binary_search_by_key(&id, |a| a.id).ok()
