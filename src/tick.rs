@@ -779,6 +779,55 @@ impl Pipeline {
     }
 }
 
+/// Keeps a body solid after locomotion moved it to `pos`: it never ends a tick inside an
+/// obstacle or closer to one than half its width, and it does not overlap kin it perceives (each
+/// of two overlapping agents moves half the overlap away from the other, from the start of the
+/// tick's positions, so the pair separates whichever is processed first; of two agents at the
+/// very same point the lower-numbered steps to its left, the other to its right). Steering avoids obstacles and
+/// kin; this is what holds when it does not, whatever a species' recipe says.
+fn solid_body(
+    pos: &mut Vec3,
+    i: usize,
+    me: &Agent,
+    percepts: &[crate::perception::Percept],
+    world: &World,
+    perception: &Perception,
+) {
+    let width = me.size.x.max(0.0);
+    for p in percepts {
+        let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) else {
+            continue;
+        };
+        if p.dist >= width {
+            continue;
+        }
+        let away = match (-p.offset).try_normalize() {
+            Some(d) if p.dist > 1e-4 => d,
+            _ => {
+                let left = crate::frame::left(me.yaw);
+                if i < j as usize {
+                    left
+                } else {
+                    -left
+                }
+            }
+        };
+        *pos += away * (0.5 * (width - p.dist));
+    }
+    // A hair more than half the width, so that rounding never leaves the body inside it.
+    let clearance = 0.5 * width * 1.001 + 1e-4;
+    for &k in perception.obstacles_near(*pos) {
+        let Some(o) = world.obstacles.get(k as usize) else {
+            continue;
+        };
+        if o.active {
+            if let Some(q) = o.shape.push_out(*pos, clearance) {
+                *pos = q;
+            }
+        }
+    }
+}
+
 /// Stages 3–6 for agent `i`.
 #[allow(clippy::too_many_arguments)]
 fn agent_pass(
@@ -902,8 +951,13 @@ fn agent_pass(
         for a in &b.on_enter {
             match a {
                 ActionNode::Send(kind, r) if k < 2 => {
-                    messages[k] = Some((*kind, *r));
-                    k += 1;
+                    let quiet = &mut mind.quiet_until[*kind as usize];
+                    if tick >= *quiet {
+                        *quiet =
+                            tick.saturating_add((def.resend_after.max(0.0) / dt).ceil() as u64);
+                        messages[k] = Some((*kind, *r));
+                        k += 1;
+                    }
                 }
                 ActionNode::Call(f) => {
                     if let Some(script) = sp.script.as_deref() {
@@ -972,6 +1026,7 @@ fn agent_pass(
         world.current,
         dt,
     );
+    solid_body(&mut motion.pos, i, me, percepts, world, perception);
     let mut an = me.anim;
     let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
     anim::advance(

@@ -94,6 +94,21 @@ impl Ctx<'_> {
                 weight: 1.0,
             })
     }
+    /// The static-obstacle field of the seen obstacles within `params.range`: the front-half
+    /// field, or the paper's plane-angle field when `params.paper_field`.
+    pub fn static_pressures(&self, params: &avoid::AvoidParams) -> avoid::Pressures {
+        if params.paper_field {
+            return avoid::pressures(self.static_sources(params), params.m0);
+        }
+        let (yaw, pitch) = (self.agent.yaw, self.agent.pitch);
+        let seen = self.percepts.iter().filter(|p| {
+            p.category == Category::Obstacle && p.sense == Sense::Vision && params.in_range(p.dist)
+        });
+        avoid::front_pressures(
+            seen.map(|p| avoid::FrontSource::new(p.offset, p.dist, p.size, yaw, pitch)),
+            params.m0,
+        )
+    }
     /// Seen agents within `params.range` as moving obstacles (seed 000 §4.2: the whole ±150°
     /// field counts); kin only when `params.kin`.
     pub fn moving_obstacles(
@@ -206,7 +221,7 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
         },
         CondNode::ObstacleNear => {
             let params = &ctx.species.def.avoid;
-            let p = avoid::pressures(ctx.static_sources(params), params.m0);
+            let p = ctx.static_pressures(params);
             p.max() > avoid::static_m_min(ctx.species.senses.vision_radius, params.m0)
         }
         CondNode::TrafficNear => {
@@ -286,11 +301,27 @@ fn best_triggered(
         {
             continue;
         }
-        if can_start(i, mind, ctx.tick) && cond(&b.when, ctx, mind, rng) {
+        if can_start(i, mind, ctx.tick)
+            && cond(&b.when, ctx, mind, rng)
+            && !done_on_entry(b, ctx, mind, rng)
+        {
             best = Some((b.priority, i as u16));
         }
     }
     best.map(|(_, i)| i)
+}
+
+/// Whether behavior `b` would be done the moment it started (its `done` read as if it had just
+/// been entered: no time in it yet). Such a behavior is not started: it would end on the next
+/// tick and start again on the one after, an episode of one tick each time (escape heard of
+/// from kin while its predator is already behind and out of sight, say). Its `min_time` does
+/// not hold it either: a behavior is started for what it will do, and this one has nothing to do.
+fn done_on_entry(b: &crate::species::Behavior, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
+    let entered = mind.entered_tick;
+    mind.entered_tick = ctx.tick;
+    let done = cond(&b.done, ctx, mind, rng);
+    mind.entered_tick = entered;
+    done
 }
 
 fn enter(mind: &mut Mind, to: u16, tick: u64) {

@@ -2,6 +2,17 @@
 //! limits, self-balancing as in seed 002 (yaw about world up, pitch about the body's lateral axis,
 //! |pitch| < 90°, never any roll), either kinematically or with seed 001's rigid-body forces, and
 //! advances the animation channel ([`anim`]).
+//!
+//! Kinematic turning follows seed 002's per-step limit (`max_turn`, 45° per step) when
+//! `response` is 0: the command's turn is applied at once, up to the limit, every tick. That form
+//! depends on the tick length (the same command turns twice as fast at half the step) and turns
+//! any command that alternates from one tick to the next into a zig-zag between the limits. The
+//! default adds a turn-rate response: a command's relative turn is closed in about `response`
+//! seconds (turn rate = turn / `response`), the rate itself follows that aim with the time
+//! constant `smoothing` (so commands that alternate tick to tick average out instead of reaching
+//! the body),
+//! and `max_turn` is read as the turn of one [`REFERENCE_STEP`]. Speed follows its target the
+//! same way, within `max_accel`.
 
 pub mod anim;
 mod rigid;
@@ -38,7 +49,18 @@ pub struct Limits {
     pub max_pitch: f32,
     /// Largest change of speed per second.
     pub max_accel: f32,
+    /// Time (s) in which a kinematic body closes a commanded turn or speed change; 0 applies
+    /// each tick's command at once (the paper's per-step form, see the module header).
+    pub response: f32,
+    /// Time constant (s) with which the turn rate follows its aim (0: at once). What keeps
+    /// commands that alternate tick to tick from reaching the body; more lag makes schools
+    /// that align by following each other's headings slower to agree.
+    pub smoothing: f32,
 }
+
+/// The step of seed 002's per-step turn limit when a body turns at a rate: `max_turn` per
+/// 0.05 s (the scenarios' default tick).
+pub const REFERENCE_STEP: f32 = 0.05;
 
 impl Default for Limits {
     fn default() -> Self {
@@ -48,6 +70,8 @@ impl Default for Limits {
             max_turn: FRAC_PI_4,
             max_pitch: 80f32.to_radians(),
             max_accel: 4.0,
+            response: 0.25,
+            smoothing: 0.25,
         }
     }
 }
@@ -117,6 +141,27 @@ pub fn step(
     let target = target.clamp(vmin, vmax);
     let before = m.speed;
     match mode {
+        Mode::Kinematic if limits.response > 0.0 && dt > 0.0 => {
+            let tau = limits.response;
+            let k = 1.0 - (-dt / tau).exp();
+            let kr = if limits.smoothing > 0.0 {
+                1.0 - (-dt / limits.smoothing).exp()
+            } else {
+                1.0
+            };
+            let max_rate = turn / REFERENCE_STEP;
+            let plim = limits.pitch_limit();
+            m.yaw_rate += ((dyaw / tau).clamp(-max_rate, max_rate) - m.yaw_rate) * kr;
+            m.pitch_rate += ((dpitch / tau).clamp(-max_rate, max_rate) - m.pitch_rate) * kr;
+            m.yaw = frame::wrap(m.yaw + m.yaw_rate * dt);
+            m.pitch += m.pitch_rate * dt;
+            // A body held at its pitch limit keeps no rate pushing into it.
+            if m.pitch.abs() >= plim && m.pitch_rate * m.pitch > 0.0 {
+                m.pitch_rate = 0.0;
+            }
+            let dv = ((target - m.speed) * k).clamp(-limits.max_accel * dt, limits.max_accel * dt);
+            m.speed += dv;
+        }
         Mode::Kinematic => {
             m.yaw = frame::wrap(m.yaw + dyaw.clamp(-turn, turn));
             m.pitch += dpitch.clamp(-turn, turn);
@@ -160,7 +205,10 @@ mod tests {
             speed: 1.0,
             ..Default::default()
         };
-        let l = Limits::default();
+        let l = Limits {
+            response: 0.0,
+            ..Limits::default()
+        };
         step(
             &mut m,
             Steer::Turn {
@@ -182,7 +230,10 @@ mod tests {
     #[test]
     fn speed_follows_target_within_acceleration() {
         let mut m = Motion::default();
-        let l = Limits::default(); // 4 units/s², V_max 2
+        let l = Limits {
+            response: 0.0,
+            ..Limits::default()
+        }; // 4 units/s², V_max 2
         step(
             &mut m,
             Steer::Turn {
@@ -211,6 +262,63 @@ mod tests {
             );
         }
         assert_eq!(m.speed, 2.0);
+    }
+
+    /// Yaw after `seconds` of a command, re-issued every tick, at tick length `dt`.
+    fn yaw_after(cmd: impl Fn(usize) -> f32, l: &Limits, dt: f32, seconds: f32) -> Vec<f32> {
+        let mut m = Motion {
+            speed: 1.0,
+            ..Default::default()
+        };
+        let n = (seconds / dt).round() as usize;
+        (0..n)
+            .map(|k| {
+                let c = Steer::Turn {
+                    yaw: cmd(k),
+                    pitch: 0.0,
+                    speed: 1.0,
+                };
+                step(&mut m, c, l, &Mode::Kinematic, Vec3::ZERO, dt);
+                m.yaw
+            })
+            .collect()
+    }
+
+    #[test]
+    fn turn_rate_response_does_not_depend_on_the_tick_length() {
+        // +π/8 every tick for 1 s: the paper's form turns 20·π/8 at 20 Hz and 40·π/8 at 40 Hz;
+        // with a response of 0.25 s the body turns at about (π/8)/0.25 = 1.57 rad/s either way.
+        let l = Limits::default();
+        let a = *yaw_after(|_| std::f32::consts::FRAC_PI_8, &l, 0.05, 1.0)
+            .last()
+            .unwrap();
+        let b = *yaw_after(|_| std::f32::consts::FRAC_PI_8, &l, 0.025, 1.0)
+            .last()
+            .unwrap();
+        assert!((a - b).abs() < 0.05 * b, "{a} {b}");
+        assert!(a > 1.1 && a < 1.6, "{a}");
+        let paper = Limits { response: 0.0, ..l };
+        let a = yaw_after(|_| 0.1, &paper, 0.05, 1.0);
+        let b = yaw_after(|_| 0.1, &paper, 0.025, 1.0);
+        assert!((b.last().unwrap() / a.last().unwrap() - 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn alternating_commands_do_not_reach_the_body_as_a_zig_zag() {
+        // ±0.5 rad alternating every tick: the paper's form swings the heading by 0.5 each tick,
+        // the response keeps the body within a few hundredths of a radian of straight.
+        let alt = |k: usize| if k % 2 == 0 { 0.5 } else { -0.5 };
+        let l = Limits::default();
+        let swing = |ys: &[f32]| {
+            ys.windows(2)
+                .map(|w| (w[1] - w[0]).abs())
+                .fold(0.0, f32::max)
+        };
+        let smooth = yaw_after(alt, &l, 0.05, 2.0);
+        let paper = yaw_after(alt, &Limits { response: 0.0, ..l }, 0.05, 2.0);
+        assert!(swing(&paper) > 0.49);
+        assert!(swing(&smooth) < 0.1, "{}", swing(&smooth));
+        assert!(smooth.iter().all(|y| y.abs() < 0.1));
     }
 
     #[test]

@@ -404,6 +404,13 @@ impl Perception {
         &self.percepts[s..s + self.counts[r] as usize]
     }
 
+    /// Obstacles (indices into `World::obstacles`, active or not) that may be near `p`: every
+    /// obstacle within the perception reach of the tick of any point of `p`'s grid cell.
+    #[inline]
+    pub fn obstacles_near(&self, p: Vec3) -> &[u32] {
+        self.obstacle_grid.near(p)
+    }
+
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> &[Summary; Category::COUNT] {

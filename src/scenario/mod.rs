@@ -328,7 +328,37 @@ fn uniform_in(r: &Aabb, rng: &mut Rng) -> Vec3 {
     )
 }
 
+/// Draws a point of `r` that keeps `clearance` from every active obstacle: up to
+/// [`PLACE_TRIES`] draws from `rng`, then the last one drawn (a region that has no such room is
+/// refused when the scenario loads).
+fn free_in(r: &Aabb, rng: &mut Rng, obstacles: &[Shape], clearance: f32) -> Vec3 {
+    let mut p = uniform_in(r, rng);
+    for _ in 1..PLACE_TRIES {
+        if obstacles.iter().all(|o| o.push_out(p, clearance).is_none()) {
+            break;
+        }
+        p = uniform_in(r, rng);
+    }
+    p
+}
+
+/// Draws a spawning place gets before it gives up looking for room outside the obstacles.
+pub const PLACE_TRIES: usize = 64;
+
+/// Room kept between food items and obstacles when food is placed.
+const FOOD_CLEARANCE: f32 = 0.3;
+
 impl Run {
+    /// The active obstacles' shapes (what spawning keeps clear of).
+    fn solid_shapes(&self) -> Vec<Shape> {
+        self.world
+            .obstacles
+            .iter()
+            .filter(|o| o.active)
+            .map(|o| o.shape)
+            .collect()
+    }
+
     /// Builds the world of `scenario` at t = 0.
     pub fn new(scenario: Scenario, o: Overrides) -> Run {
         let def = &scenario.def;
@@ -346,8 +376,9 @@ impl Run {
         let mut pipeline = Pipeline::new(scenario.species.clone());
         let mut food_rng = Rng::new(seed, u64::MAX);
         let region = def.food.region.unwrap_or(def.bounds);
+        let solid: Vec<Shape> = world.obstacles.iter().map(|o| o.shape).collect();
         for _ in 0..def.food.initial {
-            let p = uniform_in(&region, &mut food_rng);
+            let p = free_in(&region, &mut food_rng, &solid, FOOD_CLEARANCE);
             world.add_food(p);
         }
         let groups = def.groups.clone();
@@ -425,8 +456,10 @@ impl Run {
         self.world.agents.reserve(count);
         self.pipeline.events.reserve(count);
         // Each agent's draws, from the group's stream in the order the group lists them.
+        let solid = self.solid_shapes();
+        let clearance = self.scenario.species.species[s].def.body.size.length() * 0.5;
         let place = |rng: &mut Rng| {
-            let pos = uniform_in(&g.region, rng);
+            let pos = free_in(&g.region, rng, &solid, clearance);
             let yaw = match g.heading {
                 HeadingDef::Random => rng.range(-std::f32::consts::PI, std::f32::consts::PI),
                 HeadingDef::Yaw(d) => d.to_radians(),
@@ -511,8 +544,9 @@ impl Run {
                     }
                 }
                 EventAction::DropFood { count, region } => {
+                    let solid = self.solid_shapes();
                     for _ in 0..count {
-                        let p = uniform_in(&region, &mut self.food_rng);
+                        let p = free_in(&region, &mut self.food_rng, &solid, FOOD_CLEARANCE);
                         self.world.add_food(p);
                     }
                 }
@@ -526,7 +560,8 @@ impl Run {
             while self.food_debt >= 1.0 {
                 self.food_debt -= 1.0;
                 if (self.world.food.len() as u32) < f.max {
-                    let p = uniform_in(&region, &mut self.food_rng);
+                    let solid = self.solid_shapes();
+                    let p = free_in(&region, &mut self.food_rng, &solid, FOOD_CLEARANCE);
                     self.world.add_food(p);
                 }
             }

@@ -51,6 +51,11 @@ pub struct SpeciesDef {
     /// agents); native conditions run every tick.
     #[serde(default = "default_interval")]
     pub decision_interval: u32,
+    /// An agent sends a message of a given kind on entering a behavior at most once per this
+    /// many seconds (0: every entry). Seed 003's messages are warnings; a fish that re-enters
+    /// escape does not warn its kin again every time.
+    #[serde(default = "default_resend")]
+    pub resend_after: f32,
     /// Name of the behavior agents start in and fall back to.
     pub initial: String,
     /// The behaviors, in declaration order (ties of priority go to the earlier one).
@@ -65,6 +70,9 @@ fn default_color() -> String {
 }
 fn default_interval() -> u32 {
     4
+}
+fn default_resend() -> f32 {
+    2.0
 }
 
 /// Body of a species.
@@ -414,12 +422,37 @@ impl Default for ChaseDef {
 pub struct EscapeDef {
     /// Category to escape from.
     pub from: Category,
+    /// The paper's rules as written: pitch ±π/8 (smell) or ±π/4 (vision) every step, `Vc/2`
+    /// from a predator ahead in smell mode. The default adds a pitch aim and a speed floor.
+    pub paper: bool,
+    /// A predator within this angle of the horizontal counts as level: escape flees level.
+    pub level_band: f32,
+    /// Largest pitch escape aims for (rad).
+    pub max_pitch: f32,
+    /// Slowest escape speed, as a fraction of `V_max`.
+    pub speed_floor: f32,
 }
 
 impl Default for EscapeDef {
     fn default() -> Self {
+        let l = crate::steering::escape::Leveling::default();
         EscapeDef {
             from: Category::Predator,
+            paper: false,
+            level_band: l.level_band,
+            max_pitch: l.max_pitch,
+            speed_floor: l.speed_floor,
+        }
+    }
+}
+
+impl EscapeDef {
+    /// The runtime's additions to the paper's escape.
+    pub fn leveling(&self) -> crate::steering::escape::Leveling {
+        crate::steering::escape::Leveling {
+            level_band: self.level_band,
+            max_pitch: self.max_pitch,
+            speed_floor: self.speed_floor,
         }
     }
 }

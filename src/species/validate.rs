@@ -584,6 +584,24 @@ impl Builder<'_> {
             recipes.push(self.recipe(r));
             recipe_names.push(name.clone());
         }
+        if !(def.resend_after.is_finite() && def.resend_after >= 0.0) {
+            self.error_at(
+                "resend_after",
+                format!(
+                    "`resend_after` must be a number of seconds ≥ 0, not {}",
+                    def.resend_after
+                ),
+            );
+        }
+        let l = &def.body.limits;
+        for (key, v) in [("response", l.response), ("smoothing", l.smoothing)] {
+            if !(v.is_finite() && v >= 0.0) {
+                self.error_at(
+                    key,
+                    format!("`{key}` must be a number of seconds ≥ 0, not {v}"),
+                );
+            }
+        }
         if def.decision_interval == 0 {
             self.error_at(
                 "decision_interval",

@@ -73,6 +73,72 @@ pub fn pressures(sources: impl IntoIterator<Item = PressureSource>, m0: f32) -> 
     p
 }
 
+/// One obstacle as the front-half field sees it: the unit direction from the body to the
+/// obstacle's nearest point, in the body frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrontSource {
+    /// Distance d_i to the obstacle's nearest point.
+    pub dist: f32,
+    /// Size S_i: the obstacle's bounding-box diagonal.
+    pub size: f32,
+    /// Component of the direction along the heading (cos of the 3D angle to the velocity).
+    pub forward: f32,
+    /// Component to the right of the heading.
+    pub right: f32,
+    /// Component along the body's dorsal (up) axis.
+    pub up: f32,
+}
+
+impl FrontSource {
+    /// The direction `offset` (obstacle point − body) in the frame of a body with this heading.
+    pub fn new(offset: Vec3, dist: f32, size: f32, yaw: f32, pitch: f32) -> FrontSource {
+        let d = offset.normalize_or_zero();
+        FrontSource {
+            dist,
+            size,
+            forward: d.dot(crate::frame::forward(yaw, pitch)),
+            right: -d.dot(crate::frame::left(yaw)),
+            up: d.dot(crate::frame::dorsal(yaw, pitch)),
+        }
+    }
+}
+
+/// The front-half field (the runtime's form of seed 000 §4.1): only obstacles ahead of the body
+/// count (`forward > 0`), each with `S_i·cos α_i/(d_i + m0)`, α_i the angle between the
+/// body→obstacle line and the velocity measured in 3D, to L or R by the side it lies on and to U
+/// or D by whether it lies above or below the heading (half to each when exactly on the line).
+/// In the heading's own horizontal plane this is the paper's `S_i cos θ_i/(d_i + m0)`; unlike the
+/// paper's plane angles, it gives no horizontal pressure for an obstacle straight above or below
+/// (whose θ is undefined) and none for obstacles beside or behind, which the paper leaves out by
+/// integrating over the front half.
+pub fn front_pressures(sources: impl IntoIterator<Item = FrontSource>, m0: f32) -> Pressures {
+    const ON_LINE: f32 = 1e-4;
+    let mut p = Pressures::default();
+    for s in sources {
+        if s.forward <= 0.0 || !s.forward.is_finite() {
+            continue;
+        }
+        let t = s.size * s.forward / (s.dist.max(0.0) + m0).max(1e-6);
+        if s.right > ON_LINE {
+            p.right += t;
+        } else if s.right < -ON_LINE {
+            p.left += t;
+        } else {
+            p.left += 0.5 * t;
+            p.right += 0.5 * t;
+        }
+        if s.up > ON_LINE {
+            p.up += t;
+        } else if s.up < -ON_LINE {
+            p.down += t;
+        } else {
+            p.up += 0.5 * t;
+            p.down += 0.5 * t;
+        }
+    }
+    p
+}
+
 /// Parameters of the static-obstacle field (seed 000 §4.1); defaults follow the paper's form.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -86,6 +152,14 @@ pub struct AvoidParams {
     pub range: Option<f32>,
     /// Whether kin count as dynamic obstacles (schooling species leave that to separation).
     pub kin: bool,
+    /// Whether the static field takes the paper's form as written: every obstacle in view
+    /// counts, with its horizontal and vertical angles θ_i, ω_i ([`pressures`]). The default
+    /// (`false`) is the front-half field ([`front_pressures`]): §4.1 integrates over the front
+    /// half only, and an obstacle straight above or below has no horizontal angle at all.
+    pub paper_field: bool,
+    /// Slowest speed braking brings a body to, as a fraction of `V_max` (0: the paper's `Vc/2`
+    /// applied every tick, which decays to a standstill next to any obstacle that stays in view).
+    pub brake_floor: f32,
 }
 
 impl Default for AvoidParams {
@@ -95,6 +169,8 @@ impl Default for AvoidParams {
             turn: FRAC_PI_8,
             range: None,
             kin: false,
+            paper_field: false,
+            brake_floor: 0.3,
         }
     }
 }
@@ -137,29 +213,37 @@ fn turn_rule(p: &Pressures, m_min: f32, turn: f32) -> (f32, f32) {
     (yaw, pitch)
 }
 
-/// Avoid static obstacles (seed 000 §4.1). Returns [`Steer::None`] when the behavior is done
-/// (all four pressures `≤ M_min`). Speed: `Vc/2` when any pressure exceeds `M_max`, else `Vc`.
+/// Avoid static obstacles (seed 000 §4.1) from the field's pressures `p` ([`pressures`] or
+/// [`front_pressures`]). Returns [`Steer::None`] when the behavior is done (all four pressures
+/// `≤ M_min`). Speed: `Vc/2` when any pressure exceeds `M_max`, else `Vc`; never below
+/// `brake_floor·V_max`, so that a body next to an obstacle keeps the speed to leave it (the paper
+/// halves the speed every step, which a field that stays above `M_max` turns into a standstill).
+/// With the front-half field an obstacle level with the heading does not make the body pitch:
+/// it turns, rather than climbing toward the pitch limit.
 pub fn avoid_static(
     kin: &Kin,
-    obstacles: impl IntoIterator<Item = PressureSource>,
+    p: Pressures,
     vision_radius: f32,
     fish_size: f32,
     v_max: f32,
     dt: f32,
     params: &AvoidParams,
 ) -> Steer {
-    let p = pressures(obstacles, params.m0);
     let m_min = static_m_min(vision_radius, params.m0);
     if p.max() <= m_min {
         return Steer::None;
     }
     let m_max = static_m_max(fish_size, v_max, dt, params.m0);
-    let (yaw, pitch) = turn_rule(&p, m_min, params.turn);
+    let (yaw, mut pitch) = turn_rule(&p, m_min, params.turn);
+    if !params.paper_field && (p.up - p.down).abs() <= 1e-3 * p.up.max(p.down) {
+        pitch = 0.0;
+    }
     let speed = if p.max() > m_max {
         kin.speed / 2.0
     } else {
         kin.speed
     };
+    let speed = speed.max(params.brake_floor.clamp(0.0, 1.0) * v_max);
     Steer::Turn { yaw, pitch, speed }
 }
 
@@ -326,6 +410,15 @@ mod tests {
         }
     }
 
+    /// The paper's form: the plane-angle field, `Vc/2` without a floor.
+    fn paper() -> AvoidParams {
+        AvoidParams {
+            paper_field: true,
+            brake_floor: 0.0,
+            ..AvoidParams::default()
+        }
+    }
+
     fn src(dist: f32, bearing: f32, elevation: f32, size: f32) -> PressureSource {
         PressureSource {
             dist,
@@ -353,12 +446,12 @@ mod tests {
         // M_min = 1/(10+1) = 0.0909; M_max = S_f/(V_max·dt + m0) = 0.5/(2·0.1+1) = 0.4167.
         let s = avoid_static(
             &kin(2.0),
-            [src(0.5, FRAC_PI_3, 0.0, 2.0)],
+            pressures([src(0.5, FRAC_PI_3, 0.0, 2.0)], 1.0),
             10.0,
             0.5,
             2.0,
             0.1,
-            &AvoidParams::default(),
+            &paper(),
         );
         // L < R → θ = −π/8 (turn left). Level obstacle: U = D = 0.6667 (half each) > M_min,
         // equal → pitch up by π/8.
@@ -377,12 +470,12 @@ mod tests {
         // Far obstacle: R = 1·cos(π/3)/(50+1) = 0.0098 < M_min = 1/11.
         let s = avoid_static(
             &kin(1.0),
-            [src(50.0, FRAC_PI_3, 0.2, 1.0)],
+            pressures([src(50.0, FRAC_PI_3, 0.2, 1.0)], 1.0),
             10.0,
             0.5,
             2.0,
             0.1,
-            &AvoidParams::default(),
+            &paper(),
         );
         assert_eq!(s, Steer::None);
     }
@@ -392,12 +485,12 @@ mod tests {
         // L = 1·cos(−π/4)/(4+1) = 0.1414: above M_min (0.0909), below M_max (0.4167).
         let s = avoid_static(
             &kin(2.0),
-            [src(4.0, -FRAC_PI_4, -0.7, 1.0)],
+            pressures([src(4.0, -FRAC_PI_4, -0.7, 1.0)], 1.0),
             10.0,
             0.5,
             2.0,
             0.1,
-            &AvoidParams::default(),
+            &paper(),
         );
         // L > R → +π/8 (turn right); below: D = cos(0.7)/5 = 0.153 > M_min, U = 0 → pitch up.
         assert_eq!(
@@ -406,6 +499,85 @@ mod tests {
                 yaw: FRAC_PI_8,
                 pitch: FRAC_PI_8,
                 speed: 2.0
+            }
+        );
+    }
+
+    fn front(dist: f32, dir: Vec3, size: f32) -> FrontSource {
+        let d = dir.normalize();
+        FrontSource {
+            dist,
+            size,
+            right: d.x,
+            up: d.y,
+            forward: d.z,
+        }
+    }
+
+    #[test]
+    fn front_field_matches_the_paper_in_the_heading_plane() {
+        // Level obstacle at θ = +π/3 (right), S = 2, d = 3, m0 = 1: R = 2·cos(π/3)/4 = 0.25, and
+        // being level it counts half up, half down.
+        let (s, c) = FRAC_PI_3.sin_cos();
+        let p = front_pressures([front(3.0, Vec3::new(s, 0.0, c), 2.0)], 1.0);
+        assert!((p.right - 0.25).abs() < 1e-6, "{p:?}");
+        assert_eq!(p.left, 0.0);
+        assert!((p.up - 0.125).abs() < 1e-6 && (p.down - 0.125).abs() < 1e-6);
+        // Above and ahead at ω = π/4, on the heading's vertical plane: U = 2·cos(π/4)/4.
+        let p = front_pressures([front(3.0, Vec3::new(0.0, 1.0, 1.0), 2.0)], 1.0);
+        assert!((p.up - 0.353_553_4).abs() < 1e-6 && p.down == 0.0);
+        assert!((p.left - 0.176_776_7).abs() < 1e-6 && (p.right - 0.176_776_7).abs() < 1e-6);
+    }
+
+    #[test]
+    fn front_field_ignores_obstacles_beside_behind_above_and_below() {
+        let m0 = 1.0;
+        for dir in [
+            Vec3::X,
+            -Vec3::X,
+            -Vec3::Z,
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::new(1.0, -1.0, -0.2),
+        ] {
+            let p = front_pressures([front(0.5, dir, 4.0)], m0);
+            assert_eq!(p, Pressures::default(), "{dir}");
+        }
+    }
+
+    #[test]
+    fn front_source_reads_the_body_frame() {
+        // Heading yaw = π/2 faces −X (a right turn from +Z); an obstacle at −X is dead ahead,
+        // one at +Z is on the left, one at +Y is above.
+        let f = FrontSource::new(-Vec3::X, 1.0, 1.0, std::f32::consts::FRAC_PI_2, 0.0);
+        assert!((f.forward - 1.0).abs() < 1e-6 && f.right.abs() < 1e-6 && f.up.abs() < 1e-6);
+        let f = FrontSource::new(Vec3::Z, 1.0, 1.0, std::f32::consts::FRAC_PI_2, 0.0);
+        assert!((f.right + 1.0).abs() < 1e-6 && f.forward.abs() < 1e-6);
+        let f = FrontSource::new(Vec3::Y, 1.0, 1.0, std::f32::consts::FRAC_PI_2, 0.0);
+        assert!((f.up - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn braking_keeps_a_floor_and_a_level_obstacle_makes_no_pitch() {
+        // Dead ahead, level, close: every pressure above M_max. The paper halves Vc (0.2 → 0.1);
+        // the floor keeps 0.3·V_max = 0.6; equal U and D give no pitch, equal L and R turn left.
+        let p = front_pressures([front(0.2, Vec3::Z, 2.0)], 1.0);
+        let s = avoid_static(&kin(0.2), p, 10.0, 0.5, 2.0, 0.1, &AvoidParams::default());
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: 0.0,
+                speed: 0.6
+            }
+        );
+        let s = avoid_static(&kin(0.2), p, 10.0, 0.5, 2.0, 0.1, &paper());
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 0.1
             }
         );
     }

@@ -1,5 +1,13 @@
 //! Escaping a predator: seed 000 §4.4 (smell and vision modes, completion test) and seed 002's
 //! escape by seeking the point mirrored through the fish.
+//!
+//! The paper's two modes are kept as written ([`escape_by_smell`], [`escape_by_vision`]). The
+//! runtime applies them through [`escape_leveled`], which adds two things the per-step rules need
+//! when they run every tick: the pitch rule aims at an absolute pitch (up to `max_pitch`, level
+//! when the predator is within `level_band` of the horizontal) instead of adding ±π/8 or ±π/4
+//! every step, which climbs to the pitch limit whenever the predator stays below, and fleeing
+//! from a predator ahead never slows below `speed_floor·V_max` (the paper's `Vc/2` every step
+//! decays to a standstill in front of the predator).
 
 use super::{seek, Kin, Steer};
 use crate::perception::{Level, Sector};
@@ -56,6 +64,67 @@ pub fn escape_by_vision(
         yaw: away(bearing),
         pitch: away(elevation),
         speed,
+    }
+}
+
+/// The runtime's additions to the paper's escape (see the module header).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Leveling {
+    /// A predator whose elevation above the horizontal is within this band counts as level.
+    pub level_band: f32,
+    /// Largest pitch escape aims for.
+    pub max_pitch: f32,
+    /// Slowest escape speed, as a fraction of `V_max`.
+    pub speed_floor: f32,
+}
+
+impl Default for Leveling {
+    fn default() -> Self {
+        Leveling {
+            level_band: std::f32::consts::FRAC_PI_6,
+            max_pitch: FRAC_PI_4,
+            speed_floor: 0.5,
+        }
+    }
+}
+
+/// Escape with the paper's yaw rules and speeds (smell or vision mode) and the runtime's
+/// pitch and speed floor: `elevation` is relative to the heading as perception gives it, `pitch`
+/// the body's own; the pitch command turns (by at most the mode's step, π/8 or π/4) toward
+/// `+max_pitch` from a predator below the band, `−max_pitch` from one above it, level otherwise.
+#[allow(clippy::too_many_arguments)]
+pub fn escape_leveled(
+    vision: bool,
+    bearing: f32,
+    elevation: f32,
+    pitch: f32,
+    dist: f32,
+    vision_radius: f32,
+    current_speed: f32,
+    v_max: f32,
+    l: &Leveling,
+) -> Steer {
+    let paper = if vision {
+        escape_by_vision(bearing, elevation, dist, vision_radius, v_max)
+    } else {
+        escape_by_smell(bearing, elevation, current_speed, v_max)
+    };
+    let Steer::Turn { yaw, speed, .. } = paper else {
+        return paper;
+    };
+    let step = if vision { FRAC_PI_4 } else { FRAC_PI_8 };
+    let absolute = elevation + pitch;
+    let aim = if absolute < -l.level_band {
+        l.max_pitch
+    } else if absolute > l.level_band {
+        -l.max_pitch
+    } else {
+        0.0
+    };
+    Steer::Turn {
+        yaw,
+        pitch: (aim - pitch).clamp(-step, step),
+        speed: speed.max(l.speed_floor.clamp(0.0, 1.0) * v_max),
     }
 }
 
@@ -124,6 +193,45 @@ mod tests {
         assert_eq!(
             escape_by_vision(2.0, -0.3, 12.0, 10.0, 4.0),
             turn(0.0, FRAC_PI_4, 2.0)
+        );
+    }
+
+    #[test]
+    fn leveled_escape_flees_level_from_a_level_predator() {
+        let l = Leveling::default();
+        // Level predator on the left-front, in sight, body level: the paper pitches +π/4 every
+        // step; leveled, the pitch stays 0 and the yaw is the paper's.
+        assert_eq!(
+            escape_by_vision(-0.5, -0.01, 3.0, 10.0, 4.0),
+            turn(FRAC_PI_4, FRAC_PI_4, 4.0)
+        );
+        assert_eq!(
+            escape_leveled(true, -0.5, -0.01, 0.0, 3.0, 10.0, 1.0, 4.0, &l),
+            turn(FRAC_PI_4, 0.0, 4.0)
+        );
+        // Same predator, body pitched up 0.6: level again by at most π/4 (−0.6).
+        let Steer::Turn { pitch, .. } =
+            escape_leveled(true, -0.5, -0.61, 0.6, 3.0, 10.0, 1.0, 4.0, &l)
+        else {
+            panic!()
+        };
+        assert!((pitch + 0.6).abs() < 1e-6);
+        // Predator well below, body already at +π/4: keep that pitch (the paper would add π/4).
+        let Steer::Turn { pitch, .. } =
+            escape_leveled(true, 0.5, -1.6, FRAC_PI_4, 3.0, 10.0, 1.0, 4.0, &l)
+        else {
+            panic!()
+        };
+        assert!(pitch.abs() < 1e-6);
+        // Smell mode, predator ahead: the paper's Vc/2 = 0.25, floored at 0.5·V_max = 2.
+        assert_eq!(
+            escape_leveled(false, -1.0, 0.0, 0.0, 15.0, 10.0, 0.5, 4.0, &l),
+            turn(FRAC_PI_8, 0.0, 2.0)
+        );
+        // Predator above (absolute elevation 0.9) in smell mode: pitch down by π/8 at most.
+        assert_eq!(
+            escape_leveled(false, 2.5, 0.9, 0.0, 15.0, 10.0, 2.0, 5.0, &l),
+            turn(0.0, -FRAC_PI_8, 5.0)
         );
     }
 

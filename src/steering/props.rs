@@ -70,7 +70,7 @@ proptest! {
     fn avoidance_is_finite(k in kin(), srcs in proptest::collection::vec((0.0f32..50.0, angle(), angle(), 0.0f32..20.0, vec3()), 0..8)) {
         let p = AvoidParams::default();
         let statics: Vec<PressureSource> = srcs.iter().map(|s| PressureSource { dist: s.0, bearing: s.1, elevation: s.2, size: s.3, weight: 1.0 }).collect();
-        prop_assert!(finite(avoid::avoid_static(&k, statics.iter().copied(), 10.0, 1.0, 2.0, 0.05, &p)));
+        prop_assert!(finite(avoid::avoid_static(&k, avoid::pressures(statics.iter().copied(), p.m0), 10.0, 1.0, 2.0, 0.05, &p)));
         let moving: Vec<MovingObstacle> = srcs.iter().map(|s| MovingObstacle { source: PressureSource { dist: s.0, bearing: s.1, elevation: s.2, size: s.3, weight: 1.0 }, velocity: s.4 }).collect();
         prop_assert!(finite(avoid::avoid_dynamic(&k, &moving, 10.0, 1.0, 0.05, &p)));
         let spheres = srcs.iter().map(|s| (s.4, s.3));

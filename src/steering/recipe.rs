@@ -110,7 +110,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
     match r {
         Recipe::AvoidStatic(p) => avoid::avoid_static(
             &kin,
-            ctx.static_sources(p),
+            ctx.static_pressures(p),
             vr,
             ctx.agent.diagonal(),
             vmax,
@@ -151,10 +151,21 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
         },
         Recipe::Escape(e) => match ctx.nearest(e.from) {
             None => Steer::None,
-            Some(p) if p.sense == Sense::Vision => {
+            Some(p) if e.paper && p.sense == Sense::Vision => {
                 escape::escape_by_vision(p.bearing, p.elevation, p.dist, vr, vmax)
             }
-            Some(p) => escape::escape_by_smell(p.bearing, p.elevation, kin.speed, vmax),
+            Some(p) if e.paper => escape::escape_by_smell(p.bearing, p.elevation, kin.speed, vmax),
+            Some(p) => escape::escape_leveled(
+                p.sense == Sense::Vision,
+                p.bearing,
+                p.elevation,
+                kin.pitch,
+                p.dist,
+                vr,
+                kin.speed,
+                vmax,
+                &e.leveling(),
+            ),
         },
         Recipe::EscapeMirror(e) => match ctx.nearest(e.from) {
             None => Steer::None,

@@ -95,6 +95,9 @@ pub struct Mind {
     pub script_steer: Vec<Vec<(f32, Term)>>,
     /// Whether this agent already reported a script error (reported once).
     pub script_error_reported: bool,
+    /// Per message kind: the tick before which entering a behavior sends no more of it.
+    #[serde(default)]
+    pub quiet_until: [u64; 3],
 }
 
 impl Mind {
@@ -111,6 +114,7 @@ impl Mind {
             last_steer: Steer::NONE,
             script_steer: Vec::new(),
             script_error_reported: false,
+            quiet_until: [0; 3],
         }
     }
     /// The stack, bottom first.

@@ -91,6 +91,49 @@ impl Shape {
             Shape::Box(b) => b.size().length(),
         }
     }
+    /// Where a body centred at `p` must move to keep `clearance` from the shape: `None` when it
+    /// already does; else the nearest point at that clearance (for a box, on the nearest face
+    /// of the box grown by `clearance`, which is at least `clearance` from the box).
+    pub fn push_out(&self, p: Vec3, clearance: f32) -> Option<Vec3> {
+        let clearance = clearance.max(0.0);
+        match self {
+            Shape::Sphere { center, radius } => {
+                let keep = radius + clearance;
+                let d = p - *center;
+                let len2 = d.length_squared();
+                if !(len2 < keep * keep) {
+                    return None;
+                }
+                // A body exactly at the centre leaves upward.
+                let dir = d.try_normalize().unwrap_or(Vec3::Y);
+                Some(*center + dir * keep)
+            }
+            Shape::Box(b) => {
+                let (lo, hi) = (
+                    b.min - Vec3::splat(clearance),
+                    b.max + Vec3::splat(clearance),
+                );
+                if !(p.cmpgt(lo).all() && p.cmplt(hi).all()) {
+                    return None;
+                }
+                // The face the body is nearest to, in axis order among equals.
+                let mut best = (f32::INFINITY, p);
+                for axis in 0..3 {
+                    for (face, gap) in [
+                        (lo[axis], p[axis] - lo[axis]),
+                        (hi[axis], hi[axis] - p[axis]),
+                    ] {
+                        if gap < best.0 {
+                            let mut q = p;
+                            q[axis] = face;
+                            best = (gap, q);
+                        }
+                    }
+                }
+                Some(best.1)
+            }
+        }
+    }
     /// The surface point nearest to `p` (for a point inside, `p` itself).
     pub fn closest_point(&self, p: Vec3) -> Vec3 {
         match self {
