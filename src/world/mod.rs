@@ -101,7 +101,7 @@ impl Shape {
                 let keep = radius + clearance;
                 let d = p - *center;
                 let len2 = d.length_squared();
-                if !(len2 < keep * keep) {
+                if len2 >= keep * keep || len2.is_nan() {
                     return None;
                 }
                 // A body exactly at the centre leaves upward.
@@ -262,5 +262,38 @@ impl World {
     /// The agent with this id.
     pub fn agent(&self, id: AgentId) -> Option<&Agent> {
         self.agent_index(id).map(|i| &self.agents[i])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn push_out_keeps_the_clearance_from_spheres_and_boxes() {
+        let s = Shape::Sphere {
+            center: Vec3::ZERO,
+            radius: 2.0,
+        };
+        // Inside, 1 from the centre along +X: out to 2 + 0.5.
+        assert_eq!(
+            s.push_out(Vec3::new(1.0, 0.0, 0.0), 0.5),
+            Some(Vec3::new(2.5, 0.0, 0.0))
+        );
+        // Just outside the clearance: left alone; at the centre: straight up.
+        assert_eq!(s.push_out(Vec3::new(2.6, 0.0, 0.0), 0.5), None);
+        assert_eq!(s.push_out(Vec3::ZERO, 0.5), Some(Vec3::new(0.0, 2.5, 0.0)));
+        let b = Shape::Box(Aabb::new(Vec3::ZERO, Vec3::new(4.0, 2.0, 10.0)));
+        // Inside, nearest the top face (0.3 below it): onto the top grown by 0.2.
+        assert_eq!(
+            b.push_out(Vec3::new(2.0, 1.7, 5.0), 0.2),
+            Some(Vec3::new(2.0, 2.2, 5.0))
+        );
+        // Outside the box but within the clearance of its +X face.
+        assert_eq!(
+            b.push_out(Vec3::new(4.1, 1.0, 5.0), 0.2),
+            Some(Vec3::new(4.2, 1.0, 5.0))
+        );
+        assert_eq!(b.push_out(Vec3::new(4.3, 1.0, 5.0), 0.2), None);
     }
 }
