@@ -12,6 +12,7 @@ pub mod drives;
 pub mod events;
 pub mod formation;
 pub mod frame;
+pub mod health;
 pub mod index;
 pub mod live;
 pub mod locomotion;
