@@ -298,8 +298,9 @@ mod tests {
         assert!((a - b).abs() < 0.05 * b, "{a} {b}");
         assert!(a > 1.1 && a < 1.6, "{a}");
         let paper = Limits { response: 0.0, ..l };
-        let a = yaw_after(|_| 0.1, &paper, 0.05, 1.0);
-        let b = yaw_after(|_| 0.1, &paper, 0.025, 1.0);
+        // 0.05 rad a tick: 1 rad in 20 ticks, 2 rad in 40 (no wrap past π).
+        let a = yaw_after(|_| 0.05, &paper, 0.05, 1.0);
+        let b = yaw_after(|_| 0.05, &paper, 0.025, 1.0);
         assert!((b.last().unwrap() / a.last().unwrap() - 2.0).abs() < 1e-3);
     }
 
