@@ -822,7 +822,14 @@ fn solid_body(
         };
         if o.active {
             if let Some(q) = o.shape.push_out(*pos, clearance) {
-                *pos = q;
+                // Where a rock meets the floor or a wall of the world, straight out may be out
+                // of the world: then along the horizontal.
+                *pos = if world.bounds.contains(q) {
+                    q
+                } else {
+                    let p = world.bounds.closest_point(*pos);
+                    o.shape.push_out_level(p, clearance).unwrap_or(q)
+                };
             }
         }
     }

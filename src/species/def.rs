@@ -74,6 +74,9 @@ fn default_interval() -> u32 {
 fn default_resend() -> f32 {
     2.0
 }
+fn default_min_time() -> f32 {
+    0.5
+}
 
 /// Body of a species.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -235,8 +238,9 @@ pub struct BehaviorDef {
     #[serde(default = "yes")]
     pub equal_may_interrupt: bool,
     /// Minimum time (s) in this behavior before it completes or an equal or lower level
-    /// interrupts it (anti-dithering). Higher levels always interrupt.
-    #[serde(default)]
+    /// interrupts it (anti-dithering). Higher levels always interrupt. Half a second unless
+    /// said: an episode shorter than that reads as flicker, not as a decision.
+    #[serde(default = "default_min_time")]
     pub min_time: f32,
     /// Time (s) after it completes before it may start again.
     #[serde(default)]

@@ -134,6 +134,41 @@ impl Shape {
             }
         }
     }
+    /// [`Shape::push_out`] along the horizontal only: for a body that stands on the floor of
+    /// the world where a rock meets it (pushed straight out, it would go through the floor and
+    /// be put back inside the rock).
+    pub fn push_out_level(&self, p: Vec3, clearance: f32) -> Option<Vec3> {
+        let clearance = clearance.max(0.0);
+        match self {
+            Shape::Sphere { center, radius } => {
+                let keep = radius + clearance;
+                let dy = p.y - center.y;
+                let ring2 = keep * keep - dy * dy;
+                let h = Vec3::new(p.x - center.x, 0.0, p.z - center.z);
+                if ring2 <= 0.0 || ring2.is_nan() || h.length_squared() >= ring2 {
+                    return None;
+                }
+                let dir = h.try_normalize().unwrap_or(Vec3::X);
+                let ring = ring2.sqrt();
+                Some(Vec3::new(
+                    center.x + dir.x * ring,
+                    p.y,
+                    center.z + dir.z * ring,
+                ))
+            }
+            Shape::Box(b) => {
+                let flat = Aabb::new(
+                    Vec3::new(b.min.x, f32::NEG_INFINITY, b.min.z),
+                    Vec3::new(b.max.x, f32::INFINITY, b.max.z),
+                );
+                let inside_height = p.y > b.min.y - clearance && p.y < b.max.y + clearance;
+                if !inside_height {
+                    return None;
+                }
+                Shape::Box(flat).push_out(p, clearance)
+            }
+        }
+    }
     /// The surface point nearest to `p` (for a point inside, `p` itself).
     pub fn closest_point(&self, p: Vec3) -> Vec3 {
         match self {
@@ -295,5 +330,28 @@ mod tests {
             Some(Vec3::new(4.2, 1.0, 5.0))
         );
         assert_eq!(b.push_out(Vec3::new(4.3, 1.0, 5.0), 0.2), None);
+    }
+
+    #[test]
+    fn push_out_level_moves_along_the_floor() {
+        // A sphere of radius 5 centred 4 above the floor: at the floor (3 below the centre) the
+        // ring of radius √(5.5² − 3²) = √21.25 is what a body with clearance 0.5 must clear.
+        let s = Shape::Sphere {
+            center: Vec3::new(0.0, 4.0, 0.0),
+            radius: 5.0,
+        };
+        let q = s.push_out_level(Vec3::new(2.0, 1.0, 0.0), 0.5).unwrap();
+        assert!(
+            (q - Vec3::new(21.25f32.sqrt(), 1.0, 0.0)).length() < 1e-5,
+            "{q}"
+        );
+        assert_eq!(s.push_out_level(Vec3::new(5.0, 1.0, 0.0), 0.5), None);
+        // Above the top of a box: nothing to do horizontally.
+        let b = Shape::Box(Aabb::new(Vec3::ZERO, Vec3::splat(2.0)));
+        assert_eq!(b.push_out_level(Vec3::new(1.0, 3.0, 1.0), 0.2), None);
+        assert_eq!(
+            b.push_out_level(Vec3::new(1.9, 0.0, 1.0), 0.2),
+            Some(Vec3::new(2.2, 0.0, 1.0))
+        );
     }
 }
