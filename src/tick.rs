@@ -665,6 +665,7 @@ impl Pipeline {
                     let a = &mut world.agents[i];
                     a.drives.eaten += meal;
                     a.drives.since_meal = 0.0;
+                    a.mind.reached = true;
                     self.stats.meals += 1;
                     self.events.push(Event::Meal {
                         agent: a.id,
@@ -681,6 +682,7 @@ impl Pipeline {
                     let a = &mut world.agents[i];
                     a.drives.eaten += meal;
                     a.drives.since_meal = 0.0;
+                    a.mind.reached = true;
                     self.stats.catches += 1;
                     self.events.push(Event::Catch { agent: a.id, prey });
                     self.events.push(Event::Death {
@@ -699,6 +701,7 @@ impl Pipeline {
                     for k in [i, j] {
                         world.agents[k].drives.since_mating = 0.0;
                         world.agents[k].drives.libido = 0.0;
+                        world.agents[k].mind.reached = true;
                     }
                     self.stats.matings += 1;
                     self.events.push(Event::Mating {

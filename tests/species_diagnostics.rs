@@ -130,7 +130,7 @@ fn unknown_field_is_located_and_the_near_miss_suggested() {
             "minnow.ron",
             3,
             5,
-            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `initial`, `behaviors`, `recipes`"
+            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `resend_after`, `initial`, `behaviors`, `recipes`"
         )
     );
     let bad = MINNOW.replace("Cruise(speed: 1.0)", "Cruise(sped: 1.0)");
@@ -373,9 +373,10 @@ fn nan_steering_from_a_script_is_rejected_and_the_last_valid_one_kept() {
     let a = sim.agent(id);
     assert_eq!(a.mind.last_steer, good);
     assert!(a.pos.is_finite() && a.yaw.is_finite() && a.speed.is_finite());
-    // It kept heading along (1, 0, 1): yaw −45° (left of +Z is +X).
+    // It kept heading along (1, 0, 1): yaw −45° (left of +Z is +X), which the turn-rate
+    // response has all but settled on 2.5 s after the start.
     assert!(
-        (a.yaw + std::f32::consts::FRAC_PI_4).abs() < 1e-4,
+        (a.yaw + std::f32::consts::FRAC_PI_4).abs() < 1e-2,
         "{}",
         a.yaw
     );

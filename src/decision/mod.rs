@@ -327,6 +327,7 @@ fn done_on_entry(b: &crate::species::Behavior, ctx: &Ctx, mind: &mut Mind, rng: 
 fn enter(mind: &mut Mind, to: u16, tick: u64) {
     mind.current = to;
     mind.entered_tick = tick;
+    mind.reached = false;
 }
 
 /// One step of arbitration for one agent. Returns the transitions it made.
@@ -339,8 +340,9 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     let t_in = ctx.time_in_behavior(mind);
     let mut out: Transitions = [None, None];
 
-    // 1. Completion of the current behavior.
-    if t_in >= b.min_time && cond(&b.done, ctx, mind, rng) {
+    // 1. Completion of the current behavior (at once after its contact: a fish that has
+    // eaten or mated is done with it, whatever its minimum time).
+    if (t_in >= b.min_time || mind.reached) && cond(&b.done, ctx, mind, rng) {
         if b.cooldown > 0.0 {
             if let Some(c) = mind.cooldown_until.get_mut(cur as usize) {
                 *c = tick + (b.cooldown / ctx.dt).ceil() as u64;

@@ -98,6 +98,10 @@ pub struct Mind {
     /// Per message kind: the tick before which entering a behavior sends no more of it.
     #[serde(default)]
     pub quiet_until: [u64; 3],
+    /// Whether the current behavior's contact happened (a meal, a catch, a mating): its end
+    /// is then not held back by `min_time`.
+    #[serde(default)]
+    pub reached: bool,
 }
 
 impl Mind {
@@ -115,6 +119,7 @@ impl Mind {
             script_steer: Vec::new(),
             script_error_reported: false,
             quiet_until: [0; 3],
+            reached: false,
         }
     }
     /// The stack, bottom first.
