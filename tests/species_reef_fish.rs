@@ -116,13 +116,13 @@ fn escape_interrupts_eating_and_eating_resumes_when_the_shark_is_gone() {
         Event::Message { from, kind: MessageKind::Danger, radius } if *from == fish && *radius == 8.0
     )));
     sim.run(10);
-    // Seed 000 §4.4, vision mode: predator on the left → turn right by π/4 per step, which
-    // the turn-rate response spreads over a few ticks (and escape runs its half second).
-    assert!(
-        sim.agent(fish).yaw > 0.7,
-        "turned away: {}",
-        sim.agent(fish).yaw
-    );
+    // Seed 000 §4.4, vision mode: predator on the left → turn right by π/4 per step (which the
+    // turn-rate response spreads over a few ticks) until the predator is behind (|θ| > π/2).
+    let a = sim.agent(fish);
+    let (bearing, _) =
+        shoal::frame::bearing_elevation(a.yaw, a.pitch, sim.agent(shark).pos - a.pos);
+    assert!(a.yaw > 0.2, "turned right: {}", a.yaw);
+    assert!(bearing.abs() > FRAC_PI_2, "shark behind: bearing {bearing}");
     assert_eq!(sim.behavior(fish), "escape");
     // The shark leaves for good: escape completes and the stacked eat resumes.
     sim.teleport(shark, v(45.0, 38.0, 45.0));
