@@ -30,6 +30,8 @@ enum Command {
     View(cli::view::ViewArgs),
     /// Report where two runs of the same scenario diverge.
     Diff(cli::diff::DiffArgs),
+    /// Print the run-health figures and warnings of a recorded run.
+    Health(cli::health::HealthArgs),
     /// Run a scenario live with hot reload and a browser viewer.
     Watch(cli::watch::WatchArgs),
     /// Run designers' script tests.
@@ -63,6 +65,7 @@ fn main() -> ExitCode {
         Command::Check { paths } => cli::check::check(&paths),
         Command::View(a) => cli::view::view(a),
         Command::Diff(a) => cli::diff::diff(a),
+        Command::Health(a) => cli::health::health(a),
         Command::Watch(a) => cli::watch::watch(a),
         Command::Test(a) => cli::test::test(a),
         Command::Bench(a) => cli::bench::bench(a),

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod check;
 pub mod diff;
+pub mod health;
 pub mod run;
 pub mod test;
 pub mod view;

@@ -1,5 +1,6 @@
 //! `shoal run` and `shoal rerun`: headless recorded runs.
 
+use shoal::health::Monitor;
 use shoal::record::Recorder;
 use shoal::scenario::{Overrides, Run, Scenario};
 use std::io::{IsTerminal, Write};
@@ -32,6 +33,9 @@ pub struct RunArgs {
     /// Print nothing but errors and the output folder.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Do not follow the run's health (no `health.json`, no health section).
+    #[arg(long)]
+    pub no_health: bool,
 }
 
 /// Arguments of `shoal rerun`.
@@ -55,7 +59,8 @@ pub struct Outcome {
     pub complete: bool,
 }
 
-fn pool(threads: Option<usize>) -> anyhow::Result<(rayon::ThreadPool, usize)> {
+/// A thread pool of `threads` workers (default: all cores), and its size.
+pub fn pool(threads: Option<usize>) -> anyhow::Result<(rayon::ThreadPool, usize)> {
     let n = threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .max(1);
@@ -73,13 +78,16 @@ fn interrupted() -> Arc<AtomicBool> {
     .clone()
 }
 
-/// Runs `run` to its end, recording into `dir`; prints a progress bar on a terminal.
+/// Runs `run` to its end, recording into `dir`; prints a progress bar on a terminal. With
+/// `health`, a [`Monitor`] follows the run: its report goes to `health.json` and the manifest's
+/// summary, and (unless `quiet`) its section is printed after the summary.
 pub fn execute(
     mut run: Run,
     dir: &Path,
     interval: u32,
     threads: Option<usize>,
     quiet: bool,
+    health: bool,
 ) -> anyhow::Result<Outcome> {
     let (pool, n_threads) = pool(threads)?;
     let stop = interrupted();
@@ -87,6 +95,8 @@ pub fn execute(
     rec.states(&run)?;
     // Expectations the scenario declares are judged along the way and reported in the summary.
     let mut tracker = shoal::scenario::expect::Tracker::new(&run.scenario).ok();
+    let mut monitor = health.then(|| Monitor::new(&run.pipeline.species, run.world.dt));
+    let mut monitoring = Duration::ZERO;
     let progress = !quiet && std::io::stderr().is_terminal();
     run.pipeline.reset_stage_times();
     let start = Instant::now();
@@ -104,6 +114,11 @@ pub fn execute(
             recording += stepped.elapsed();
             if let Some(t) = tracker.as_mut() {
                 t.observe(&run.world, &run.pipeline);
+            }
+            if let Some(m) = monitor.as_mut() {
+                let t0 = Instant::now();
+                m.observe(&run.world, &run.pipeline);
+                monitoring += t0.elapsed();
             }
             if progress && last_draw.elapsed().as_millis() >= 100 {
                 last_draw = Instant::now();
@@ -143,11 +158,23 @@ pub fn execute(
                     .map(|v| serde_json::json!({"expected": v.expected, "passed": v.passed, "observed": v.observed}))
                     .collect(),
             );
+            let report = monitor.map(|m| m.report());
+            if let Some(h) = &report {
+                summary["health"] = h.headline();
+                rec.add_output(
+                    shoal::health::FILE,
+                    serde_json::to_string_pretty(&h.to_json())?.as_bytes(),
+                )?;
+            }
             if !quiet {
                 print_summary(&run, &summary);
                 for v in &verdicts {
                     let mark = if v.passed { "met" } else { "NOT MET" };
                     println!("  expectation {mark}: {} ({})", v.expected, v.observed);
+                }
+                if let Some(h) = &report {
+                    let cost = monitoring.as_secs_f64() / elapsed.max(1e-9);
+                    super::health::print(h, Some(cost));
                 }
             }
             let dir = rec.finish(&run, n_threads, summary)?;
@@ -211,9 +238,9 @@ pub fn summary(run: &Run, elapsed: f64) -> serde_json::Value {
 
 /// Where the run's wall time went: each stage of the tick, the recording, and the rest (what
 /// the scenario does around the pipeline: its timed events, food, squads' plans; the tick's
-/// own setup, such as waking a helper thread; expectations; the progress bar), as shares of the
-/// whole, rounded to 0.1 %. The whole ends with the last tick: the final flush of the
-/// recording is not in it.
+/// own setup, such as waking a helper thread; expectations; the health monitor; the progress
+/// bar), as shares of the whole, rounded to 0.1 %. The whole ends with the last tick: the
+/// final flush of the recording is not in it.
 fn time_shares(run: &Run, elapsed: f64, recording: Duration) -> serde_json::Value {
     let whole = elapsed.max(1e-9);
     let share = |d: Duration| (d.as_secs_f64() / whole * 1000.0).round() / 1000.0;
@@ -310,7 +337,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             duration: args.duration,
         },
     );
-    let out = execute(run, &dir, interval, args.threads, args.quiet)?;
+    let out = execute(
+        run,
+        &dir,
+        interval,
+        args.threads,
+        args.quiet,
+        !args.no_health,
+    )?;
     if out.complete {
         println!("output written to {}", out.dir.display());
         Ok(ExitCode::SUCCESS)
@@ -349,7 +383,7 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
     let interval = manifest["record_interval"].as_u64().unwrap_or(1) as u32;
     let out = args.out.clone().unwrap_or_else(|| args.dir.join("rerun"));
     let run = Run::new(scenario, Overrides::default());
-    let o = execute(run, &out, interval, args.threads, true)?;
+    let o = execute(run, &out, interval, args.threads, true, true)?;
     if !o.complete {
         return Ok(ExitCode::from(130));
     }

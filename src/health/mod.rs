@@ -28,7 +28,7 @@ mod pairs;
 mod warnings;
 
 pub use monitor::{may_stop, Monitor};
-pub use warnings::{Figure, Warning};
+pub use warnings::{percent, thousands, Figure, Warning};
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

@@ -238,11 +238,12 @@ impl Monitor {
                 ..SpeciesAcc::default()
             })
             .collect();
+        // At least 2 m: a coarse obstacle grid stays small (in cache); its lists are short anyway.
         let reach = set
             .species
             .iter()
             .map(|s| s.def.body.size.x.abs() * 0.5)
-            .fold(0.0f32, f32::max);
+            .fold(2.0f32, f32::max);
         let dt = if dt > 0.0 && dt.is_finite() { dt } else { 0.05 };
         // The step as written in the scenario (0.05, not 0.0500000007), for exact seconds.
         let seconds = format!("{dt}").parse::<f64>().unwrap_or(dt as f64);

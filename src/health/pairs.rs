@@ -1,9 +1,12 @@
 //! Pairs of agents on a sampled tick: coincident agents (any species) and same-species
 //! neighbors that overlap, found through a uniform grid hash (sorted cell keys, one binary
-//! search per row of cells), so a sample costs O(N·k) rather than O(N²).
+//! search per column of cells, a short gallop to each row), so a sample costs O(N·k) rather
+//! than O(N²); the points are counted in parallel.
 
 use super::{COINCIDENT_DISTANCE, NEIGHBOR_LENGTHS, OVERLAP_WIDTH};
 use crate::world::Agent;
+use glam::Vec3;
+use rayon::prelude::*;
 
 /// Cell coordinates are kept within ±2²⁰ so that three fit in a key.
 const HALF_RANGE: i64 = 1 << 20;
@@ -46,11 +49,23 @@ impl PairCounts {
     }
 }
 
+/// An agent as the pair pass reads it, kept in cell order so that the agents of a row of
+/// cells lie next to each other in memory.
+#[derive(Debug, Clone, Copy)]
+struct Point {
+    key: u64,
+    pos: Vec3,
+    length: f32,
+    width: f32,
+    species: u16,
+    id: u32,
+}
+
 /// The grid, its buffers kept from one sample to the next.
 #[derive(Debug, Clone, Default)]
 pub(super) struct PairGrid {
-    /// (cell key, agent index), sorted.
-    keys: Vec<(u64, u32)>,
+    /// The agents, sorted by (cell key, id).
+    points: Vec<Point>,
     /// Per species: the longest body and the agent count this sample.
     longest: Vec<f32>,
     counts: Vec<u32>,
@@ -63,6 +78,22 @@ fn coord(x: f32, inv_cell: f32) -> i64 {
 fn key(x: i64, y: i64, z: i64) -> u64 {
     let c = |v: i64| (v + HALF_RANGE).clamp(0, (1 << BITS) - 1) as u64;
     c(x) << (2 * BITS) | c(y) << BITS | c(z)
+}
+
+/// The first index at or after `from` whose key is ≥ `target` (keys sorted): doubling steps,
+/// then a binary search in the last step, so a near target costs a comparison or two.
+fn gallop(points: &[Point], from: usize, target: u64) -> usize {
+    let mut lo = from;
+    let mut step = 1;
+    while lo + step < points.len() && points[lo + step].key < target {
+        lo += step;
+        step *= 2;
+    }
+    if lo >= points.len() || points[lo].key >= target {
+        return lo;
+    }
+    let hi = (lo + step).min(points.len());
+    lo + 1 + points[lo + 1..hi].partition_point(|p| p.key < target)
 }
 
 impl PairGrid {
@@ -95,57 +126,104 @@ impl PairGrid {
         };
         let cell = (NEIGHBOR_LENGTHS * self.longest[common]).max(0.05);
         let inv = 1.0 / cell;
-        self.keys.clear();
-        for (i, a) in agents.iter().enumerate() {
-            if a.pos.is_finite() {
-                let p = a.pos;
-                self.keys.push((
-                    key(coord(p.x, inv), coord(p.y, inv), coord(p.z, inv)),
-                    i as u32,
-                ));
-            }
-        }
-        self.keys.sort_unstable();
-        let coincident2 = COINCIDENT_DISTANCE * COINCIDENT_DISTANCE;
-        for &(_, i) in &self.keys {
-            let a = &agents[i as usize];
-            let s = a.species.0 as usize;
-            let reach = (NEIGHBOR_LENGTHS * self.longest[s]).max(COINCIDENT_DISTANCE);
-            let rings = (reach * inv).ceil().max(1.0) as i64;
-            let (x, y, z) = (
-                coord(a.pos.x, inv),
-                coord(a.pos.y, inv),
-                coord(a.pos.z, inv),
+        let cell_of = |p: Vec3| (coord(p.x, inv), coord(p.y, inv), coord(p.z, inv));
+        self.points.clear();
+        self.points
+            .extend(agents.iter().filter(|a| a.pos.is_finite()).map(|a| {
+                let (x, y, z) = cell_of(a.pos);
+                Point {
+                    key: key(x, y, z),
+                    pos: a.pos,
+                    length: a.size.z.abs(),
+                    width: a.size.x.abs(),
+                    species: a.species.0,
+                    id: a.id.0,
+                }
+            }));
+        self.points.sort_unstable_by_key(|p| (p.key, p.id));
+        // Each point's pairs with the points after it, in parallel; the sums do not depend on
+        // the split, and the agent kept for a spot is the lowest id, whatever the order.
+        let points = &self.points;
+        let longest = &self.longest;
+        let counts = (0..points.len())
+            .into_par_iter()
+            .with_min_len(64)
+            .fold(
+                || PairCounts::new(n_species),
+                |mut acc, i| {
+                    pairs_after(points, i, inv, longest, &mut acc);
+                    acc
+                },
+            )
+            .reduce(
+                || PairCounts::new(n_species),
+                |mut a, b| {
+                    a.merge(&b);
+                    a
+                },
             );
-            for dx in -rings..=rings {
-                for dy in -rings..=rings {
-                    let lo = key(x + dx, y + dy, z - rings);
-                    let hi = key(x + dx, y + dy, z + rings);
-                    let start = self.keys.partition_point(|e| e.0 < lo);
-                    for &(k, j) in &self.keys[start..] {
-                        if k > hi {
-                            break;
-                        }
-                        // Each pair once, from its lower index.
-                        if j <= i {
-                            continue;
-                        }
-                        let b = &agents[j as usize];
-                        let d2 = (b.pos - a.pos).length_squared();
-                        if d2 < coincident2 {
-                            out.coincident += 1;
-                            out.coincident_agent.get_or_insert(a.id.0);
-                        }
-                        if b.species == a.species {
-                            let near = NEIGHBOR_LENGTHS * 0.5 * (a.size.z + b.size.z).abs();
-                            if d2 < near * near {
-                                out.neighbors[s] += 1;
-                                let overlap = OVERLAP_WIDTH * 0.5 * (a.size.x + b.size.x).abs();
-                                if d2 < overlap * overlap {
-                                    out.overlapping[s] += 1;
-                                    out.overlap_agent[s].get_or_insert(a.id.0);
-                                }
-                            }
+        *out = counts;
+    }
+}
+
+/// The lower of two optional ids.
+fn lowest(a: Option<u32>, b: Option<u32>) -> Option<u32> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(x.min(y)),
+        _ => a.or(b),
+    }
+}
+
+impl PairCounts {
+    fn merge(&mut self, other: &PairCounts) {
+        self.coincident += other.coincident;
+        self.coincident_agent = lowest(self.coincident_agent, other.coincident_agent);
+        for s in 0..self.neighbors.len() {
+            self.neighbors[s] += other.neighbors[s];
+            self.overlapping[s] += other.overlapping[s];
+            self.overlap_agent[s] = lowest(self.overlap_agent[s], other.overlap_agent[s]);
+        }
+    }
+}
+
+/// Counts the pairs of point `i` with the points after it (each pair once).
+fn pairs_after(points: &[Point], i: usize, inv: f32, longest: &[f32], out: &mut PairCounts) {
+    let a = &points[i];
+    let s = a.species as usize;
+    let coincident2 = COINCIDENT_DISTANCE * COINCIDENT_DISTANCE;
+    let reach = (NEIGHBOR_LENGTHS * longest[s]).max(COINCIDENT_DISTANCE);
+    let rings = (reach * inv).ceil().max(1.0) as i64;
+    let (x, y, z) = (
+        coord(a.pos.x, inv),
+        coord(a.pos.y, inv),
+        coord(a.pos.z, inv),
+    );
+    for dx in -rings..=rings {
+        // The rows of one x lie in key order, y then z: one search for the first row, then a
+        // short gallop forward to each next row.
+        let mut at = points.partition_point(|p| p.key < key(x + dx, y - rings, z - rings));
+        for dy in -rings..=rings {
+            let lo = key(x + dx, y + dy, z - rings);
+            let hi = key(x + dx, y + dy, z + rings);
+            at = gallop(points, at, lo);
+            for b in &points[at.max(i + 1)..] {
+                if b.key > hi {
+                    break;
+                }
+                let d2 = (b.pos - a.pos).length_squared();
+                let low = Some(a.id.min(b.id));
+                if d2 < coincident2 {
+                    out.coincident += 1;
+                    out.coincident_agent = lowest(out.coincident_agent, low);
+                }
+                if b.species == a.species {
+                    let near = NEIGHBOR_LENGTHS * 0.5 * (a.length + b.length);
+                    if d2 < near * near {
+                        out.neighbors[s] += 1;
+                        let overlap = OVERLAP_WIDTH * 0.5 * (a.width + b.width);
+                        if d2 < overlap * overlap {
+                            out.overlapping[s] += 1;
+                            out.overlap_agent[s] = lowest(out.overlap_agent[s], low);
                         }
                     }
                 }

@@ -29,6 +29,10 @@ pub const TRAJECTORY_HEADER: &str =
 /// Files a run folder holds when complete.
 pub const RUN_FILES: [&str; 4] = ["trajectories.csv", "food.csv", "events.jsonl", "world.json"];
 
+/// Files a complete run folder may hold besides [`RUN_FILES`], added by [`Recorder::add_output`]
+/// (a new recording in the folder removes them first, so none is left from an earlier run).
+pub const EXTRA_FILES: [&str; 1] = [crate::health::FILE];
+
 /// A recording in progress.
 pub struct Recorder {
     dir: PathBuf,
@@ -40,6 +44,8 @@ pub struct Recorder {
     pub recorded: u64,
     removed: Vec<Option<u64>>,
     line: String,
+    /// Extra output files written as `*.partial`, renamed by [`Recorder::finish`].
+    extra: Vec<String>,
 }
 
 /// SHA-256 of a file's bytes, as hex.
@@ -83,6 +89,7 @@ impl Recorder {
         std::fs::create_dir_all(dir)?;
         for f in RUN_FILES
             .iter()
+            .chain(EXTRA_FILES.iter())
             .chain(["manifest.json", "view.html", "INCOMPLETE"].iter())
         {
             let _ = std::fs::remove_file(dir.join(f));
@@ -102,6 +109,7 @@ impl Recorder {
             recorded: 0,
             removed: vec![None; run.world.obstacles.len()],
             line: String::with_capacity(256),
+            extra: Vec::new(),
         };
         writeln!(rec.traj, "{TRAJECTORY_HEADER}")?;
         writeln!(rec.food, "tick,id,x,y,z")?;
@@ -216,7 +224,7 @@ impl Recorder {
                 serde_json::Value::String(sha256_file(&f).unwrap_or_default()),
             );
         }
-        let m = serde_json::json!({
+        let mut m = serde_json::json!({
             "format": 1,
             "status": status,
             "scenario": run.scenario.name,
@@ -231,6 +239,15 @@ impl Recorder {
             "files": files,
             "summary": summary.unwrap_or(serde_json::Value::Null),
         });
+        if status == "complete" {
+            // What the folder holds besides its inputs: the recording and any extra outputs.
+            let outputs: Vec<&str> = RUN_FILES
+                .iter()
+                .copied()
+                .chain(self.extra.iter().map(String::as_str))
+                .collect();
+            m["outputs"] = serde_json::json!(outputs);
+        }
         write_atomic(
             &self.dir.join("manifest.json"),
             serde_json::to_string_pretty(&m)?.as_bytes(),
@@ -249,6 +266,19 @@ impl Recorder {
         Ok(())
     }
 
+    /// Adds a file to the run folder (such as [`crate::health::FILE`]): written now as
+    /// `name.partial`, it takes its name with the others when the run finishes, and an
+    /// interrupted run does not keep it.
+    pub fn add_output(&mut self, name: &str, bytes: &[u8]) -> std::io::Result<()> {
+        let mut f = File::create(partial(&self.dir, name))?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        if !self.extra.iter().any(|e| e == name) {
+            self.extra.push(name.to_string());
+        }
+        Ok(())
+    }
+
     /// Finishes a complete run: flushes, renames every file to its final name and marks the
     /// manifest complete with `summary`.
     pub fn finish(
@@ -258,7 +288,11 @@ impl Recorder {
         summary: serde_json::Value,
     ) -> std::io::Result<PathBuf> {
         self.flush_all(run)?;
-        for f in RUN_FILES {
+        for f in RUN_FILES
+            .iter()
+            .copied()
+            .chain(self.extra.iter().map(String::as_str))
+        {
             std::fs::rename(partial(&self.dir, f), self.dir.join(f))?;
         }
         self.write_manifest(run, "complete", threads, Some(summary))?;
@@ -272,6 +306,9 @@ impl Recorder {
         self.flush_all(run)?;
         for f in RUN_FILES {
             let _ = std::fs::rename(partial(&self.dir, f), self.dir.join(f));
+        }
+        for f in &self.extra {
+            let _ = std::fs::remove_file(partial(&self.dir, f));
         }
         self.write_manifest(
             run,
