@@ -819,6 +819,9 @@ fn solid_body(
     }
     // A hair more than half the width, so that rounding never leaves the body inside it.
     let clearance = 0.5 * width * 1.001 + 1e-4;
+    // Inside the world first: a body below the floor may be clear of a rock that the floor
+    // puts it back against.
+    *pos = world.bounds.closest_point(*pos);
     for &k in perception.obstacles_near(*pos) {
         let Some(o) = world.obstacles.get(k as usize) else {
             continue;

@@ -15,20 +15,36 @@ Species(
     drives: (native: false, hunger: Fixed(0.0)),
     initial: "idle",
     behaviors: [
-        Behavior(name: "flee", priority: 1, when: Above(Drive(Fear), 0.5), done: Below(Drive(Fear), 0.5), steer: Cruise(speed: 1.0)),
+        Behavior(name: "flee", priority: 1, when: Above(Drive(Fear), 0.5), done: Below(Drive(Fear), 0.5), steer: Cruise(speed: 1.0)NO_MIN),
         Behavior(name: "feed", priority: 2, when: Above(Drive(Hunger), 0.5), done: Below(Drive(Hunger), 0.5), steer: Cruise(speed: 0.6)EXTRA_FEED),
-        Behavior(name: "court", priority: 2, when: Above(Drive(Libido), 0.5), done: Below(Drive(Libido), 0.5), steer: Cruise(speed: 0.4)),
+        Behavior(name: "court", priority: 2, when: Above(Drive(Libido), 0.5), done: Below(Drive(Libido), 0.5), steer: Cruise(speed: 0.4)NO_MIN),
         Behavior(name: "rest", priority: 3, when: Above(Drive(Fatigue), 0.5), done: Below(Drive(Fatigue), 0.5), steer: StopEXTRA_REST),
-        Behavior(name: "idle", priority: 4, steer: Wander()),
+        Behavior(name: "idle", priority: 4, steer: Wander()NO_MIN),
     ],
 )
 "#;
 
-/// A probe world; `feed` and `rest` get the extra fields given.
+/// A probe world; `feed` and `rest` get the extra fields given. Its behaviors have no minimum
+/// time unless a test gives `feed` one, so that each rule shows at the granularity of a tick.
 fn probe(extra_feed: &str, extra_rest: &str) -> (Sim, AgentId, tempfile::TempDir) {
-    let text = PROBE
-        .replace("EXTRA_FEED", extra_feed)
-        .replace("EXTRA_REST", extra_rest);
+    let no_min = |extra: &str| {
+        if extra.contains("min_time") {
+            extra.to_string()
+        } else {
+            format!(", min_time: 0.0{extra}")
+        }
+    };
+    probe_text(
+        &PROBE
+            .replace("EXTRA_FEED", &no_min(extra_feed))
+            .replace("EXTRA_REST", &no_min(extra_rest))
+            .replace("NO_MIN", ", min_time: 0.0"),
+    )
+}
+
+/// A probe world from the species text `text`.
+fn probe_text(text: &str) -> (Sim, AgentId, tempfile::TempDir) {
+    let text = text.to_string();
     let dir = folder(&[("probe.ron", &text)]);
     let sp = load(&dir.path().join("probe.ron"), dir.path());
     let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
@@ -299,6 +315,25 @@ fn min_time_delays_completion_and_equal_interrupts_but_not_higher_ones() {
     set(&mut sim, id, 0.9, 0.0, 0.9, 0.0);
     sim.step();
     assert_eq!(sim.behavior(id), "flee");
+}
+
+#[test]
+fn behaviors_run_half_a_second_unless_the_species_says_otherwise() {
+    // The probe as written, without any min_time: feed completes 10 ticks (0.5 s) after it
+    // started, not on the tick after its done holds.
+    let (mut sim, id, _dir) = probe_text(
+        &PROBE
+            .replace("EXTRA_FEED", "")
+            .replace("EXTRA_REST", "")
+            .replace("NO_MIN", ""),
+    );
+    set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
+    sim.step();
+    let entered = sim.world.tick - 1;
+    set(&mut sim, id, 0.0, 0.0, 0.0, 0.0);
+    sim.run_until(40, |s| s.behavior(id) != "feed")
+        .expect("feed ends");
+    assert_eq!(sim.last_change(id).tick - entered, 10);
 }
 
 #[test]

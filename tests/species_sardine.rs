@@ -175,7 +175,11 @@ fn escape_warns_the_school_which_reacts_to_the_danger_message() {
     let c = sim.last_change(front);
     assert_eq!(
         (c.to.as_str(), c.cause, c.condition.as_deref()),
-        ("escape", Cause::Interrupted, Some("sees predator"))
+        (
+            "escape",
+            Cause::Interrupted,
+            Some("sees predator or (heard danger and perceives predator)")
+        )
     );
     assert!(sim.pipe.events.iter().any(|e| matches!(
         e,
