@@ -157,7 +157,7 @@ fn a_sardine_that_only_smells_kin_swims_to_them_and_joins() {
 #[test]
 fn escape_warns_the_school_which_reacts_to_the_danger_message() {
     let mut sim = sim();
-    // The front sardine will see the shark 5.5 ahead; the others, beside and behind it (in its
+    // The front sardine will see the shark 7.5 ahead; the others, beside and behind it (in its
     // view, so it stays with them), only smell it.
     let front = sardine(&mut sim, v(0.0, 20.0, 0.0), 0.0);
     let rest: Vec<_> = [-3.0, -2.0, 2.0, 3.0]
@@ -166,9 +166,9 @@ fn escape_warns_the_school_which_reacts_to_the_danger_message() {
         .collect();
     sim.run(4);
     assert!(rest.iter().all(|&id| sim.behavior(id) == "school"));
-    let ahead = sim.agent(front).pos + v(0.0, 0.0, 5.5);
+    let ahead = sim.agent(front).pos + v(0.0, 0.0, 7.5);
     for &id in &rest {
-        assert!(sim.agent(id).pos.distance(ahead) > 6.0, "out of sight");
+        assert!(sim.agent(id).pos.distance(ahead) > 8.0, "out of sight");
     }
     let shark = sim.spawn("shark", ahead, -FRAC_PI_2);
     sim.step();
@@ -330,8 +330,9 @@ fn a_hungry_sardine_forages_eats_and_stops() {
 #[test]
 fn avoid_static_keeps_a_sardine_off_a_rock() {
     let mut sim = sim();
+    // A rock 1.2 ahead: close enough for avoid_static to take over from cruise's own avoidance.
     sim.world.add_obstacle(Shape::Sphere {
-        center: v(0.0, 20.0, 4.0),
+        center: v(0.0, 20.0, 2.2),
         radius: 1.0,
     });
     let id = sardine(&mut sim, v(0.0, 20.0, 0.0), 0.0);
@@ -342,11 +343,11 @@ fn avoid_static_keeps_a_sardine_off_a_rock() {
         "cruise",
         "avoid_static",
         Cause::Interrupted,
-        "obstacle pressure above M_min",
+        "obstacle pressure above M_min and obstacle within 1.5",
     );
     let mut closest = f32::INFINITY;
     sim.run_until(100, |s| {
-        closest = closest.min(s.agent(id).pos.distance(v(0.0, 20.0, 4.0)));
+        closest = closest.min(s.agent(id).pos.distance(v(0.0, 20.0, 2.2)));
         s.behavior(id) != "avoid_static"
     })
     .expect("clear");
