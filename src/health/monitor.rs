@@ -123,8 +123,9 @@ struct Track {
     frozen: Option<usize>,
     frozen_any: bool,
     frozen_in: Vec<u16>,
-    /// Tick the current behavior episode started.
-    episode_start: u64,
+    /// Tick the current behavior episode started, once one started with a transition the
+    /// monitor saw (the behavior an agent spawns in was not chosen: its episode is not counted).
+    episode_start: Option<u64>,
     /// The last transition: (from, to, tick).
     last_switch: Option<(u16, u16, u64)>,
     transitions: u64,
@@ -321,17 +322,19 @@ impl Monitor {
                     }
                     t.transitions += 1;
                     t.last_switch_tick = at;
-                    let len = at.saturating_sub(t.episode_start);
-                    acc.episodes += 1;
-                    if len < self.short_ticks {
-                        acc.short += 1;
-                        acc.first_short.get_or_insert(Spot {
-                            tick: at,
-                            agent: agent.0,
-                        });
-                    }
-                    if len <= 1 {
-                        acc.one_tick += 1;
+                    if let Some(start) = t.episode_start {
+                        let len = at.saturating_sub(start);
+                        acc.episodes += 1;
+                        if len < self.short_ticks {
+                            acc.short += 1;
+                            acc.first_short.get_or_insert(Spot {
+                                tick: at,
+                                agent: agent.0,
+                            });
+                        }
+                        if len <= 1 {
+                            acc.one_tick += 1;
+                        }
                     }
                     if let Some((a, b, t0)) = t.last_switch {
                         if a == *to && b == *from && at - t0 <= self.flip_ticks {
@@ -351,7 +354,7 @@ impl Monitor {
                         }
                     }
                     t.last_switch = Some((*from, *to, at));
-                    t.episode_start = at;
+                    t.episode_start = Some(at);
                 }
                 Event::Message { from, .. } => {
                     let s = match self.tracks.get(from.0 as usize) {
@@ -397,7 +400,6 @@ impl Monitor {
                     seen: true,
                     species: s as u16,
                     behavior: b,
-                    episode_start: a.mind.entered_tick,
                     prev_forward: forward,
                     window_forward: forward,
                     window_tick: tick,
@@ -1001,8 +1003,8 @@ mod tests {
         r.add(0, Vec3::ZERO);
         r.add(0, Vec3::new(5.0, 0.0, 0.0));
         // Agent 0 switches during the steps from ticks 10, 14, 40 and 41 (seen after ticks 11,
-        // 15, 41, 42): episodes 0–10 (0.5 s: not short), 10–14 (short, flips back), 14–40,
-        // 40–41 (one tick, short, flips back).
+        // 15, 41, 42): episodes 10–14 (short, flips back), 14–40, 40–41 (one tick, short, flips
+        // back); the one it spawned in (0–10) was not chosen and is not counted.
         for t in 1..=100u64 {
             let events: Vec<Event> = match t {
                 11 => vec![transition(0, SWIM, REST)],
@@ -1018,9 +1020,9 @@ mod tests {
         assert_eq!(s.transitions, 4);
         // 4 transitions over 2 agents × 5 s.
         assert!(close(s.switch_rate, 0.4, 1e-12));
-        assert_eq!(s.episodes, 4);
-        assert!(close(s.short_episode_share, 0.5, 1e-12));
-        assert!(close(s.one_tick_share, 0.25, 1e-12));
+        assert_eq!(s.episodes, 3);
+        assert!(close(s.short_episode_share, 2.0 / 3.0, 1e-12));
+        assert!(close(s.one_tick_share, 1.0 / 3.0, 1e-12));
         assert_eq!(s.short_episode_at, Some(Spot { tick: 14, agent: 0 }));
         assert_eq!(s.flips.len(), 1);
         let f = &s.flips[0];
@@ -1030,7 +1032,7 @@ mod tests {
         let w = h.warnings();
         assert!(w.iter().any(|w| w.figure == Figure::ShortEpisodes
             && w.message
-                .contains("50% of 4 behavior episodes shorter than 0.5 s, 25% a single tick")));
+                .contains("67% of 3 behavior episodes shorter than 0.5 s, 33% a single tick")));
         assert!(!w.iter().any(|w| w.figure == Figure::SwitchRate), "{w:?}");
     }
 
@@ -1117,7 +1119,7 @@ mod tests {
                 rng.range(-6.0, 6.0),
             );
             let i = r.add(k % 2, p);
-            if k % 7 == 0 {
+            if k.is_multiple_of(7) {
                 // Some exact and near duplicates, and a longer body.
                 r.agent(i).pos = Vec3::ZERO;
                 r.agent(i).size.z = 3.0;
@@ -1224,7 +1226,7 @@ mod tests {
             radius: 5.0,
         };
         for t in 1..=20u64 {
-            r.tick(if t % 5 == 0 {
+            r.tick(if t.is_multiple_of(5) {
                 std::slice::from_ref(&msg)
             } else {
                 &[]

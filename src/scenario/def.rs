@@ -222,6 +222,23 @@ pub enum Expectation {
     MinPolarization(String, f32),
     /// No script errors.
     NoScriptErrors,
+    /// At most this many agents of a species frozen: stopped (speed < 0.05) for 5 s or more in
+    /// a behavior whose steering asks to move (run health, [`crate::health`]).
+    MaxFrozen(String, u64),
+    /// At most this many behavior transitions per agent of a species per second.
+    MaxSwitchRate(String, f32),
+    /// At most this fraction of a species' agent-ticks at the pitch limit.
+    MaxPitchLimitShare(String, f32),
+    /// At most this fraction of a species' completed behavior episodes shorter than 0.5 s.
+    MaxShortEpisodes(String, f32),
+    /// At most this turning waste (turning ÷ net heading change over 1-s windows, ≥ 1).
+    MaxTurningWaste(String, f32),
+    /// At most this fraction of a species' neighbor pairs overlapping by more than 10 % of the
+    /// body width.
+    MaxInterpenetration(String, f32),
+    /// At most this many agent-ticks of a species inside an obstacle or within half a body
+    /// width of it.
+    MaxObstaclePenetration(String, u64),
 }
 
 /// Terrain of a scenario.

@@ -3,11 +3,14 @@
 //! Not a tick stage: a layer above the scenario [`super::Run`]. A [`Tracker`] is built once from
 //! the validated scenario (names resolved, problems located in the scenario file), fed the world
 //! after every tick ([`Tracker::observe`]) and asked for one [`Verdict`] per expectation at the end
-//! ([`Tracker::finish`]). `shoal test` runs scenario files this way.
+//! ([`Tracker::finish`]). `shoal test` runs scenario files this way. Run-health bounds
+//! (`MaxFrozen`, `MaxSwitchRate`, …) are judged on the report of a [`Monitor`] the tracker owns
+//! when the scenario declares any.
 
 use super::{Expectation, Scenario};
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::events::Event;
+use crate::health::{self, Health, Monitor, SpeciesHealth};
 use crate::species::validate::locate;
 use crate::tick::Pipeline;
 use crate::world::World;
@@ -44,6 +47,126 @@ enum Check {
     NoScriptErrors {
         first: Vec<String>,
     },
+    /// A bound on a run-health figure of a species.
+    Health(usize, Bound),
+}
+
+/// A run-health bound (see [`crate::health`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Bound {
+    Frozen(u64),
+    SwitchRate(f32),
+    PitchLimitShare(f32),
+    ShortEpisodes(f32),
+    TurningWaste(f32),
+    Interpenetration(f32),
+    ObstaclePenetration(u64),
+}
+
+impl Bound {
+    /// What is expected of `sp`, in words.
+    fn expected(self, sp: &str) -> String {
+        match self {
+            Bound::Frozen(n) => format!(
+                "at most {n} {sp} frozen (stopped ≥ {} s where their steering asks to move)",
+                health::FROZEN_SECONDS
+            ),
+            Bound::SwitchRate(r) => {
+                format!("at most {r} behavior switches per {sp} per second")
+            }
+            Bound::PitchLimitShare(f) => format!(
+                "at most {} of {sp} agent-ticks at the pitch limit",
+                health::percent(f as f64)
+            ),
+            Bound::ShortEpisodes(f) => format!(
+                "at most {} of {sp} behavior episodes shorter than {} s",
+                health::percent(f as f64),
+                health::SHORT_EPISODE_SECONDS
+            ),
+            Bound::TurningWaste(r) => format!("{sp} turning waste at most {r}×"),
+            Bound::Interpenetration(f) => format!(
+                "at most {} of {sp} neighbor pairs overlapping by more than 10% of the body width",
+                health::percent(f as f64)
+            ),
+            Bound::ObstaclePenetration(n) => format!(
+                "at most {n} {sp} agent-ticks inside or within half a body width of an obstacle"
+            ),
+        }
+    }
+
+    /// Whether the figures of `s` keep the bound, and what they are (with the bound).
+    fn judge(self, s: &SpeciesHealth) -> (bool, String) {
+        match self {
+            Bound::Frozen(n) => {
+                let mut text = format!("{} frozen (bound {n})", s.frozen_agents);
+                if let Some(b) = s.behaviors.iter().max_by_key(|b| b.frozen_agents) {
+                    if b.frozen_agents > 0 {
+                        text.push_str(&format!("; {} in {}", b.frozen_agents, b.name));
+                        if let Some(at) = b.frozen_at.first() {
+                            text.push_str(&format!(", {} at {}", at.agents, at.place));
+                        }
+                    }
+                }
+                (s.frozen_agents <= n, text)
+            }
+            Bound::SwitchRate(r) => {
+                let mut text = format!(
+                    "{:.2} switches per agent per second (bound {r})",
+                    s.switch_rate
+                );
+                if let Some(f) = s.flips.first() {
+                    text.push_str(&format!(
+                        "; most frequent flip {}↔{} ({})",
+                        f.a,
+                        f.b,
+                        health::thousands(f.count)
+                    ));
+                }
+                (s.switch_rate <= r as f64, text)
+            }
+            Bound::PitchLimitShare(f) => (
+                s.pitch_limit_share <= f as f64,
+                format!(
+                    "{} at the pitch limit (bound {})",
+                    health::percent(s.pitch_limit_share),
+                    health::percent(f as f64)
+                ),
+            ),
+            Bound::ShortEpisodes(f) => (
+                s.short_episode_share <= f as f64,
+                format!(
+                    "{} of {} episodes short (bound {})",
+                    health::percent(s.short_episode_share),
+                    health::thousands(s.episodes),
+                    health::percent(f as f64)
+                ),
+            ),
+            Bound::TurningWaste(r) => match s.turning_waste {
+                Some(w) => (w <= r as f64, format!("turning waste {w:.2}× (bound {r}×)")),
+                None => (true, format!("no heading change measured (bound {r}×)")),
+            },
+            Bound::Interpenetration(f) => (
+                s.overlap_share <= f as f64,
+                format!(
+                    "{} of {} neighbor pairs overlap (bound {})",
+                    health::percent(s.overlap_share),
+                    health::thousands(s.neighbor_pairs),
+                    health::percent(f as f64)
+                ),
+            ),
+            Bound::ObstaclePenetration(n) => {
+                let o = &s.obstacles;
+                (
+                    o.agent_ticks <= n,
+                    format!(
+                        "{} agent-ticks, {} of them inside (bound {n})",
+                        health::thousands(o.agent_ticks),
+                        health::thousands(o.inside_ticks)
+                    ),
+                )
+            }
+        }
+    }
 }
 
 /// Follows a run and judges the scenario's expectations.
@@ -53,6 +176,8 @@ pub struct Tracker {
     species: Vec<String>,
     duration: f32,
     last_time: f32,
+    /// Follows the run's health when a check needs it.
+    monitor: Option<Monitor>,
 }
 
 fn counted(n: u64, one: &str, many: &str) -> String {
@@ -104,6 +229,13 @@ impl Tracker {
                 Expectation::MaxAlive(..) => "MaxAlive",
                 Expectation::MinPolarization(..) => "MinPolarization",
                 Expectation::NoScriptErrors => "NoScriptErrors",
+                Expectation::MaxFrozen(..) => "MaxFrozen",
+                Expectation::MaxSwitchRate(..) => "MaxSwitchRate",
+                Expectation::MaxPitchLimitShare(..) => "MaxPitchLimitShare",
+                Expectation::MaxShortEpisodes(..) => "MaxShortEpisodes",
+                Expectation::MaxTurningWaste(..) => "MaxTurningWaste",
+                Expectation::MaxInterpenetration(..) => "MaxInterpenetration",
+                Expectation::MaxObstaclePenetration(..) => "MaxObstaclePenetration",
             };
             cursor = locate(text, variant, cursor).map_or(cursor, |x| x.2);
             let check = match e {
@@ -204,6 +336,60 @@ impl Tracker {
                     "no script errors".to_string(),
                     Check::NoScriptErrors { first: Vec::new() },
                 ),
+                Expectation::MaxFrozen(sp, n) | Expectation::MaxObstaclePenetration(sp, n) => {
+                    let bound = match e {
+                        Expectation::MaxFrozen(..) => Bound::Frozen(*n),
+                        _ => Bound::ObstaclePenetration(*n),
+                    };
+                    let Some(s) = species_of(sp, cursor, &mut error) else {
+                        continue;
+                    };
+                    (bound.expected(sp), Check::Health(s, bound))
+                }
+                Expectation::MaxSwitchRate(sp, x)
+                | Expectation::MaxPitchLimitShare(sp, x)
+                | Expectation::MaxShortEpisodes(sp, x)
+                | Expectation::MaxTurningWaste(sp, x)
+                | Expectation::MaxInterpenetration(sp, x) => {
+                    let (bound, ok, what) = match e {
+                        Expectation::MaxSwitchRate(..) => (
+                            Bound::SwitchRate(*x),
+                            x.is_finite() && *x >= 0.0,
+                            "a rate ≥ 0 (switches per agent per second)",
+                        ),
+                        Expectation::MaxTurningWaste(..) => (
+                            Bound::TurningWaste(*x),
+                            x.is_finite() && *x >= 1.0,
+                            "a ratio ≥ 1 (turning can never be less than the heading change)",
+                        ),
+                        Expectation::MaxPitchLimitShare(..) => (
+                            Bound::PitchLimitShare(*x),
+                            (0.0..=1.0).contains(x),
+                            "a fraction between 0 and 1",
+                        ),
+                        Expectation::MaxShortEpisodes(..) => (
+                            Bound::ShortEpisodes(*x),
+                            (0.0..=1.0).contains(x),
+                            "a fraction between 0 and 1",
+                        ),
+                        _ => (
+                            Bound::Interpenetration(*x),
+                            (0.0..=1.0).contains(x),
+                            "a fraction between 0 and 1",
+                        ),
+                    };
+                    if !ok {
+                        error(
+                            variant,
+                            cursor,
+                            format!("`{variant}` expects {what}, not {x}"),
+                        );
+                    }
+                    let Some(s) = species_of(sp, cursor, &mut error) else {
+                        continue;
+                    };
+                    (bound.expected(sp), Check::Health(s, bound))
+                }
             };
             checks.push(check);
             cursor += 1;
@@ -211,11 +397,16 @@ impl Tracker {
         if !diags.is_empty() {
             return Err(Diagnostics(diags));
         }
+        let monitor = checks
+            .iter()
+            .any(|(_, c)| matches!(c, Check::Health(..)))
+            .then(|| Monitor::new(set, scenario.def.dt));
         Ok(Tracker {
             checks,
             species: names,
             duration: scenario.def.duration,
             last_time: 0.0,
+            monitor,
         })
     }
 
@@ -230,6 +421,9 @@ impl Tracker {
         let t = world.time() as f32;
         let half = world.dt * 0.5;
         self.last_time = t;
+        if let Some(m) = self.monitor.as_mut() {
+            m.observe(world, pipeline);
+        }
         for (_, c) in &mut self.checks {
             match c {
                 Check::Share {
@@ -280,6 +474,7 @@ impl Tracker {
                 .count() as u64
         };
         let stats = &pipeline.stats;
+        let report: Option<Health> = self.monitor.as_ref().map(Monitor::report);
         self.checks
             .iter()
             .map(|(expected, c)| {
@@ -346,6 +541,12 @@ impl Tracker {
                             format!("{} failed script calls, first: {m}", stats.script_errors),
                         ),
                     },
+                    Check::Health(s, bound) => {
+                        match report.as_ref().and_then(|h| h.species.get(*s)) {
+                            Some(figures) => bound.judge(figures),
+                            None => (false, "no health figures".to_string()),
+                        }
+                    }
                 };
                 Verdict {
                     expected: expected.clone(),
@@ -354,5 +555,93 @@ impl Tracker {
                 }
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{Overrides, Run};
+    use std::path::Path;
+
+    /// A scenario of a dozen hungry reef fish among food, with these expectations.
+    fn scenario(expect: &str) -> Result<Scenario, Diagnostics> {
+        let text = format!(
+            r#"Scenario(
+    seed: 5,
+    duration: 3.0,
+    bounds: (min: (-15.0, 0.0, -15.0), max: (15.0, 12.0, 15.0)),
+    species: ["reef_fish"],
+    food: (initial: 30),
+    groups: [(species: "reef_fish", count: 12, region: (min: (-10.0, 2.0, -10.0), max: (10.0, 10.0, 10.0)),
+              drives: (hunger: Some(Fixed(0.9))))],
+    expect: [
+{expect}
+    ],
+)"#
+        );
+        Scenario::load_str(Path::new("scenarios/health.ron"), &text)
+    }
+
+    fn verdicts(expect: &str) -> Vec<Verdict> {
+        let sc = scenario(expect).unwrap_or_else(|d| panic!("{d}"));
+        let mut tracker = Tracker::new(&sc).unwrap_or_else(|d| panic!("{d}"));
+        let mut run = Run::new(sc, Overrides::default());
+        tracker.observe(&run.world, &run.pipeline);
+        while !run.finished() {
+            run.step();
+            tracker.observe(&run.world, &run.pipeline);
+        }
+        tracker.finish(&run.world, &run.pipeline)
+    }
+
+    #[test]
+    fn health_bounds_say_the_figure_and_the_bound() {
+        let v = verdicts(
+            r#"        MaxSwitchRate("reef_fish", 0.0001),
+        MaxTurningWaste("reef_fish", 1000.0),
+        MaxFrozen("reef_fish", 12),
+        MaxPitchLimitShare("reef_fish", 1.0),
+        MaxShortEpisodes("reef_fish", 1.0),
+        MaxInterpenetration("reef_fish", 1.0),
+        MaxObstaclePenetration("reef_fish", 1000000),"#,
+        );
+        assert_eq!(v.len(), 7);
+        // Hungry fish among food switch at least once in 3 s: far above 0.0001 per second.
+        assert!(!v[0].passed, "{v:?}");
+        assert_eq!(
+            v[0].expected,
+            "at most 0.0001 behavior switches per reef_fish per second"
+        );
+        assert!(
+            v[0].observed
+                .contains("switches per agent per second (bound 0.0001)"),
+            "{}",
+            v[0].observed
+        );
+        for x in &v[1..] {
+            assert!(x.passed, "{x:?}");
+            assert!(x.observed.contains("bound"), "{x:?}");
+        }
+    }
+
+    #[test]
+    fn health_bounds_name_known_species_and_take_sensible_values() {
+        let sc = scenario(
+            r#"        MaxSwitchRate("reef_fsh", 0.5),
+        MaxShortEpisodes("reef_fish", 1.5),
+        MaxTurningWaste("reef_fish", 0.5),"#,
+        )
+        .unwrap();
+        let d = Tracker::new(&sc).unwrap_err().to_string();
+        assert!(
+            d.contains("health.ron:10:23: unknown species \"reef_fsh\" in `expect`"),
+            "{d}"
+        );
+        assert!(
+            d.contains("`MaxShortEpisodes` expects a fraction between 0 and 1, not 1.5"),
+            "{d}"
+        );
+        assert!(d.contains("`MaxTurningWaste` expects a ratio ≥ 1"), "{d}");
     }
 }
