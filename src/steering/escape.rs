@@ -5,9 +5,10 @@
 //! runtime applies them through [`escape_leveled`], which adds two things the per-step rules need
 //! when they run every tick: the pitch rule aims at an absolute pitch (up to `max_pitch`, level
 //! when the predator is within `level_band` of the horizontal) instead of adding ±π/8 or ±π/4
-//! every step, which climbs to the pitch limit whenever the predator stays below, and fleeing
+//! every step, which climbs to the pitch limit whenever the predator stays below; fleeing
 //! from a predator ahead never slows below `speed_floor·V_max` (the paper's `Vc/2` every step
-//! decays to a standstill in front of the predator).
+//! decays to a standstill in front of the predator); and a predator smelt straight ahead, for
+//! which the paper keeps the heading, is turned away from by π/8.
 
 use super::{seek, Kin, Steer};
 use crate::perception::{Level, Sector};
@@ -109,9 +110,14 @@ pub fn escape_leveled(
     } else {
         escape_by_smell(bearing, elevation, current_speed, v_max)
     };
-    let Steer::Turn { yaw, speed, .. } = paper else {
+    let Steer::Turn { mut yaw, speed, .. } = paper else {
         return paper;
     };
+    // Smelt straight ahead, the paper keeps the heading, into the predator: turn away from
+    // the side it lies on instead.
+    if !vision && Sector::of(bearing) == Sector::Front {
+        yaw = if bearing <= 0.0 { FRAC_PI_8 } else { -FRAC_PI_8 };
+    }
     let step = if vision { FRAC_PI_4 } else { FRAC_PI_8 };
     let absolute = elevation + pitch;
     let aim = if absolute < -l.level_band {
@@ -223,6 +229,17 @@ mod tests {
             panic!()
         };
         assert!(pitch.abs() < 1e-6);
+        // Smelt straight ahead: the paper keeps the heading; leveled, it turns away by π/8
+        // (right from one a hair to the left, left from one a hair to the right).
+        assert_eq!(escape_by_smell(-0.1, 0.0, 2.0, 5.0), turn(0.0, 0.0, 1.0));
+        assert_eq!(
+            escape_leveled(false, -0.1, 0.0, 0.0, 15.0, 10.0, 2.0, 5.0, &l),
+            turn(FRAC_PI_8, 0.0, 2.5)
+        );
+        assert_eq!(
+            escape_leveled(false, 0.1, 0.0, 0.0, 15.0, 10.0, 2.0, 5.0, &l),
+            turn(-FRAC_PI_8, 0.0, 2.5)
+        );
         // Smell mode, predator ahead: the paper's Vc/2 = 0.25, floored at 0.5·V_max = 2.
         assert_eq!(
             escape_leveled(false, -1.0, 0.0, 0.0, 15.0, 10.0, 0.5, 4.0, &l),
