@@ -211,7 +211,8 @@ fn escape_warns_the_school_which_reacts_to_the_danger_message() {
         .map(|&id| sim.agent(id).pos.distance(sim.agent(shark).pos))
         .sum();
     sim.teleport(shark, sim.agent(shark).pos); // the shark stays put (no prediction jump)
-    sim.run(10);
+    // Smelt ahead, turning away by π/8 a step at the turn-rate response: away within 1.5 s.
+    sim.run(30);
     let d1: f32 = rest
         .iter()
         .map(|&id| sim.agent(id).pos.distance(sim.agent(shark).pos))
