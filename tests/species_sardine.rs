@@ -205,13 +205,19 @@ fn escape_warns_the_school_which_reacts_to_the_danger_message() {
         .filter(|e| matches!(e, Event::Message { kind: MessageKind::Danger, radius, .. } if *radius == 8.0))
         .count();
     assert_eq!(relays, rest.len());
-    // The school swims away from where the shark was.
-    let at = sim.agent(shark).pos;
-    let d0: f32 = rest.iter().map(|&id| sim.agent(id).pos.distance(at)).sum();
-    // Smelt ahead, turning away by π/8 a step at the turn-rate response: away within 1.5 s.
-    sim.run(30);
-    let d1: f32 = rest.iter().map(|&id| sim.agent(id).pos.distance(at)).sum();
-    assert!(d1 > d0, "{d0} → {d1}");
+    // Each turns away from the shark (seed 000 §4.4 smell mode: by π/8 a step until it is no
+    // longer ahead): its bearing from each of them grows.
+    let bearing = |s: &Sim, id| {
+        let a = s.agent(id);
+        let to = s.agent(shark).pos - a.pos;
+        shoal::frame::bearing_elevation(a.yaw, a.pitch, to).0.abs()
+    };
+    let before: Vec<f32> = rest.iter().map(|&id| bearing(&sim, id)).collect();
+    sim.run(10);
+    for (k, &id) in rest.iter().enumerate() {
+        let after = bearing(&sim, id);
+        assert!(after > before[k] + 0.3, "{id:?}: {} → {after}", before[k]);
+    }
     // Once the shark is gone, each escape ends; none of them raised the alarm (which is for
     // a danger heard of while the predator is not perceived).
     sim.teleport(shark, v(55.0, 38.0, 55.0));
