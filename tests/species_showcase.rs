@@ -5,6 +5,12 @@ use shoal::events::Event;
 use shoal::scenario::{Overrides, Run, Scenario};
 use std::path::Path;
 
+/// Behaviors that the showcase's open water no longer brings about, each driven by a designers'
+/// test instead: seed 003's density-driven escape (`disperse`) needs a sardine that stays slower
+/// than v_d for 2 s, and braking near rocks now keeps a floor above it
+/// (`behaviors/tests/sardine.rhai`, `test_disperse_when_too_slow_for_too_long`).
+const SHOWN_BY_A_DESIGNERS_TEST: [&str; 1] = ["sardine.disperse"];
+
 #[test]
 fn every_behavior_of_every_shipped_species_shows_up_in_a_minute() {
     let sc = Scenario::load(Path::new("scenarios/showcase.ron")).unwrap_or_else(|e| panic!("{e}"));
@@ -25,8 +31,9 @@ fn every_behavior_of_every_shipped_species_shows_up_in_a_minute() {
     for (i, sp) in run.scenario.species.species.iter().enumerate() {
         for (b, n) in sp.behaviors.iter().zip(&s.behavior_ticks[i]) {
             report.push_str(&format!("{} {} {}\n", sp.name, b.name, n));
-            if *n == 0 {
-                missing.push(format!("{}.{}", sp.name, b.name));
+            let name = format!("{}.{}", sp.name, b.name);
+            if *n == 0 && !SHOWN_BY_A_DESIGNERS_TEST.contains(&name.as_str()) {
+                missing.push(name);
             }
         }
     }
