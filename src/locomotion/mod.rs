@@ -308,7 +308,7 @@ mod tests {
     fn alternating_commands_do_not_reach_the_body_as_a_zig_zag() {
         // ±0.5 rad alternating every tick: the paper's form swings the heading by 0.5 each tick,
         // the response keeps the body within a few hundredths of a radian of straight.
-        let alt = |k: usize| if k % 2 == 0 { 0.5 } else { -0.5 };
+        let alt = |k: usize| if k.is_multiple_of(2) { 0.5 } else { -0.5 };
         let l = Limits::default();
         let swing = |ys: &[f32]| {
             ys.windows(2)

@@ -116,7 +116,11 @@ pub fn escape_leveled(
     // Smelt straight ahead, the paper keeps the heading, into the predator: turn away from
     // the side it lies on instead.
     if !vision && Sector::of(bearing) == Sector::Front {
-        yaw = if bearing <= 0.0 { FRAC_PI_8 } else { -FRAC_PI_8 };
+        yaw = if bearing <= 0.0 {
+            FRAC_PI_8
+        } else {
+            -FRAC_PI_8
+        };
     }
     let step = if vision { FRAC_PI_4 } else { FRAC_PI_8 };
     let absolute = elevation + pitch;
