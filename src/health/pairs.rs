@@ -1,7 +1,7 @@
 //! Pairs of agents on a sampled tick: coincident agents (any species) and same-species
 //! neighbors that overlap, found through a uniform grid hash (sorted cell keys, one binary
-//! search per column of cells, a short gallop to each row), so a sample costs O(N·k) rather
-//! than O(N²); the points are counted in parallel.
+//! gallop forward from row to row, only through the cells after a point's own), so a sample
+//! costs O(N·k) rather than O(N²); the points are counted in parallel.
 
 use super::{COINCIDENT_DISTANCE, NEIGHBOR_LENGTHS, OVERLAP_WIDTH};
 use crate::world::Agent;
@@ -99,47 +99,51 @@ fn gallop(points: &[Point], from: usize, target: u64) -> usize {
 impl PairGrid {
     /// Counts the pairs among `agents` into `out` (resized to the species seen if needed).
     pub fn sample(&mut self, agents: &[Agent], out: &mut PairCounts) {
-        let n_species = agents
-            .iter()
-            .map(|a| a.species.0 as usize + 1)
-            .max()
-            .unwrap_or(0)
-            .max(out.neighbors.len());
+        // One pass over the agents' records: what the pairs need of them, and per species the
+        // longest body and the count.
+        self.points.clear();
+        self.longest.clear();
+        self.counts.clear();
+        for a in agents.iter().filter(|a| a.pos.is_finite()) {
+            let s = a.species.0 as usize;
+            if self.longest.len() <= s {
+                self.longest.resize(s + 1, 0.0);
+                self.counts.resize(s + 1, 0);
+            }
+            let length = a.size.z.abs();
+            self.longest[s] = self.longest[s].max(length);
+            self.counts[s] += 1;
+            self.points.push(Point {
+                key: 0,
+                pos: a.pos,
+                length,
+                width: a.size.x.abs(),
+                species: a.species.0,
+                id: a.id.0,
+            });
+        }
+        let n_species = self.longest.len().max(out.neighbors.len());
+        self.longest.resize(n_species, 0.0);
         if out.neighbors.len() < n_species {
             *out = PairCounts::new(n_species);
         }
         out.clear();
-        self.longest.clear();
-        self.longest.resize(n_species, 0.0);
-        self.counts.clear();
-        self.counts.resize(n_species, 0);
-        for a in agents {
-            let s = a.species.0 as usize;
-            self.longest[s] = self.longest[s].max(a.size.z.abs());
-            self.counts[s] += 1;
-        }
         // Cells sized for the most numerous species' neighbor radius: other species look a few
         // more cells out.
-        let Some(common) = (0..n_species).max_by_key(|&s| (self.counts[s], std::cmp::Reverse(s)))
+        let Some(common) =
+            (0..self.counts.len()).max_by_key(|&s| (self.counts[s], std::cmp::Reverse(s)))
         else {
             return;
         };
         let cell = (NEIGHBOR_LENGTHS * self.longest[common]).max(0.05);
         let inv = 1.0 / cell;
-        let cell_of = |p: Vec3| (coord(p.x, inv), coord(p.y, inv), coord(p.z, inv));
-        self.points.clear();
-        self.points
-            .extend(agents.iter().filter(|a| a.pos.is_finite()).map(|a| {
-                let (x, y, z) = cell_of(a.pos);
-                Point {
-                    key: key(x, y, z),
-                    pos: a.pos,
-                    length: a.size.z.abs(),
-                    width: a.size.x.abs(),
-                    species: a.species.0,
-                    id: a.id.0,
-                }
-            }));
+        for p in &mut self.points {
+            p.key = key(
+                coord(p.pos.x, inv),
+                coord(p.pos.y, inv),
+                coord(p.pos.z, inv),
+            );
+        }
         self.points.sort_unstable_by_key(|p| (p.key, p.id));
         // Each point's pairs with the points after it, in parallel; the sums do not depend on
         // the split, and the agent kept for a spot is the lowest id, whatever the order.
@@ -198,15 +202,16 @@ fn pairs_after(points: &[Point], i: usize, inv: f32, longest: &[f32], out: &mut 
         coord(a.pos.y, inv),
         coord(a.pos.z, inv),
     );
-    for dx in -rings..=rings {
-        // The rows of one x lie in key order, y then z: one search for the first row, then a
-        // short gallop forward to each next row.
-        let mut at = points.partition_point(|p| p.key < key(x + dx, y - rings, z - rings));
-        for dy in -rings..=rings {
+    // Only the cells at or after the point's own in key order can hold points after it: the
+    // rows from its own on in its column of cells, then every row of the columns after.
+    let mut at = i + 1;
+    for dx in 0..=rings {
+        let first_row = if dx == 0 { 0 } else { -rings };
+        for dy in first_row..=rings {
             let lo = key(x + dx, y + dy, z - rings);
             let hi = key(x + dx, y + dy, z + rings);
             at = gallop(points, at, lo);
-            for b in &points[at.max(i + 1)..] {
+            for b in &points[at..] {
                 if b.key > hi {
                     break;
                 }
