@@ -116,7 +116,7 @@ pub fn print(h: &Health, cost: Option<f64>) {
                 s.short_episode_share > health::MAX_SHORT_EPISODE_SHARE,
             ),
             (
-                s.turning_waste.map_or("-".into(), |w| format!("{w:.1}×")),
+                s.turning_waste.map_or("-".into(), |w| format!("{w:.2}×")),
                 s.turning_waste
                     .is_some_and(|w| w > health::MAX_TURNING_WASTE),
             ),
@@ -191,6 +191,9 @@ pub fn health(args: HealthArgs) -> anyhow::Result<ExitCode> {
         args.dir.display(),
         health::FILE
     );
+    if let Some(t) = ticks {
+        eprintln!("the run did not finish (INCOMPLETE): its first {t} ticks are re-run");
+    }
     let mut run = Run::new(scenario, Overrides::default());
     if let Some(t) = ticks {
         run.total_ticks = run.total_ticks.min(t);

@@ -250,7 +250,7 @@ fn species_warnings(s: &SpeciesHealth, out: &mut Out) {
             Figure::TurningWaste,
             (w, MAX_TURNING_WASTE),
             format!(
-                "{name}: turns {w:.1}× as far as its heading changes over {TURN_WINDOW_SECONDS} s (bound {MAX_TURNING_WASTE}×)"
+                "{name}: turns {w:.2}× as far as its heading changes over {TURN_WINDOW_SECONDS} s (bound {MAX_TURNING_WASTE}×)"
             ),
             s.turning_waste_at,
         );
