@@ -889,11 +889,14 @@ fn agent_pass(
             food: stim(Category::Food),
             mate: stim(Category::Mate),
         };
-        let predators = percepts
-            .iter()
-            .filter(|p| p.category == Category::Predator)
-            .map(|p| p.dist);
-        drives::update(&mut me.drives, &def.drives.params, stimuli, predators, dt);
+        // Every predator perceived, not only the kept percepts.
+        let sm = &summaries[Category::Predator as usize];
+        let predators = drives::PredatorSums {
+            count: sm.count,
+            nearest: sm.nearest_dist,
+            inv_dist_sum: sm.inv_dist_sum,
+        };
+        drives::update(&mut me.drives, &def.drives.params, stimuli, &predators, dt);
     } else {
         me.drives.since_meal += dt;
         me.drives.since_mating += dt;

@@ -109,6 +109,47 @@ pub fn fear(distances: impl IntoIterator<Item = f32>, d0: f32) -> f32 {
     clamp01(distances.into_iter().map(|d| fear_term(d, d0)).sum())
 }
 
+/// What perception sums of the predators an agent perceives, all of them (not only the percepts
+/// it keeps): how many, the nearest one's distance and `Σ 1/d_i`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PredatorSums {
+    /// Predators perceived.
+    pub count: u32,
+    /// Distance to the nearest.
+    pub nearest: f32,
+    /// `Σ_i 1/d_i` over all of them.
+    pub inv_dist_sum: f32,
+}
+
+impl PredatorSums {
+    /// The sums of these distances.
+    pub fn of(distances: impl IntoIterator<Item = f32>) -> PredatorSums {
+        let mut s = PredatorSums {
+            nearest: f32::INFINITY,
+            ..Default::default()
+        };
+        for d in distances {
+            s.count += 1;
+            s.nearest = s.nearest.min(d);
+            s.inv_dist_sum += 1.0 / d.max(1e-6);
+        }
+        s
+    }
+
+    /// [`fear`] over every predator, from the sums: a predator within `D0` makes one term 1 and
+    /// the clamped sum 1; otherwise every term is `D0/d_i`, and their sum `D0·Σ 1/d_i`. The
+    /// same value as [`fear`] of the distances, without keeping them.
+    pub fn fear(&self, d0: f32) -> f32 {
+        if self.count == 0 {
+            0.0
+        } else if self.nearest <= d0 {
+            1.0
+        } else {
+            clamp01(d0 * self.inv_dist_sum)
+        }
+    }
+}
+
 /// Internal-state curve of seed 003: `S(t) = S_max·exp(−t²/δ²)`.
 pub fn internal_state(t: f32, s_max: f32, delta: f32) -> f32 {
     if delta == 0.0 {
@@ -203,19 +244,19 @@ pub struct Stimuli {
 }
 
 /// Stage 3 for one agent: advances the clocks by `dt` and recomputes hunger, libido and fear from
-/// the formulas (seed 000 §2). `predators` are the distances to perceived predators.
+/// the formulas (seed 000 §2). `predators` sums every perceived predator.
 pub fn update(
     d: &mut crate::world::Drives,
     p: &DriveParams,
     stimuli: Stimuli,
-    predators: impl IntoIterator<Item = f32>,
+    predators: &PredatorSums,
     dt: f32,
 ) {
     d.since_meal += dt;
     d.since_mating += dt;
     d.hunger = hunger(d.eaten, d.since_meal, stimuli.food, p);
     d.libido = libido(d.since_mating, d.hunger, stimuli.mate, p);
-    d.fear = fear(predators, p.d0);
+    d.fear = predators.fear(p.d0);
 }
 
 #[cfg(test)]
@@ -231,11 +272,33 @@ mod update_tests {
             since_mating: 199.0,
             ..Default::default()
         };
-        update(&mut d, &p, Stimuli::default(), [400.0], 1.0);
+        update(
+            &mut d,
+            &p,
+            Stimuli::default(),
+            &PredatorSums::of([400.0]),
+            1.0,
+        );
         assert_eq!(d.since_meal, 1000.0);
         assert!((d.hunger - 0.67).abs() < 1e-5);
         // l(200)·(1 − 0.67) = 0.5·0.33.
         assert!((d.libido - 0.165).abs() < 1e-5);
         assert!((d.fear - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn fear_from_the_sums_is_fear_of_the_distances() {
+        // Three predators in a crowd, none within D0 = 6: 6/18 + 6/20 + 6/19 = 0.9491.
+        let far = [18.0, 20.0, 19.0];
+        let s = PredatorSums::of(far);
+        assert!((s.fear(6.0) - 0.949_122_8).abs() < 1e-5, "{}", s.fear(6.0));
+        assert!((s.fear(6.0) - fear(far, 6.0)).abs() < 1e-6);
+        // One within D0: 1. None: 0.
+        assert_eq!(PredatorSums::of([5.0, 30.0]).fear(6.0), 1.0);
+        assert_eq!(PredatorSums::of([]).fear(6.0), 0.0);
+        for ds in [[7.0, 40.0, 90.0], [6.5, 6.5, 6.5], [100.0, 200.0, 300.0]] {
+            let a = PredatorSums::of(ds).fear(6.0);
+            assert!((a - fear(ds, 6.0)).abs() < 1e-6, "{ds:?}: {a}");
+        }
     }
 }

@@ -932,6 +932,8 @@ struct Acc {
     /// Ordering key of the nearest so far (squared distance) and its distance.
     key: f32,
     nearest: f32,
+    /// `Σ 1/d` (predators only).
+    inv_dist: f32,
 }
 
 const ACC: Acc = Acc {
@@ -942,6 +944,7 @@ const ACC: Acc = Acc {
     seen: 0,
     key: f32::INFINITY,
     nearest: f32::INFINITY,
+    inv_dist: 0.0,
 };
 
 impl Acc {
@@ -1065,6 +1068,9 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
         if cat == Category::Mate {
             self.acc[Category::Kin as usize].note(seen, key, &dist, pos, heading, vel);
         }
+        if cat == Category::Predator {
+            self.acc[cat as usize].inv_dist += 1.0 / dist().max(1e-6);
+        }
     }
 
     /// Notes one percept of category `cat` in the sums only (never kept).
@@ -1084,6 +1090,9 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
         if cat == Category::Mate {
             self.acc[Category::Kin as usize].note(seen, key, &dist, pos, heading, vel);
         }
+        if cat == Category::Predator {
+            self.acc[cat as usize].inv_dist += 1.0 / dist().max(1e-6);
+        }
     }
 
     /// Writes the sums out as summaries (means not yet divided).
@@ -1097,6 +1106,7 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
                 centroid: a.pos.into(),
                 mean_heading: a.heading.into(),
                 mean_velocity: a.vel.into(),
+                inv_dist_sum: a.inv_dist,
             };
         }
     }
@@ -1191,6 +1201,7 @@ fn kernel(
         seen: sums_k.seen,
         key: sums_k.nearest2,
         nearest: sums_k.nearest2.sqrt(),
+        inv_dist: 0.0,
     }
 }
 
@@ -1269,6 +1280,7 @@ fn perceive_one<const KEEP: bool>(
                 centroid: acc.pos.into(),
                 mean_heading: acc.heading.into(),
                 mean_velocity: acc.vel.into(),
+                inv_dist_sum: 0.0,
             };
             // As `Fold::finish` divides.
             if sm.count > 0 {

@@ -186,6 +186,9 @@ pub struct Summary {
     pub mean_heading: Vec3,
     /// Mean velocity of agent percepts, zero when none.
     pub mean_velocity: Vec3,
+    /// `Σ 1/d` over every percept of the category (predators only; 0 for the others): what
+    /// fear sums over all the predators perceived, not only the kept percepts.
+    pub inv_dist_sum: f32,
 }
 
 impl Summary {
@@ -198,6 +201,7 @@ impl Summary {
         centroid: Vec3::ZERO,
         mean_heading: Vec3::ZERO,
         mean_velocity: Vec3::ZERO,
+        inv_dist_sum: 0.0,
     };
 }
 
