@@ -131,3 +131,23 @@ fn missing_scenario_file_is_reported() {
         "{err}"
     );
 }
+
+#[test]
+fn a_region_inside_obstacles_is_located() {
+    let t = setup();
+    // The whole spawn region is inside one box: no room for the group.
+    let text = GOOD.replace(
+        "    species: [\"reef_fish\"],\n",
+        "    species: [\"reef_fish\"],\n    obstacles: [Box(min: (-6.0, 0.0, -6.0), max: (6.0, 6.0, 6.0))],\n",
+    );
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("bad.ron:7:42: group of \"reef_fish\": its spawn region [-5.0, 1.0, -5.0]..[5.0, 5.0, 5.0] lies inside obstacles"),
+        "{err}"
+    );
+    // Half of it free: accepted (spawning finds the room).
+    let text = text.replace("max: (6.0, 6.0, 6.0)", "max: (0.0, 6.0, 6.0)");
+    let (code, err) = check(&t.path().join("scenarios"), "ok.ron", &text);
+    assert_eq!(code, 0, "{err}");
+}

@@ -93,6 +93,34 @@ fn check_region(
     }
 }
 
+/// Whether no point of a 9×9×9 lattice over `region` lies outside every obstacle: a region
+/// that cannot hold a group (spawning would have to put agents inside rock).
+fn region_blocked(region: &Aabb, obstacles: &[ObstacleDef]) -> bool {
+    let shapes: Vec<Shape> = obstacles
+        .iter()
+        .map(|o| match *o {
+            ObstacleDef::Sphere { center, radius } => Shape::Sphere { center, radius },
+            ObstacleDef::Box { min, max } => Shape::Box(Aabb::new(min, max)),
+        })
+        .collect();
+    if shapes.is_empty() {
+        return false;
+    }
+    const N: usize = 9;
+    let step = region.size() / (N - 1) as f32;
+    for i in 0..N {
+        for j in 0..N {
+            for k in 0..N {
+                let p = region.min + step * Vec3::new(i as f32, j as f32, k as f32);
+                if shapes.iter().all(|s| s.push_out(p, 0.0).is_none()) {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}
+
 impl Scenario {
     /// Reads, validates and loads a scenario and every species it names.
     pub fn load(file: &Path) -> Result<Scenario, Diagnostics> {
@@ -212,6 +240,22 @@ impl Scenario {
                 &format!("group of \"{}\"", g.species),
                 from,
             );
+            if g.count > 0 && region_blocked(&g.region, &def.obstacles) {
+                let (l, c, _) = at("region", from);
+                diags.push(Diagnostic::new(
+                    file,
+                    l,
+                    c,
+                    format!(
+                        "group of \"{}\": its spawn region {:?}..{:?} lies inside obstacles; \
+                         expected a region with room outside them",
+                        g.species,
+                        g.region.min.to_array(),
+                        g.region.max.to_array()
+                    ),
+                    Some(text),
+                ));
+            }
             from + 1
         };
         let mut from = locate(text, "groups", 0).map_or(0, |x| x.2);
