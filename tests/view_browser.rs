@@ -57,6 +57,57 @@ fn replay_page_renders_scrubs_and_inspects_in_chromium() {
     );
 }
 
+/// A `health.json` for the default fixture: `reef_fish` at the pitch limit (warning at tick 131,
+/// between the recorded ticks 130 and 132, agent 7) and `wrasse` within every bound.
+fn health_json() -> String {
+    let species = |name: &str, pitch: f64, at: &str| {
+        format!(
+            r#"{{"name":"{name}","agents":100,"agent_ticks":10000,"stopped_share":0.0,
+            "frozen_agents":0,"frozen_episodes":0,"pitch_limit_share":{pitch},
+            "pitch_limit_at":{at},"transitions":10,"switch_rate":0.1,"episodes":10,
+            "short_episode_share":0.0,"one_tick_share":0.0,"flips":[],"turning":1.0,
+            "net_turning":1.0,"turning_waste":1.0,"neighbor_pairs":0,"overlapping_pairs":0,
+            "overlap_share":0.0,"obstacles":{{"agent_ticks":0,"inside_ticks":0,"agents_inside":0}},
+            "messages":0,"messages_per_agent_second":0.0,"behaviors":[],"frozen":[]}}"#
+        )
+    };
+    format!(
+        r#"{{"format":1,"dt":0.05,"ticks":200,"pair_interval":5,"species":[{},{}],
+        "coincident":{{"samples":40,"mean":0.0,"max":0}}}}"#,
+        species("reef_fish", 0.4, r#"{"tick":131,"agent":7}"#),
+        species("wrasse", 0.0, "null"),
+    )
+}
+
+#[test]
+fn replay_page_shows_run_health_and_jumps_to_a_warning_in_chromium() {
+    if !browser_available("replay_page_shows_run_health_and_jumps_to_a_warning_in_chromium") {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let run = write_run(&tmp.path().join("reef-7"), &FixtureSpec::default());
+    std::fs::write(run.join(shoal::health::FILE), health_json()).unwrap();
+    let page = shoal::view::write_html(&run).unwrap();
+    let bare = write_run(
+        &tmp.path().join("old-1"),
+        &FixtureSpec {
+            agents: 30,
+            frames: 10,
+            ..FixtureSpec::default()
+        },
+    );
+    let without = shoal::view::write_html(&bare).unwrap();
+    run_node(
+        "view.test.mjs",
+        &[
+            "--health".as_ref(),
+            page.as_os_str(),
+            "--no-health".as_ref(),
+            without.as_os_str(),
+        ],
+    );
+}
+
 #[test]
 fn live_page_speaks_the_watch_protocol_in_chromium() {
     if !browser_available("live_page_speaks_the_watch_protocol_in_chromium") {

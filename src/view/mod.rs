@@ -1,9 +1,10 @@
 //! Replay viewer: turns a recorded run folder into one self-contained HTML page.
 //!
 //! Not a tick stage: it reads what the recorder wrote (`manifest.json`, `world.json`,
-//! `trajectories.csv`, `food.csv`, `events.jsonl`; format in `docs/viewer.md`) and embeds it as a
-//! compact columnar payload next to a hand-written WebGL page. The same page, without a payload and
-//! with `window.SHOAL_LIVE = true`, is the live view that `shoal watch` serves ([`live_html`]).
+//! `trajectories.csv`, `food.csv`, `events.jsonl`, `health.json`; format in `docs/viewer.md`) and
+//! embeds it as a compact columnar payload next to a hand-written WebGL page. The same page, without
+//! a payload and with `window.SHOAL_LIVE = true`, is the live view that `shoal watch` serves
+//! ([`live_html`]).
 
 use std::fs;
 use std::io::Write;
@@ -14,6 +15,7 @@ use crate::diag::Diagnostic;
 mod base64;
 mod csv;
 mod events;
+mod health;
 mod manifest;
 mod payload;
 mod world;

@@ -242,6 +242,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
         .iter()
         .map(|(id, (tick, cause))| (id.to_string(), json!([tick, cause])))
         .collect();
+    let health = super::health::section(dir, &mut notes);
     let meta = json!({
         "format": super::manifest::FORMAT,
         "run": manifest,
@@ -265,6 +266,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
         "script_errors": events.script_errors,
         "reloads": events.reloads,
         "event_counts": events.counts,
+        "health": health,
     });
     Ok(Payload { meta, columns })
 }

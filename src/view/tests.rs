@@ -403,3 +403,70 @@ fn live_page_has_no_payload() {
     assert!(!html.contains("shoal-meta\">"));
     assert!(html.contains("EventSource('/stream')"));
 }
+
+/// A `health.json` with one species past two bounds (pitch limit at tick 3 agent 2, turning waste
+/// at tick 2 agent 1) and the warnings list `shoal run` adds (which readers ignore).
+fn health_json() -> String {
+    let species = r#"{"name":"shark","agents":1,"agent_ticks":6,"stopped_share":0.0,
+      "frozen_agents":0,"frozen_episodes":0,"pitch_limit_share":0.5,
+      "pitch_limit_at":{"tick":3,"agent":2},"transitions":1,"switch_rate":0.1,"episodes":1,
+      "short_episode_share":0.0,"one_tick_share":0.0,"flips":[],"turning":3.0,"net_turning":1.0,
+      "turning_waste":3.0,"turning_waste_at":{"tick":2,"agent":1},"neighbor_pairs":0,
+      "overlapping_pairs":0,"overlap_share":0.0,
+      "obstacles":{"agent_ticks":0,"inside_ticks":0,"agents_inside":0},
+      "messages":0,"messages_per_agent_second":0.0,"behaviors":[],"frozen":[]}"#;
+    format!(
+        r#"{{"format":1,"dt":0.05,"ticks":6,"pair_interval":5,"species":[{species}],
+        "coincident":{{"samples":1,"mean":0.0,"max":0}},"warnings":["ignored"]}}"#
+    )
+}
+
+#[test]
+fn health_section_carries_figures_and_warnings() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_run(tmp.path(), "complete");
+    fs::write(tmp.path().join(crate::health::FILE), health_json()).unwrap();
+    let p = build(tmp.path());
+    let h = &p.meta["health"];
+    assert_eq!(h["ticks"], 6);
+    let columns: Vec<&str> = h["columns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["key"].as_str().unwrap())
+        .collect();
+    assert_eq!(columns.len(), 9);
+    let at = |k: &str| columns.iter().position(|c| *c == k).unwrap();
+    let shark = &h["species"][0];
+    assert_eq!(shark["name"], "shark");
+    assert_eq!(shark["values"][at("pitch_limit_share")], 0.5);
+    assert_eq!(shark["over"][at("pitch_limit_share")], true);
+    assert_eq!(shark["over"][at("turning_waste")], true);
+    assert_eq!(shark["over"][at("switch_rate")], false);
+    assert!(h["columns"][at("messages_per_agent_second")]["bound"].is_null());
+    let warnings = h["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 2, "{warnings:?}");
+    let pitch = warnings
+        .iter()
+        .find(|w| w["message"].as_str().unwrap().contains("pitch limit"))
+        .expect("pitch-limit warning");
+    assert_eq!(pitch["tick"], 3);
+    assert_eq!(pitch["agent"], 2);
+    assert_eq!(pitch["species"], "shark");
+    assert!(p.meta["notes"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn health_section_is_null_without_health_json_and_noted_when_malformed() {
+    let tmp = tempfile::tempdir().unwrap();
+    write_run(tmp.path(), "complete");
+    let p = build(tmp.path());
+    assert!(p.meta["health"].is_null());
+    assert!(p.meta["notes"].as_array().unwrap().is_empty());
+
+    fs::write(tmp.path().join(crate::health::FILE), "{\"format\":1,").unwrap();
+    let p = build(tmp.path());
+    assert!(p.meta["health"].is_null());
+    let notes = p.meta["notes"].to_string();
+    assert!(notes.contains("health.json"), "{notes}");
+}

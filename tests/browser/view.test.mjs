@@ -6,6 +6,9 @@
 //          Esc closes it, color mode changes the picture, play advances.
 // --smoke: loads without script errors, draws something, shows the incomplete-run banner.
 // --perf:  prints load time and frame rate while playing (no pass/fail threshold).
+// --health: the run-health section lists figures and warnings; clicking the warning for tick 131,
+//          agent 7 moves the timeline to the nearest recorded frame (tick 130) and opens agent 7.
+// --no-health: a run without health.json says it has no report.
 // Exits non-zero and prints each failed check on failure.
 
 import fs from 'node:fs';
@@ -13,11 +16,11 @@ import path from 'node:path';
 import { check, differing, fileUrl, finish, launch, nonBackground, open, shot, visible } from './harness.mjs';
 
 function parseArgs(argv) {
-  const out = { page: null, smoke: null, perf: null };
+  const out = { page: null, smoke: null, perf: null, health: null, 'no-health': null };
   for (let i = 0; i < argv.length; i++) {
     const key = argv[i].replace(/^--/, '');
     if (!(key in out) || i + 1 >= argv.length) {
-      console.error('usage: view.test.mjs --page <view.html> [--smoke <view.html>] [--perf <view.html>]');
+      console.error('usage: view.test.mjs --page <view.html> [--smoke <view.html>] [--perf <view.html>] [--health <view.html>] [--no-health <view.html>]');
       process.exit(2);
     }
     out[key] = path.resolve(argv[++i]);
@@ -108,6 +111,45 @@ async function testSmoke(context, file) {
   await page.close();
 }
 
+async function testHealth(context, file) {
+  const { page, errors } = await open(context, fileUrl(file), path.basename(path.dirname(file)));
+  check(await visible(page, 'health'), 'run-health section shown');
+  const table = await page.locator('[data-testid=health-table] tr').count();
+  check(table === 10, `health table has a header and 9 figure rows (${table} rows)`);
+  const over = await page.locator('[data-testid=health-table] td.over').allTextContents();
+  check(over.length === 1 && over[0].endsWith('!'), `one figure marked past its bound: ${JSON.stringify(over)}`);
+  const items = page.locator('[data-testid=health-warning]');
+  const n = await items.count();
+  check(n === 1, `one warning listed (${n})`);
+  const warning = items.first();
+  const text = (await warning.textContent()) || '';
+  check(text.includes('reef_fish') && text.includes('pitch limit'), `warning names species and figure: "${text}"`);
+  await page.evaluate(() => window.shoal.setFrame(0));
+  check(!(await visible(page, 'agent-panel')), 'panel hidden before clicking the warning');
+  await warning.click();
+  await page.locator('[data-testid=agent-panel]').waitFor({ state: 'visible', timeout: 5000 }).catch(() => {});
+  const frame = await page.evaluate(() => window.shoal.frameIndex());
+  check(frame === 65, `clicking the warning moved to frame 65, tick 130 (frame ${frame})`);
+  const scrub = await page.$eval('[data-testid=scrub]', (s) => Number(s.value));
+  check(scrub === 65, `scrub bar at frame 65 (${scrub})`);
+  const clock = (await page.locator('[data-testid=clock]').textContent()) || '';
+  check(clock.startsWith('tick 130 '), `clock shows tick 130 ("${clock}")`);
+  check(await visible(page, 'agent-panel'), 'clicking the warning opens the agent panel');
+  const shownId = (await page.locator('[data-testid=panel-id]').textContent()).trim();
+  check(shownId === '7', `panel shows agent 7 (got "${shownId}")`);
+  check((await page.evaluate(() => window.shoal.selected())) === 7, 'selected() is the warning\'s agent');
+  check(errors.length === 0, 'no script errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
+  await page.close();
+}
+
+async function testNoHealth(context, file) {
+  const { page, errors } = await open(context, fileUrl(file), path.basename(path.dirname(file)));
+  check(await visible(page, 'health-none'), 'a run without health.json says it has no report');
+  check((await page.locator('[data-testid=health-warning]').count()) === 0, 'no warnings listed');
+  check(errors.length === 0, 'no script errors' + (errors.length ? ': ' + errors.join(' | ') : ''));
+  await page.close();
+}
+
 async function measurePerf(context, file) {
   const { page, loadMs } = await open(context, fileUrl(file), path.basename(path.dirname(file)));
   const agents = await page.evaluate(() => window.shoal.agentCount());
@@ -133,13 +175,15 @@ async function measurePerf(context, file) {
 }
 
 const args = parseArgs(process.argv.slice(2));
-if (!args.page && !args.smoke && !args.perf) parseArgs(['--help']);
+if (!args.page && !args.smoke && !args.perf && !args.health && !args['no-health']) parseArgs(['--help']);
 let session = null;
 try {
   session = await launch();
   if (args.page) await testPage(session.context, args.page);
   if (args.smoke) await testSmoke(session.context, args.smoke);
   if (args.perf) await measurePerf(session.context, args.perf);
+  if (args.health) await testHealth(session.context, args.health);
+  if (args['no-health']) await testNoHealth(session.context, args['no-health']);
 } catch (e) {
   check(false, 'browser test crashed: ' + (e && e.stack ? e.stack : e));
 } finally {
