@@ -168,11 +168,17 @@ pub struct Monitor {
     window_ticks: u32,
     obstacle_reach: f32,
     obstacle_grid: ObstacleGrid,
+    /// With few obstacles: each active one's index, centre and bounding radius, this tick.
+    obstacle_spheres: Vec<(usize, Vec3, f32)>,
     pairs: PairGrid,
     pair_counts: PairCounts,
     coincident: Coincident,
     coincident_sum: u64,
 }
+
+/// Up to this many obstacles, each agent tests every one (against its bounding sphere first);
+/// past it, an obstacle grid lists the ones near an agent.
+const SCAN_OBSTACLES: usize = 32;
 
 /// Angle (rad) between two unit vectors, accurate for small angles too.
 #[inline]
@@ -262,6 +268,7 @@ impl Monitor {
             window_ticks: ticks_in(TURN_WINDOW_SECONDS, seconds) as u32,
             obstacle_reach: reach,
             obstacle_grid: ObstacleGrid::new(),
+            obstacle_spheres: Vec::new(),
             pairs: PairGrid::default(),
             pair_counts: PairCounts::new(species.len()),
             species,
@@ -379,8 +386,22 @@ impl Monitor {
 
     /// Per agent: stops, frozen episodes, the pitch limit, turning, obstacles.
     fn agents(&mut self, world: &World, tick: u64) {
-        self.obstacle_grid
-            .update(world.bounds, self.obstacle_reach, &world.obstacles);
+        // A few obstacles are scanned (bounding spheres first); many go through a grid.
+        let scan = world.obstacles.len() <= SCAN_OBSTACLES;
+        self.obstacle_spheres.clear();
+        if scan {
+            self.obstacle_spheres.extend(
+                world
+                    .obstacles
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, o)| o.active)
+                    .map(|(k, o)| (k, o.shape.center(), o.shape.bounding_radius())),
+            );
+        } else {
+            self.obstacle_grid
+                .update(world.bounds, self.obstacle_reach, &world.obstacles);
+        }
         for (i, a) in world.agents.iter().enumerate() {
             let s = a.species.0 as usize;
             let (Some(info), Some(acc)) = (self.species.get(s), self.acc.get_mut(s)) else {
@@ -485,11 +506,6 @@ impl Monitor {
             t.prev_forward = forward;
             // Obstacles: inside, or closer to the surface than half the body width.
             let half = a.size.x.abs() * 0.5;
-            let near_list: &[u32] = if half <= self.obstacle_reach {
-                self.obstacle_grid.near(a.pos)
-            } else {
-                &[]
-            };
             let mut deepest: Option<(f32, Obstacle)> = None;
             let mut each = |o: &Obstacle| {
                 if !o.active {
@@ -500,8 +516,15 @@ impl Monitor {
                     deepest = Some((d, *o));
                 }
             };
-            if half <= self.obstacle_reach {
-                for &k in near_list {
+            if scan {
+                for &(k, c, r) in &self.obstacle_spheres {
+                    let reach = r + half;
+                    if (a.pos - c).length_squared() < reach * reach {
+                        each(&world.obstacles[k]);
+                    }
+                }
+            } else if half <= self.obstacle_reach {
+                for &k in self.obstacle_grid.near(a.pos) {
                     each(&world.obstacles[k as usize]);
                 }
             } else {
@@ -1140,30 +1163,11 @@ mod tests {
 
     #[test]
     fn agents_inside_or_against_obstacles() {
-        let mut r = Rig::new(&["fish"]);
-        r.world.add_obstacle(Shape::Sphere {
-            center: Vec3::new(0.0, 5.0, 0.0),
-            radius: 2.0,
-        });
-        r.world.add_obstacle(Shape::Box(Aabb::new(
-            Vec3::new(10.0, 0.0, 0.0),
-            Vec3::new(12.0, 2.0, 2.0),
-        )));
-        let gone = r.world.add_obstacle(Shape::Sphere {
-            center: Vec3::new(-10.0, 5.0, 0.0),
-            radius: 2.0,
-        });
-        r.world.obstacles[gone as usize].active = false;
-        // Fish are 0.2 wide: within 0.1 of a surface is against it.
-        r.add(0, Vec3::new(0.0, 5.0, 0.5)); // inside the sphere, 1.5 deep
-        r.add(0, Vec3::new(0.0, 5.0, 2.05)); // against it
-        r.add(0, Vec3::new(0.0, 5.0, 3.0)); // clear
-        r.add(0, Vec3::new(11.0, 1.0, 1.95)); // inside the box, near a face
-        r.add(0, Vec3::new(-10.0, 5.0, 0.0)); // inside a removed sphere: clear
-        for _ in 0..10 {
-            r.tick(&[]);
-        }
-        let h = r.health();
+        // With a few obstacles (each tested), and with many (through the grid): the same.
+        let few = obstacle_case(0);
+        let many = obstacle_case(2 * SCAN_OBSTACLES);
+        assert_eq!(few, many);
+        let h = few;
         let o = &h.species[0].obstacles;
         assert_eq!(
             (o.agent_ticks, o.inside_ticks, o.agents_inside),
@@ -1187,6 +1191,41 @@ mod tests {
         assert!(pen
             .message
             .contains("20 inside, 2 agents ever inside; deepest 1.50 inside sphere 0"));
+    }
+
+    /// Five fish among a sphere, a box and a removed sphere, plus `far` small rocks out of
+    /// their way, for ten ticks.
+    fn obstacle_case(far: usize) -> Health {
+        let mut r = Rig::new(&["fish"]);
+        r.world.add_obstacle(Shape::Sphere {
+            center: Vec3::new(0.0, 5.0, 0.0),
+            radius: 2.0,
+        });
+        r.world.add_obstacle(Shape::Box(Aabb::new(
+            Vec3::new(10.0, 0.0, 0.0),
+            Vec3::new(12.0, 2.0, 2.0),
+        )));
+        let gone = r.world.add_obstacle(Shape::Sphere {
+            center: Vec3::new(-10.0, 5.0, 0.0),
+            radius: 2.0,
+        });
+        r.world.obstacles[gone as usize].active = false;
+        // Fish are 0.2 wide: within 0.1 of a surface is against it.
+        r.add(0, Vec3::new(0.0, 5.0, 0.5)); // inside the sphere, 1.5 deep
+        r.add(0, Vec3::new(0.0, 5.0, 2.05)); // against it
+        r.add(0, Vec3::new(0.0, 5.0, 3.0)); // clear
+        r.add(0, Vec3::new(11.0, 1.0, 1.95)); // inside the box, near a face
+        r.add(0, Vec3::new(-10.0, 5.0, 0.0)); // inside a removed sphere: clear
+        for k in 0..far {
+            r.world.add_obstacle(Shape::Sphere {
+                center: Vec3::new(-40.0 + k as f32, 40.0, 40.0),
+                radius: 0.3,
+            });
+        }
+        for _ in 0..10 {
+            r.tick(&[]);
+        }
+        r.health()
     }
 
     #[test]
