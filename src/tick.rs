@@ -782,65 +782,6 @@ impl Pipeline {
     }
 }
 
-/// Keeps a body solid after locomotion moved it to `pos`: it never ends a tick inside an
-/// obstacle or closer to one than half its width, and it does not overlap kin it perceives (each
-/// of two overlapping agents moves half the overlap away from the other, from the start of the
-/// tick's positions, so the pair separates whichever is processed first; of two agents at the
-/// very same point the lower-numbered steps to its left, the other to its right). Steering avoids obstacles and
-/// kin; this is what holds when it does not, whatever a species' recipe says.
-fn solid_body(
-    pos: &mut Vec3,
-    i: usize,
-    me: &Agent,
-    percepts: &[crate::perception::Percept],
-    world: &World,
-    perception: &Perception,
-) {
-    let width = me.size.x.max(0.0);
-    for p in percepts {
-        let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) else {
-            continue;
-        };
-        if p.dist >= width {
-            continue;
-        }
-        let away = match (-p.offset).try_normalize() {
-            Some(d) if p.dist > 1e-4 => d,
-            _ => {
-                let left = crate::frame::left(me.yaw);
-                if i < j as usize {
-                    left
-                } else {
-                    -left
-                }
-            }
-        };
-        *pos += away * (0.5 * (width - p.dist));
-    }
-    // A hair more than half the width, so that rounding never leaves the body inside it.
-    let clearance = 0.5 * width * 1.001 + 1e-4;
-    // Inside the world first: a body below the floor may be clear of a rock that the floor
-    // puts it back against.
-    *pos = world.bounds.closest_point(*pos);
-    for &k in perception.obstacles_near(*pos) {
-        let Some(o) = world.obstacles.get(k as usize) else {
-            continue;
-        };
-        if o.active {
-            if let Some(q) = o.shape.push_out(*pos, clearance) {
-                // Where a rock meets the floor or a wall of the world, straight out may be out
-                // of the world: then along the horizontal.
-                *pos = if world.bounds.contains(q) {
-                    q
-                } else {
-                    let p = world.bounds.closest_point(*pos);
-                    o.shape.push_out_level(p, clearance).unwrap_or(q)
-                };
-            }
-        }
-    }
-}
-
 /// Stages 3–6 for agent `i`.
 #[allow(clippy::too_many_arguments)]
 fn agent_pass(
@@ -1042,7 +983,7 @@ fn agent_pass(
         world.current,
         dt,
     );
-    solid_body(&mut motion.pos, i, me, percepts, world, perception);
+    locomotion::solid::keep_solid(&mut motion.pos, i, me, percepts, world, perception);
     let mut an = me.anim;
     let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
     anim::advance(

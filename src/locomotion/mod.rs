@@ -16,6 +16,7 @@
 
 pub mod anim;
 mod rigid;
+pub mod solid;
 
 pub use rigid::RigidParams;
 
