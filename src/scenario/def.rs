@@ -82,6 +82,20 @@ pub enum ObstacleDef {
     },
 }
 
+impl ObstacleDef {
+    /// The world's shape of this obstacle.
+    pub fn shape(&self) -> crate::world::Shape {
+        match *self {
+            ObstacleDef::Sphere { center, radius } => {
+                crate::world::Shape::Sphere { center, radius }
+            }
+            ObstacleDef::Box { min, max } => {
+                crate::world::Shape::Box(crate::world::Aabb::new(min, max))
+            }
+        }
+    }
+}
+
 /// Food: initial items and respawning.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

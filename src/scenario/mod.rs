@@ -96,13 +96,7 @@ fn check_region(
 /// Whether no point of a 9×9×9 lattice over `region` lies outside every obstacle: a region
 /// that cannot hold a group (spawning would have to put agents inside rock).
 fn region_blocked(region: &Aabb, obstacles: &[ObstacleDef]) -> bool {
-    let shapes: Vec<Shape> = obstacles
-        .iter()
-        .map(|o| match *o {
-            ObstacleDef::Sphere { center, radius } => Shape::Sphere { center, radius },
-            ObstacleDef::Box { min, max } => Shape::Box(Aabb::new(min, max)),
-        })
-        .collect();
+    let shapes: Vec<Shape> = obstacles.iter().map(ObstacleDef::shape).collect();
     if shapes.is_empty() {
         return false;
     }
@@ -410,10 +404,7 @@ impl Run {
         let mut world = World::new(def.bounds, def.dt, seed);
         world.current = def.current;
         for ob in &def.obstacles {
-            world.add_obstacle(match *ob {
-                ObstacleDef::Sphere { center, radius } => Shape::Sphere { center, radius },
-                ObstacleDef::Box { min, max } => Shape::Box(Aabb::new(min, max)),
-            });
+            world.add_obstacle(ob.shape());
         }
         let duration = o.duration.unwrap_or(def.duration);
         let total_ticks = (duration / def.dt).round().max(0.0) as u64;

@@ -4,11 +4,11 @@
 //! (obstacles, current, bounds, timed events, food) follow the new definition. The fixed time
 //! step may not change: the run's clock is counted in ticks of it.
 
-use super::{ObstacleDef, Run, Scenario};
+use super::{Run, Scenario};
 use crate::diag::Diagnostic;
 use crate::species::validate::locate;
 use crate::tick::{Pipeline, Remap};
-use crate::world::{Aabb, Obstacle, Shape};
+use crate::world::Obstacle;
 
 /// What swapping in a new version of a scenario did.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -68,10 +68,7 @@ impl Run {
         if def.obstacles != old.def.obstacles {
             let before = std::mem::take(&mut self.world.obstacles);
             for (i, ob) in def.obstacles.iter().enumerate() {
-                let shape = match *ob {
-                    ObstacleDef::Sphere { center, radius } => Shape::Sphere { center, radius },
-                    ObstacleDef::Box { min, max } => Shape::Box(Aabb::new(min, max)),
-                };
+                let shape = ob.shape();
                 self.world.obstacles.push(Obstacle {
                     id: i as u32,
                     shape,
