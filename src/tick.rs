@@ -851,7 +851,14 @@ fn agent_pass(
         .as_deref()
         .filter(|_| !sp.slots.is_empty() || sp.has_on_tick);
     if let Some(script) = script {
-        if scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval) {
+        // Right after a contact (a meal, a mating) the script's last answers predate what just
+        // happened (its `on_event` may have changed the blackboard): asked again now, so the
+        // behavior that ends on the contact hands over to the right next one at once instead of
+        // to a stale choice that the next scheduled call overturns a few ticks later.
+        if scripts_every_tick
+            || mind.reached
+            || scripts::due(tick, me.id.0, def.decision_interval)
+        {
             let ctx = Ctx {
                 world,
                 perception,
