@@ -9,9 +9,10 @@ use glam::Vec3;
 
 /// Keeps a body solid after locomotion moved it to `pos`: it never ends a tick inside an
 /// obstacle or closer to one than half its width, and it does not overlap kin it perceives (each
-/// of two overlapping agents moves half the overlap away from the other, from the start of the
-/// tick's positions, so the pair separates whichever is processed first; of two agents at the
-/// very same point the lower-numbered steps to its left, the other to its right). Steering avoids obstacles and
+/// of two overlapping agents moves half the overlap away from where the other is heading this
+/// tick (its start position plus its velocity), so the pair separates whichever is processed
+/// first; of two agents at the very same point the lower-numbered steps to its left, the other
+/// to its right). Steering avoids obstacles and
 /// kin; this is what holds when it does not, whatever a species' recipe says.
 pub fn keep_solid(
     pos: &mut Vec3,
@@ -22,17 +23,44 @@ pub fn keep_solid(
     perception: &Perception,
 ) {
     let width = me.size.x.max(0.0);
+    let dt = world.dt;
+    // Both bodies drift with the world current (locomotion adds it to this one's move).
+    let current = if world.current.is_finite() {
+        world.current
+    } else {
+        Vec3::ZERO
+    };
+    // Inside the world before parting from the others: parting then moves along a wall of the
+    // world, where straight out of the wall would be undone by the clamp below.
+    *pos = world.bounds.closest_point(*pos);
     for p in percepts {
-        let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) else {
+        let Source::Agent(j) = p.source else {
             continue;
         };
-        if p.dist >= width {
+        // Same-species bodies keep a body width apart; any two keep apart by the smaller body
+        // of the two (a predator still reaches its prey: catches reach further than that).
+        let apart = match p.category {
+            Category::Kin | Category::Mate => width,
+            _ => width.min(p.size),
+        };
+        // Where the other is heading this tick, not where it was: two fish swimming at each
+        // other close more than a body width in one tick and would pass through each other.
+        // (The other agents are out of the world during the pass: perception's copy of them.)
+        let v = perception.velocity(j as usize).unwrap_or(Vec3::ZERO);
+        let there = world
+            .bounds
+            .closest_point(me.pos + p.offset + (v + current) * dt);
+        let sep = along_walls(&world.bounds, *pos, *pos - there);
+        let dist = sep.length();
+        if dist >= apart || dist.is_nan() {
             continue;
         }
-        let away = match (-p.offset).try_normalize() {
-            Some(d) if p.dist > 1e-4 => d,
+        let away = match sep.try_normalize() {
+            Some(d) if dist > 1e-4 => d,
             _ => {
-                let left = crate::frame::left(me.yaw);
+                let left = along_walls(&world.bounds, *pos, crate::frame::left(me.yaw))
+                    .try_normalize()
+                    .unwrap_or(Vec3::Y);
                 if i < j as usize {
                     left
                 } else {
@@ -40,7 +68,7 @@ pub fn keep_solid(
                 }
             }
         };
-        *pos += away * (0.5 * (width - p.dist));
+        *pos += away * (0.5 * (apart - dist));
     }
     // A hair more than half the width, so that rounding never leaves the body inside it.
     let clearance = 0.5 * width * 1.001 + 1e-4;
@@ -64,4 +92,15 @@ pub fn keep_solid(
             }
         }
     }
+}
+
+/// `v` without the parts that point out of the world through a wall `pos` lies on.
+fn along_walls(bounds: &crate::world::Aabb, pos: Vec3, v: Vec3) -> Vec3 {
+    let mut v = v;
+    for k in 0..3 {
+        if (pos[k] <= bounds.min[k] && v[k] < 0.0) || (pos[k] >= bounds.max[k] && v[k] > 0.0) {
+            v[k] = 0.0;
+        }
+    }
+    v
 }

@@ -26,9 +26,11 @@ pub enum GroupQuery {
         /// Only neighbors this close count.
         radius: f32,
     },
-    /// R–A zones: within `repulsion`, `n` = count and `a = −Σ offset / d` (d > 1e-6); between
-    /// `repulsion` and `matching`, `b = Σ unit velocity`; between `matching` and `attraction`,
-    /// `c = Σ offset / d`; `m` counts both outer zones.
+    /// R–A zones: within `repulsion`, `n` = count, `a = −Σ w·offset / d` (d > 1e-6) and
+    /// `w = Σ w`; between `repulsion` and `matching`, `b = Σ unit velocity`; between `matching`
+    /// and `attraction`, `c = Σ offset / d`; `m` counts both outer zones. Each repelling
+    /// neighbor's weight `w` is 1 (seed 003) or, with a `soft` band, rises from 0 at `repulsion`
+    /// to 1 at `(1 − soft)·repulsion`, the rest of it (`1 − w`) still matching its heading.
     Zones {
         /// Repulsion radius r_r.
         repulsion: f32,
@@ -36,6 +38,8 @@ pub enum GroupQuery {
         matching: f32,
         /// Attraction radius r_a.
         attraction: f32,
+        /// Soft band, a fraction of r_r (0: the paper's hard zone).
+        soft: f32,
     },
     /// Vicsek: `a = Σ unit velocity` over neighbors with `d ≤ radius`.
     Headings {
@@ -97,6 +101,8 @@ pub struct GroupSum {
     pub n: u32,
     /// Second count.
     pub m: u32,
+    /// A weight sum (R–A zones: the repulsion weights).
+    pub w: f32,
 }
 
 impl GroupSum {
@@ -122,9 +128,10 @@ impl GroupSum {
                 repulsion,
                 matching,
                 attraction,
+                soft,
             } => {
                 if n.d2 <= attraction * attraction {
-                    self.add_zones(n, repulsion, matching);
+                    self.add_zones(n, repulsion, matching, soft);
                 }
             }
             GroupQuery::Headings { radius } => {
@@ -141,12 +148,22 @@ impl GroupSum {
     /// The R–A zones of a neighbor within the attraction radius, out of line (see
     /// [`inverse_square`]).
     #[inline(never)]
-    fn add_zones(&mut self, n: &Near, repulsion: f32, matching: f32) {
+    fn add_zones(&mut self, n: &Near, repulsion: f32, matching: f32, soft: f32) {
         let dist = n.d2.sqrt();
         if dist < repulsion {
             self.n += 1;
+            let w = if soft > 0.0 {
+                ((repulsion - dist) / (soft * repulsion)).min(1.0)
+            } else {
+                1.0
+            };
+            self.w += w;
             if dist > 1e-6 {
-                self.a -= n.offset / dist;
+                self.a -= n.offset * (w / dist);
+            }
+            if w < 1.0 {
+                self.m += 1;
+                self.b += n.unit * (1.0 - w);
             }
         } else if dist < matching {
             self.m += 1;
@@ -256,6 +273,7 @@ mod tests {
             repulsion: 1.0,
             matching: 3.0,
             attraction: 6.0,
+            soft: 0.0,
         };
         let mut s = GroupSum::default();
         s.add_one(&q, Vec3A::new(0.5, 0.0, 0.0), 0.5, Vec3A::Z);

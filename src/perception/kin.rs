@@ -423,6 +423,7 @@ impl<'a> KinFold<'a> {
                 c: Vec3A::ZERO,
                 n: s.n.element_sum() as u32,
                 m: 0,
+                w: 0.0,
             };
         }
         let sum = &self.sum;

@@ -1864,6 +1864,7 @@ mod tests {
                 repulsion: 1.0,
                 matching: 3.0,
                 attraction: 6.0,
+                soft: 0.5,
             },
             GroupQuery::Headings { radius: 4.0 },
         ];

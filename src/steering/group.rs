@@ -107,6 +107,18 @@ pub struct Zones {
     pub matching: f32,
     /// Attraction radius r_a.
     pub attraction: f32,
+    /// Soft repulsion band, a fraction of r_r (runtime addition; 0 is seed 003's hard zone). A
+    /// neighbor entering r_r repels with a weight rising from 0 at r_r to 1 at `(1 − soft)·r_r`
+    /// and keeps being matched with the rest; the other zones count for what repulsion leaves.
+    /// With the hard zone, a neighbor crossing r_r flips the heading between "away from it" and
+    /// "with the school" from one tick to the next: schools zig-zag (turning 4–5× the net
+    /// heading change in `school_formation`).
+    #[serde(default = "default_soft")]
+    pub soft: f32,
+}
+
+fn default_soft() -> f32 {
+    0.5
 }
 
 impl Zones {
@@ -116,6 +128,7 @@ impl Zones {
             repulsion: self.repulsion,
             matching: self.matching,
             attraction: self.attraction,
+            soft: self.soft,
         }
     }
 }
@@ -126,14 +139,17 @@ impl Default for Zones {
             repulsion: 1.0,
             matching: 4.0,
             attraction: 10.0,
+            soft: default_soft(),
         }
     }
 }
 
 /// R–A zones (seed 003): neighbors closer than `r_r` repel; between `r_r` and `r_m` the agent
 /// matches their heading; between `r_m` and `r_a` it is attracted. Repulsion takes precedence:
-/// while any neighbor is inside `r_r` only repulsion acts. Returns a desired velocity of `speed`
-/// along the resulting direction, or [`Steer::None`] when no neighbor is in any zone.
+/// while any neighbor is inside `r_r` only repulsion acts (with a soft band, once the repulsion
+/// weights sum to 1; below that the other zones' unit direction fills the rest). Returns a
+/// desired velocity of `speed` along the resulting direction, or [`Steer::None`] when no
+/// neighbor is in any zone.
 pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
     ra_zones_of(&fold(neighbors, &zones.query()), speed)
 }
@@ -141,10 +157,11 @@ pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
 /// R–A zones from the sums of a [`GroupQuery::Zones`].
 #[inline]
 pub fn ra_zones_of(sum: &GroupSum, speed: f32) -> Steer {
-    let dir = if sum.n > 0 {
+    let dir = if sum.n > 0 && sum.w >= 1e9 {
         Vec3::from(sum.a)
-    } else if sum.m > 0 {
-        Vec3::from(sum.b + sum.c)
+    } else if sum.n > 0 || sum.m > 0 {
+        let rest = Vec3::from(sum.b + sum.c).normalize_or_zero();
+        Vec3::from(sum.a) + (1.0 - sum.w).max(0.0) * rest
     } else {
         return Steer::None;
     };
@@ -255,6 +272,7 @@ mod tests {
             repulsion: 1.0,
             matching: 3.0,
             attraction: 6.0,
+            soft: 0.0,
         };
         // One neighbor inside r_r at +X, one far away at −X: pure repulsion → −X.
         let n = [
