@@ -855,9 +855,7 @@ fn agent_pass(
         // happened (its `on_event` may have changed the blackboard): asked again now, so the
         // behavior that ends on the contact hands over to the right next one at once instead of
         // to a stale choice that the next scheduled call overturns a few ticks later.
-        if scripts_every_tick
-            || mind.reached
-            || scripts::due(tick, me.id.0, def.decision_interval)
+        if scripts_every_tick || mind.reached || scripts::due(tick, me.id.0, def.decision_interval)
         {
             let ctx = Ctx {
                 world,

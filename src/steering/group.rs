@@ -157,11 +157,11 @@ pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
 /// R–A zones from the sums of a [`GroupQuery::Zones`].
 #[inline]
 pub fn ra_zones_of(sum: &GroupSum, speed: f32) -> Steer {
-    let dir = if sum.n > 0 && sum.w >= 1e9 {
+    let dir = if sum.n > 0 && sum.w >= 1.0 {
         Vec3::from(sum.a)
     } else if sum.n > 0 || sum.m > 0 {
         let rest = Vec3::from(sum.b + sum.c).normalize_or_zero();
-        Vec3::from(sum.a) + (1.0 - sum.w).max(0.0) * rest
+        Vec3::from(sum.a) + (1.0 - sum.w) * rest
     } else {
         return Steer::None;
     };
@@ -297,6 +297,39 @@ mod tests {
         assert_eq!(
             ra_zones(&[nb(Vec3::new(9.0, 0.0, 0.0), Vec3::Z)], &z, 1.0),
             Steer::None
+        );
+    }
+
+    #[test]
+    fn soft_zones_weigh_repulsion_by_depth() {
+        let z = Zones {
+            repulsion: 1.0,
+            matching: 3.0,
+            attraction: 6.0,
+            soft: 0.5,
+        };
+        // A neighbor at +X, 0.75 inside r_r = 1 with a band of 0.5: w = (1 − 0.75)/0.5 = 0.5. It
+        // repels with 0.5·(−X) and is matched (heading +Z) with the other 0.5; the rest
+        // direction normalize(0.5·Z) = Z fills 1 − w: dir = (−0.5, 0, 0.5).
+        let n = [nb(Vec3::new(0.75, 0.0, 0.0), Vec3::Z)];
+        let Steer::Velocity(v) = ra_zones(&n, &z, 1.0) else {
+            panic!()
+        };
+        assert!(
+            (v - Vec3::new(-1.0, 0.0, 1.0).normalize()).length() < 1e-6,
+            "{v}"
+        );
+        // At the edge of r_r it does not repel at all: the heading is the neighbor's.
+        let n = [nb(Vec3::new(0.999_999, 0.0, 0.0), Vec3::Z)];
+        let Steer::Velocity(v) = ra_zones(&n, &z, 1.0) else {
+            panic!()
+        };
+        assert!((v - Vec3::Z).length() < 1e-4, "{v}");
+        // Deeper than the band: pure repulsion, as in the hard zone.
+        let n = [nb(Vec3::new(0.4, 0.0, 0.0), Vec3::Z)];
+        assert_eq!(
+            ra_zones(&n, &z, 2.0),
+            Steer::Velocity(Vec3::new(-2.0, 0.0, 0.0))
         );
     }
 
