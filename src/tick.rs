@@ -852,11 +852,12 @@ fn agent_pass(
         .filter(|_| !sp.slots.is_empty() || sp.has_on_tick);
     if let Some(script) = script {
         // Right after a contact (a meal, a mating) the script's last answers predate what just
-        // happened (its `on_event` may have changed the blackboard): asked again now, so the
-        // behavior that ends on the contact hands over to the right next one at once instead of
-        // to a stale choice that the next scheduled call overturns a few ticks later.
-        if scripts_every_tick || mind.reached || scripts::due(tick, me.id.0, def.decision_interval)
-        {
+        // happened (its `on_event` may have changed the blackboard): its conditions are asked
+        // again now, so the behavior that ends on the contact hands over to the right next one
+        // at once instead of to a stale choice that the next scheduled call overturns a few
+        // ticks later.
+        let due = scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval);
+        if due || mind.reached {
             let ctx = Ctx {
                 world,
                 perception,
@@ -880,7 +881,11 @@ fn agent_pass(
                 scripts::fill_view(&mut v, &ctx, mind, &names.0[s], behavior);
                 v.rng = *rng;
             }
-            let r = scripts::run_slots(sp, script, mind, view, scope);
+            let r = if due {
+                scripts::run_slots(sp, script, mind, view, scope)
+            } else {
+                scripts::run_conditions(sp, script, mind, view, scope)
+            };
             if let Some(mut v) = view.write_lock::<AgentView>() {
                 scripts::write_back(&v, me);
                 *rng = v.rng;
@@ -979,7 +984,16 @@ fn agent_pass(
         yaw_rate: me.yaw_rate,
         pitch_rate: me.pitch_rate,
     };
-    let limits = &def.body.limits;
+    // A behavior may turn faster or slower than the body does by default.
+    let body = &def.body.limits;
+    let limits = &match sp
+        .behaviors
+        .get(mind.current as usize)
+        .and_then(|b| b.response)
+    {
+        Some(response) => locomotion::Limits { response, ..*body },
+        None => *body,
+    };
     let info = locomotion::step(
         &mut motion,
         steer,

@@ -138,6 +138,19 @@ fn the_live_protocol_streams_controls_and_inspects() {
     });
     assert!((f2["time"].as_f64().unwrap() - f2["tick"].as_f64().unwrap() * 0.05).abs() < 1e-6);
     assert_ne!(f1["pos"], f2["pos"], "agents do not move");
+    // Run health streams as the replay shows it: columns with bounds, the species' figures.
+    let h = st.until("health", |n, v| {
+        n == "health" && v["ticks"].as_u64().unwrap_or(0) > 0
+    });
+    assert_eq!(h["species"][0]["name"], "fish");
+    assert_eq!(h["species"][0]["agents"], 24);
+    let columns = h["columns"].as_array().unwrap();
+    assert_eq!(
+        h["species"][0]["values"].as_array().unwrap().len(),
+        columns.len()
+    );
+    assert!(columns.iter().any(|c| c["key"] == "switch_rate"), "{h}");
+    assert!(h["warnings"].is_array() && h["since_tick"] == 0, "{h}");
 
     // A broken edit shows up as diagnostics, the fix clears them and announces a reload.
     let broken = FISH.replace("Above(Drive(Hunger), 0.95)", "Abov(Drive(Hunger), 0.95)");

@@ -283,36 +283,24 @@ fn mate_then_leave_then_wander() {
     };
     let t = |a: &str, b: &str, c: Cause, d: &str| (a.to_string(), b.to_string(), c, d.to_string());
     let mated = "libido < 0.3 or not (perceives mate)";
-    // The female's `should_leave()` was already true when mate completed: leave starts at once
-    // (it outranks the stacked wander). The male's script ran a tick later: wander resumes and
-    // leave interrupts it.
-    assert_eq!(
-        seq(f),
-        [
-            t(
-                "wander",
-                "mate",
-                Cause::Interrupted,
-                "libido > 0.5 and perceives mate"
-            ),
-            t("mate", "leave", Cause::Completed, mated),
-            t("leave", "wander", Cause::Resumed, "3 s in behavior"),
-        ]
-    );
-    assert_eq!(
-        seq(m),
-        [
-            t(
-                "wander",
-                "mate",
-                Cause::Interrupted,
-                "libido > 0.5 and perceives mate"
-            ),
-            t("mate", "wander", Cause::Resumed, mated),
-            t("wander", "leave", Cause::Interrupted, "should_leave()"),
-            t("leave", "wander", Cause::Resumed, "3 s in behavior"),
-        ]
-    );
+    // Right after the contact both scripts are asked again (`should_leave()` reads the
+    // `mated_at` their `on_event` just wrote): mate hands over to leave at once for both
+    // partners, whatever their script schedule, with no tick of wander in between.
+    for id in [f, m] {
+        assert_eq!(
+            seq(id),
+            [
+                t(
+                    "wander",
+                    "mate",
+                    Cause::Interrupted,
+                    "libido > 0.5 and perceives mate"
+                ),
+                t("mate", "leave", Cause::Completed, mated),
+                t("leave", "wander", Cause::Resumed, "3 s in behavior"),
+            ]
+        );
+    }
     // Both partners heard of the mating (on_event) and swam apart.
     for id in [f, m] {
         assert!(sim.agent(id).memory.iter().any(|(k, _)| k == "mated_at"));

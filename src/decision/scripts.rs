@@ -146,6 +146,29 @@ pub fn run_slots(
     this: &mut Dynamic,
     scope: &mut Scope,
 ) -> Result<(), Diagnostic> {
+    run_slots_of(species, script, mind, this, scope, true)
+}
+
+/// Runs only the condition and value slots (no steering, no `on_tick`): what arbitration reads,
+/// asked again off schedule (right after a contact) without moving the script's own schedule.
+pub fn run_conditions(
+    species: &Species,
+    script: &Script,
+    mind: &mut Mind,
+    this: &mut Dynamic,
+    scope: &mut Scope,
+) -> Result<(), Diagnostic> {
+    run_slots_of(species, script, mind, this, scope, false)
+}
+
+fn run_slots_of(
+    species: &Species,
+    script: &Script,
+    mind: &mut Mind,
+    this: &mut Dynamic,
+    scope: &mut Scope,
+    all: bool,
+) -> Result<(), Diagnostic> {
     if mind.script_values.len() < species.slots.len() {
         mind.script_values.resize(species.slots.len(), 0.0);
     }
@@ -153,6 +176,9 @@ pub fn run_slots(
         mind.script_steer.resize(species.steer_slots, Vec::new());
     }
     for (i, slot) in species.slots.iter().enumerate() {
+        if !all && slot.kind == SlotKind::Steer {
+            continue;
+        }
         let r: Dynamic = script
             .call(scope, this, &slot.name)
             .map_err(|e| e.diagnostic)?;
@@ -211,7 +237,7 @@ pub fn run_slots(
             },
         }
     }
-    if species.has_on_tick {
+    if all && species.has_on_tick {
         let _: Dynamic = script
             .call(scope, this, "on_tick")
             .map_err(|e| e.diagnostic)?;

@@ -134,6 +134,9 @@ struct Track {
     pin_start: u64,
     pin_len: u64,
     prev_forward: Vec3,
+    /// Position and tick at the last observation (how far it really went).
+    prev_pos: Vec3,
+    prev_tick: u64,
     window_forward: Vec3,
     window_turn: f32,
     window_len: u32,
@@ -422,6 +425,8 @@ impl Monitor {
                     species: s as u16,
                     behavior: b,
                     prev_forward: forward,
+                    prev_pos: a.pos,
+                    prev_tick: tick,
                     window_forward: forward,
                     window_tick: tick,
                     ..Track::default()
@@ -430,7 +435,16 @@ impl Monitor {
             }
             acc.ticks += 1;
             // Stops and frozen episodes: a run is stopped ticks in one behavior.
-            let stopped = a.speed.abs() < STOPPED_SPEED;
+            // Stopped by its speed, or by how far it went since the last tick: a body swimming
+            // full speed into a wall of the world or a crowd goes nowhere, and looks frozen.
+            let went = if t.prev_tick + 1 == tick && self.dt > 0.0 {
+                (a.pos - t.prev_pos).length() / self.dt
+            } else {
+                f32::INFINITY
+            };
+            t.prev_pos = a.pos;
+            t.prev_tick = tick;
+            let stopped = a.speed.abs() < STOPPED_SPEED || went < STOPPED_SPEED;
             if t.stop_len > 0 && (!stopped || t.behavior != b) {
                 close_stop(t, a.id.0, acc, &mut self.frozen);
             }

@@ -1,5 +1,5 @@
-//! What a live session shows to its viewers: the latest world description, frame, diagnostics
-//! and reload messages, each with a sequence number. Every stream reader keeps the numbers it
+//! What a live session shows to its viewers: the latest world description, frame, diagnostics,
+//! run-health figures and reload messages, each with a sequence number. Every stream reader keeps the numbers it
 //! has sent and is woken when one changes; a slow reader skips frames instead of queueing them.
 
 use std::collections::VecDeque;
@@ -39,6 +39,7 @@ struct State {
     world: Item,
     diagnostics: Item,
     frame: Item,
+    health: Item,
     reloads: VecDeque<(u64, Arc<str>)>,
     reload_seq: u64,
     status: Status,
@@ -59,6 +60,7 @@ pub struct Seen {
     world: u64,
     diagnostics: u64,
     frame: u64,
+    health: u64,
     reload: u64,
     started: bool,
 }
@@ -73,6 +75,8 @@ pub mod event {
     pub const DIAGNOSTICS: &str = "diagnostics";
     /// A version was swapped in.
     pub const RELOAD: &str = "reload";
+    /// The run-health figures of the version running (about once a second).
+    pub const HEALTH: &str = "health";
 }
 
 impl Hub {
@@ -86,6 +90,7 @@ impl Hub {
                     data: Some("[]".into()),
                 },
                 frame: Item::default(),
+                health: Item::default(),
                 reloads: VecDeque::new(),
                 reload_seq: 0,
                 status: Status {
@@ -122,6 +127,12 @@ impl Hub {
     /// Publishes a new frame (JSON).
     pub fn set_frame(&self, json: String) {
         Self::bump(&mut self.lock().frame, json.into());
+        self.changed.notify_all();
+    }
+
+    /// Publishes the run-health figures (JSON).
+    pub fn set_health(&self, json: String) {
+        Self::bump(&mut self.lock().health, json.into());
         self.changed.notify_all();
     }
 
@@ -188,6 +199,7 @@ impl Hub {
             (s.world.data.is_some() && s.world.seq != seen.world)
                 || s.diagnostics.seq != seen.diagnostics
                 || (s.frame.data.is_some() && s.frame.seq != seen.frame)
+                || (s.health.data.is_some() && s.health.seq != seen.health)
                 || (seen.started && s.reload_seq != seen.reload)
         };
         if !s.closed && !fresh(&s, seen) {
@@ -226,6 +238,10 @@ impl Hub {
             out.push((event::FRAME, d.clone()));
             seen.frame = s.frame.seq;
         }
+        if let (Some(d), true) = (&s.health.data, s.health.seq != seen.health) {
+            out.push((event::HEALTH, d.clone()));
+            seen.health = s.health.seq;
+        }
         Some(out)
     }
 }
@@ -258,6 +274,9 @@ mod tests {
         assert_eq!(names(&got), ["diagnostics", "reload"]);
         assert_eq!(&*got[0].1, "[\"a.ron:1:2: bad\"]");
         assert!(!hub.set_diagnostics(&["a.ron:1:2: bad".into()]));
+        hub.set_health("{\"ticks\":20}".into());
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        assert_eq!(names(&got), ["health"]);
         hub.close();
         assert!(hub.next(&mut seen, Duration::from_secs(5)).is_none());
     }

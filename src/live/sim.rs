@@ -9,6 +9,7 @@ use super::json::{self, Decision, DecisionLog, DECISIONS_KEPT};
 use super::record::Recorder;
 use super::{Accepted, AgentInfo, Control, LiveEvent, TickTime};
 use crate::events::Event;
+use crate::health::Monitor;
 use crate::scenario::{Run, Scenario};
 use crate::world::World;
 use std::collections::{BTreeMap, BTreeSet};
@@ -65,7 +66,15 @@ pub(crate) struct Sim {
     last_step: Duration,
     pending_forks: Vec<Sender<Box<Run>>>,
     last_frame: Option<Instant>,
+    /// Run health of the version running (restarted at each swap: its figures are about the
+    /// species as they are now).
+    monitor: Monitor,
+    health_since: u64,
+    last_health: Option<Instant>,
 }
+
+/// How often the run-health figures are sent to the viewers.
+const HEALTH_INTERVAL: Duration = Duration::from_secs(1);
 
 /// Distinct runtime script errors reported to the terminal per session (each agent's first one
 /// is an event anyway).
@@ -74,6 +83,8 @@ const MAX_REPORTED_ERRORS: usize = 64;
 impl Sim {
     pub fn new(run: Run, hub: Arc<Hub>, events: Sender<LiveEvent>) -> Sim {
         let removed_at = vec![None; run.world.obstacles.len()];
+        let monitor = Monitor::new(&run.pipeline.species, run.world.dt);
+        let health_since = run.world.tick;
         Sim {
             run,
             version: 0,
@@ -94,7 +105,18 @@ impl Sim {
             last_step: Duration::ZERO,
             pending_forks: Vec::new(),
             last_frame: None,
+            monitor,
+            health_since,
+            last_health: None,
         }
+    }
+
+    fn publish_health(&mut self) {
+        let mut meta = crate::view::health_meta(&self.monitor.report());
+        meta["since_tick"] = self.health_since.into();
+        meta["version"] = self.version.into();
+        self.hub.set_health(meta.to_string());
+        self.last_health = Some(Instant::now());
     }
 
     fn period(&self) -> Duration {
@@ -265,6 +287,9 @@ impl Sim {
                 let swap_duration = t0.elapsed();
                 self.swap_time += swap_duration;
                 self.version = s.version;
+                self.monitor = Monitor::new(&self.run.pipeline.species, self.run.world.dt);
+                self.health_since = self.run.world.tick;
+                self.last_health = None;
                 for e in &r.remap.events {
                     match e {
                         Event::Death { agent, .. } => {
@@ -376,6 +401,13 @@ impl Sim {
                 });
         }
         self.swap_time = Duration::ZERO;
+        self.monitor.observe(&self.run.world, &self.run.pipeline);
+        if self
+            .last_health
+            .is_none_or(|t| t.elapsed() >= HEALTH_INTERVAL)
+        {
+            self.publish_health();
+        }
         if let Some(v) = self.first_tick_of.take() {
             let _ = self.events.send(LiveEvent::FirstTick {
                 version: v,

@@ -53,6 +53,9 @@ pub struct Limits {
     /// Time (s) in which a kinematic body closes a commanded turn or speed change; 0 applies
     /// each tick's command at once (the paper's per-step form, see the module header).
     pub response: f32,
+    /// Time (s) in which a kinematic body closes a commanded speed change, when it differs from
+    /// `response` (a schooling fish that turns gently but still bursts away; default: `response`).
+    pub speed_response: Option<f32>,
     /// Time constant (s) with which the turn rate follows its aim (0: at once). What keeps
     /// commands that alternate tick to tick from reaching the body; more lag makes schools
     /// that align by following each other's headings slower to agree.
@@ -72,6 +75,7 @@ impl Default for Limits {
             max_pitch: 80f32.to_radians(),
             max_accel: 4.0,
             response: 0.25,
+            speed_response: None,
             smoothing: 0.25,
         }
     }
@@ -160,7 +164,12 @@ pub fn step(
             if m.pitch.abs() >= plim && m.pitch_rate * m.pitch > 0.0 {
                 m.pitch_rate = 0.0;
             }
-            let dv = ((target - m.speed) * k).clamp(-limits.max_accel * dt, limits.max_accel * dt);
+            let ks = match limits.speed_response {
+                Some(t) if t > 0.0 => 1.0 - (-dt / t).exp(),
+                Some(_) => 1.0,
+                None => k,
+            };
+            let dv = ((target - m.speed) * ks).clamp(-limits.max_accel * dt, limits.max_accel * dt);
             m.speed += dv;
         }
         Mode::Kinematic => {

@@ -251,6 +251,11 @@ pub struct BehaviorDef {
     /// Actions when the behavior starts or resumes.
     #[serde(default)]
     pub on_enter: Vec<Action>,
+    /// The body's turn `response` (s) while this behavior runs, in place of the species' own
+    /// (`body.limits.response`): a schooling fish that turns gently among its neighbours still
+    /// snaps away from a predator.
+    #[serde(default)]
+    pub response: Option<f32>,
 }
 
 fn never() -> Cond {

@@ -143,6 +143,8 @@ pub struct Behavior {
     pub contact: Option<Contact>,
     /// On-enter actions.
     pub on_enter: Vec<ActionNode>,
+    /// Turn response while it runs (`None`: the body's).
+    pub response: Option<f32>,
 }
 
 /// What a script slot returns.

@@ -534,6 +534,7 @@ impl Builder<'_> {
                 cooldown: b.cooldown,
                 contact: b.contact,
                 on_enter,
+                response: b.response,
             });
         }
         // Two behaviors of one level with the same trigger can never be told apart.

@@ -16,6 +16,8 @@ mod base64;
 mod csv;
 mod events;
 mod health;
+
+pub(crate) use health::to_meta as health_meta;
 mod manifest;
 mod payload;
 mod world;

@@ -781,8 +781,9 @@ void main() {
 
   // ---------------------------------------------------------------- run health
 
-  // The run's health report (replay only): per-species figures against their bounds, and the
-  // warnings; clicking a warning seeks to its tick and opens its agent.
+  // The run's health report (replay: `health.json`; live: streamed about once a second):
+  // per-species figures against their bounds, and the warnings; clicking a warning seeks to its
+  // tick (replay) and opens its agent.
   const health = {
     format(kind, v) {
       if (v === null || v === undefined) return '–';
@@ -801,7 +802,9 @@ void main() {
         return;
       }
       const n = h.warnings.length;
-      $('health-title').textContent = 'Run health' + (n ? ' · ' + n + (n === 1 ? ' warning' : ' warnings') : '');
+      // Live figures restart with each version swapped in.
+      const since = h.since_tick ? ' (since tick ' + h.since_tick + ')' : '';
+      $('health-title').textContent = 'Run health' + since + (n ? ' · ' + n + (n === 1 ? ' warning' : ' warnings') : '');
       const wrap = el('div', { class: 'health-table' });
       const table = el('table', { 'data-testid': 'health-table' });
       const head = el('tr');
@@ -853,8 +856,11 @@ void main() {
       body.append(list);
     },
     jump(w) {
-      source.setPlaying(false);
-      if (w.tick !== null) source.setFrame(source.frameOfTick(w.tick));
+      // Live, the past is gone: the agent is opened where it is now.
+      if (!LIVE) {
+        source.setPlaying(false);
+        if (w.tick !== null) source.setFrame(source.frameOfTick(w.tick));
+      }
       if (w.agent !== null) select(w.agent);
       state.dirty = true;
     },
@@ -1060,6 +1066,9 @@ void main() {
           const box = $('diagnostics');
           box.textContent = Array.isArray(lines) ? lines.join('\n') : String(lines);
           box.classList.toggle('hidden', !(Array.isArray(lines) && lines.length));
+        });
+        es.addEventListener('health', (e) => {
+          try { health.build(JSON.parse(e.data)); } catch (_) { /* a bad message leaves the last figures */ }
         });
         es.addEventListener('reload', (e) => {
           let msg = 'reloaded';
