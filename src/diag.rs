@@ -227,6 +227,17 @@ fn special_kind(_: &std::fs::Metadata) -> &'static str {
     "a special file"
 }
 
+/// Why `path` cannot be read as a file (`not found`, or what it is instead of a regular file),
+/// or `None` when it is a regular file; for messages located where the path is written.
+pub fn file_problem(path: &Path) -> Option<String> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => None,
+        Ok(m) if m.is_dir() => Some("is a folder, not a regular file".into()),
+        Ok(m) => Some(format!("is {}, not a regular file", special_kind(&m))),
+        Err(_) => Some("not found".into()),
+    }
+}
+
 /// The bytes of the regular file `path` (see [`regular_file`]).
 pub fn read_bytes(path: &Path, what: &str) -> Result<Vec<u8>, Diagnostic> {
     regular_file(path, what)?;

@@ -118,8 +118,7 @@ fn region_blocked(region: &Aabb, obstacles: &[ObstacleDef]) -> bool {
 impl Scenario {
     /// Reads, validates and loads a scenario and every species it names.
     pub fn load(file: &Path) -> Result<Scenario, Diagnostics> {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| Diagnostic::file(file, format!("cannot read scenario: {e}")))?;
+        let text = crate::diag::read_text(file, "scenario")?;
         Self::load_str(file, &text)
     }
 
@@ -166,13 +165,13 @@ impl Scenario {
         let mut loaded: Vec<Arc<Species>> = Vec::new();
         for name in &def.species {
             let path = behaviors_dir.join(format!("{name}.ron"));
-            if !path.is_file() {
+            if let Some(problem) = crate::diag::file_problem(&path) {
                 let (l, c, _) = at(&format!("\"{name}\""), 0);
                 diags.push(Diagnostic::new(
                     file,
                     l,
                     c,
-                    format!("species file \"{}\" not found", path.display()),
+                    format!("species file \"{}\" {problem}", path.display()),
                     Some(text),
                 ));
                 continue;

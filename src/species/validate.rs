@@ -157,8 +157,7 @@ pub fn locate(text: &str, needle: &str, from: usize) -> Option<(usize, usize, us
 /// Reads and validates one species file (script included). Relations are checked by
 /// [`SpeciesSet::new`], which sees every species of the world.
 pub fn load_species(file: &Path, root: &Path, limits: &Limits) -> Result<Species, Diagnostics> {
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| Diagnostic::file(file, format!("cannot read species file: {e}")))?;
+    let text = crate::diag::read_text(file, "species file")?;
     load_species_str(file, &text, root, limits)
 }
 
@@ -175,13 +174,14 @@ pub fn load_species_str(
     let script = match &def.script {
         Some(rel) => {
             let path = file.parent().unwrap_or(Path::new(".")).join(rel);
-            if !path.is_file() {
+            // Checked here, before the script loader opens it: a named pipe would block it.
+            if let Some(problem) = crate::diag::file_problem(&path) {
                 let (l, c, _) = locate(text, &format!("\"{rel}\""), 0).unwrap_or((0, 0, 0));
                 return Err(Diagnostic::new(
                     file,
                     l,
                     c,
-                    format!("script file \"{}\" not found", path.display()),
+                    format!("script file \"{}\" {problem}", path.display()),
                     Some(text),
                 )
                 .into());

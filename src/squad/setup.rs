@@ -76,10 +76,10 @@ pub fn load(
         None => None,
         Some(t) => {
             let dem = normalize(&dir.join(&t.dem));
-            if !dem.is_file() {
+            if let Some(problem) = crate::diag::file_problem(&dem) {
                 return Err(diag(
                     at(&format!("\"{}\"", t.dem), 0),
-                    format!("terrain file \"{}\" not found", dem.display()),
+                    format!("terrain file \"{}\" {problem}", dem.display()),
                 )
                 .into());
             }
@@ -97,10 +97,10 @@ pub fn load(
             let mut terrain = load_asc(&dem)?;
             if let Some(f) = &t.features {
                 let path = normalize(&dir.join(f));
-                if !path.is_file() {
+                if let Some(problem) = crate::diag::file_problem(&path) {
                     return Err(diag(
                         at(&format!("\"{f}\""), 0),
-                        format!("feature file \"{}\" not found", path.display()),
+                        format!("feature file \"{}\" {problem}", path.display()),
                     )
                     .into());
                 }

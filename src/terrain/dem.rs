@@ -19,8 +19,7 @@ const HEADER_KEYS: &str =
 
 /// Reads and parses an ESRI ASCII grid file.
 pub fn load_asc(path: &Path) -> Result<Terrain, Diagnostics> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Diagnostic::file(path, format!("cannot read terrain file: {e}")))?;
+    let text = crate::diag::read_text(path, "terrain file")?;
     parse_asc(&text, path)
 }
 
@@ -365,8 +364,7 @@ fn fill_nodata(t: &mut Terrain, nodata: &[bool]) {
 
 /// Reads and parses a binary PGM height map; see [`parse_pgm`].
 pub fn load_pgm(path: &Path, cell_size: f32, vertical_scale: f32) -> Result<Terrain, Diagnostics> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| Diagnostic::file(path, format!("cannot read height map: {e}")))?;
+    let bytes = crate::diag::read_bytes(path, "height map")?;
     parse_pgm(&bytes, path, cell_size, vertical_scale)
 }
 
