@@ -26,6 +26,12 @@ pub const MAX_COORD: f32 = 1.0e7;
 /// Line, column and byte offset of the value of `key` (an identifier followed by `:` or `(`)
 /// at or after byte `from`: the first character after the `:` or the `(` itself.
 pub fn locate_key(text: &str, key: &str, from: usize) -> Option<(usize, usize, usize)> {
+    find_key(text, key, from).map(|(_, value)| position(text, value))
+}
+
+/// Byte offsets of the first `key` at or after `from` that is a whole identifier followed by
+/// `:` or `(`, and of its value.
+fn find_key(text: &str, key: &str, from: usize) -> Option<(usize, usize)> {
     let bytes = text.as_bytes();
     let mut start = from.min(text.len());
     while let Some(i) = text.get(start..).and_then(|t| t.find(key)) {
@@ -41,13 +47,13 @@ pub fn locate_key(text: &str, key: &str, from: usize) -> Option<(usize, usize, u
             j += 1;
         }
         match bytes.get(j) {
-            Some(b'(') => return Some(position(text, j)),
+            Some(b'(') => return Some((at, j)),
             Some(b':') => {
                 j += 1;
                 while j < bytes.len() && bytes[j].is_ascii_whitespace() {
                     j += 1;
                 }
-                return Some(position(text, j.min(text.len())));
+                return Some((at, j.min(text.len())));
             }
             _ => continue,
         }
@@ -85,10 +91,12 @@ impl<'a> NumberCheck<'a> {
         }
     }
 
-    /// Moves the section to the value of `key` after the current one, when it is written
-    /// (a default value leaves the section where it was); returns the new start.
+    /// Moves the section to the next `key` after the current section's start, when it is
+    /// written (a default value leaves the section where it was); returns the new start.
+    /// Entering the same key again moves on to its next occurrence (list entries).
     pub fn enter(&mut self, key: &str) -> usize {
-        if let Some((_, _, at)) = locate_key(self.text, key, self.from) {
+        let after = if self.from == 0 { 0 } else { self.from + 1 };
+        if let Some((at, _)) = find_key(self.text, key, after) {
             self.from = at;
         }
         self.from

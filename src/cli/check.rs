@@ -162,8 +162,11 @@ pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
                 load_pgm(f, 1.0, 1.0).map(drop)
             }
         };
-        if let Err(d) = result {
-            diags.0.extend(d.0);
+        // A species shared by several scenarios is reported once.
+        for d in result.err().map(|d| d.0).unwrap_or_default() {
+            if !diags.0.contains(&d) {
+                diags.0.push(d);
+            }
         }
     }
     // Relations between the species checked together (others may live in the same folder).
