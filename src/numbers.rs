@@ -193,7 +193,10 @@ impl<'a> NumberCheck<'a> {
         if n <= max {
             return true;
         }
-        self.error(key, format!("`{key}` is {n}: {what} at most {max}"));
+        self.error(
+            key,
+            format!("`{key}` is {n}, above the limit of {max} {what}"),
+        );
         false
     }
 }

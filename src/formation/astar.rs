@@ -388,11 +388,13 @@ impl DirSlots {
 
     #[inline]
     fn free(&self, grid: &CostGrid, idx: usize, col: usize, row: usize) -> usize {
-        let (c, r) = (col as i32, row as i32);
-        if c + self.min.0 >= 0
-            && r + self.min.1 >= 0
-            && c + self.max.0 < grid.cols as i32
-            && r + self.max.1 < grid.rows as i32
+        // In i64: an offset may be as large as i32 allows (a formation far wider than the grid),
+        // and an i32 sum would wrap past the bounds test into an index outside the grid.
+        let (c, r) = (col as i64, row as i64);
+        if c + i64::from(self.min.0) >= 0
+            && r + i64::from(self.min.1) >= 0
+            && c + i64::from(self.max.0) < grid.cols as i64
+            && r + i64::from(self.max.1) < grid.rows as i64
         {
             let base = idx as isize;
             self.delta
@@ -402,7 +404,7 @@ impl DirSlots {
         } else {
             self.offsets
                 .iter()
-                .filter(|&&(dx, dz)| !grid.is_blocked(i64::from(c + dx), i64::from(r + dz)))
+                .filter(|&&(dx, dz)| !grid.is_blocked(c + i64::from(dx), r + i64::from(dz)))
                 .count()
         }
     }

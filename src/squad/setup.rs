@@ -180,10 +180,15 @@ pub fn load(
             diags.push(diag(at("count", here), "`count` must be at least 1".into()));
             ok = false;
         }
-        if !(sq.spacing.is_finite() && sq.spacing > 0.0) {
+        // A formation spans about `spacing × count`; past MAX_COORD its slots leave any grid.
+        let widest = crate::numbers::MAX_COORD / (members.max(1) as f32);
+        if !(sq.spacing.is_finite() && sq.spacing > 0.0 && sq.spacing <= widest) {
             diags.push(diag(
                 at("spacing", here),
-                format!("`spacing` must be a positive number, not {}", sq.spacing),
+                format!(
+                    "`spacing` must be a positive number of at most {widest} for {members} members (the formation spans at most {:e} world units), not {}",
+                    crate::numbers::MAX_COORD, sq.spacing
+                ),
             ));
             ok = false;
         }
