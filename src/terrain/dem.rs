@@ -7,6 +7,7 @@
 
 use super::{CellAttrs, Terrain};
 use crate::diag::{Diagnostic, Diagnostics};
+use crate::numbers::MAX_CELLS;
 use glam::Vec2;
 use std::collections::VecDeque;
 use std::path::Path;
@@ -65,6 +66,8 @@ struct Header {
     y: Option<(f64, bool)>,
     cellsize: Option<f64>,
     nodata: Option<f64>,
+    /// Line and column of the last `ncols` or `nrows` value, where a grid too large is reported.
+    size_at: (usize, usize),
 }
 
 /// Parses the text of an ESRI ASCII grid; `file` names it in diagnostics.
@@ -159,10 +162,13 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
             "ncols" | "nrows" => {
                 let n = value
                     .text
-                    .parse::<usize>()
+                    .parse::<u64>()
                     .ok()
-                    .filter(|&n| n > 0)
-                    .ok_or_else(|| bad("a positive whole number"))?;
+                    .filter(|&n| n > 0 && n <= MAX_CELLS)
+                    .ok_or_else(|| {
+                        bad(&format!("a whole number from 1 to {MAX_CELLS} (the most cells a grid may have)"))
+                    })? as usize;
+                h.size_at = (ln, value.col);
                 let slot = if lower == "ncols" {
                     &mut h.ncols
                 } else {
@@ -216,6 +222,17 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
     let (x, x_centre) = h.x.ok_or_else(|| missing("xllcorner"))?;
     let (y, y_centre) = h.y.ok_or_else(|| missing("yllcorner"))?;
     let cs = h.cellsize.ok_or_else(|| missing("cellsize"))?;
+    let cells = (ncols as u64).saturating_mul(nrows as u64);
+    if cells > MAX_CELLS {
+        return Err(at(
+            h.size_at.0,
+            h.size_at.1,
+            format!(
+                "the grid has {ncols} × {nrows} = {cells} cells; a terrain may have at most {MAX_CELLS} (2^28)"
+            ),
+        )
+        .into());
+    }
 
     // Data rows.
     let mut heights = Vec::with_capacity(ncols * nrows);
@@ -316,6 +333,18 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
         return Err(Diagnostics(errors));
     }
 
+    let span = cs * ncols.max(nrows) as f64;
+    let far = f64::from(crate::numbers::MAX_COORD);
+    if span > far || x.abs() > far || y.abs() > far {
+        return Err(at(
+            h.size_at.0,
+            h.size_at.1,
+            format!(
+                "the grid spans {span} world units from ({x}, {y}); coordinates must stay within ±{far:e}"
+            ),
+        )
+        .into());
+    }
     let west = if x_centre { x - cs / 2.0 } else { x };
     let south = if y_centre { y - cs / 2.0 } else { y };
     let origin = Vec2::new(west as f32, -(south + nrows as f64 * cs) as f32);
@@ -450,6 +479,14 @@ pub fn parse_pgm(
     let cols = number(1, "a positive whole number for the width", 1 << 20)?;
     let rows = number(2, "a positive whole number for the height", 1 << 20)?;
     let maxval = number(3, "a maxval from 1 to 65535", 65535)?;
+    if (cols as u64) * (rows as u64) > MAX_CELLS {
+        return Err(at(
+            2,
+            format!(
+                "the image has {cols} × {rows} cells; a terrain may have at most {MAX_CELLS} (2^28)"
+            ),
+        ));
+    }
     // Exactly one whitespace byte separates the header from the samples.
     let data = &bytes[(pos + 1).min(bytes.len())..];
     let width = if maxval < 256 { 1 } else { 2 };
