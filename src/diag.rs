@@ -112,7 +112,9 @@ pub fn window(line: &str, col: usize) -> (String, usize) {
         return (line.to_string(), col);
     }
     let at = col.saturating_sub(1).min(n);
-    let start = at.saturating_sub(MAX_ECHO / 2).min(n.saturating_sub(MAX_ECHO));
+    let start = at
+        .saturating_sub(MAX_ECHO / 2)
+        .min(n.saturating_sub(MAX_ECHO));
     let end = (start + MAX_ECHO).min(n);
     let mut out = String::new();
     if start > 0 {
@@ -300,7 +302,11 @@ mod tests {
         let line = format!("{}X{}", "a".repeat(5000), "b".repeat(5000));
         let d = Diagnostic::new("big.ron", 1, 5001, "bad", Some(&line));
         let shown = d.to_string();
-        assert!(shown.len() < 3 * MAX_ECHO + 100, "{} bytes shown", shown.len());
+        assert!(
+            shown.len() < 3 * MAX_ECHO + 100,
+            "{} bytes shown",
+            shown.len()
+        );
         let lines: Vec<&str> = shown.lines().collect();
         let caret = lines[2].find('^').unwrap();
         assert_eq!(lines[1].chars().nth(caret).unwrap(), 'X');

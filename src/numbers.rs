@@ -63,7 +63,10 @@ fn find_key(text: &str, key: &str, from: usize) -> Option<(usize, usize)> {
 
 /// Line and column (1-based) of byte `at`, and `at`.
 fn position(text: &str, at: usize) -> (usize, usize, usize) {
-    let at = (0..=at).rev().find(|&i| text.is_char_boundary(i)).unwrap_or(0);
+    let at = (0..=at)
+        .rev()
+        .find(|&i| text.is_char_boundary(i))
+        .unwrap_or(0);
     let line = text[..at].matches('\n').count() + 1;
     let line_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
     let col = text[line_start..at].chars().count() + 1;
@@ -169,9 +172,7 @@ impl<'a> NumberCheck<'a> {
         }
         self.error(
             key,
-            format!(
-                "`{key}` must have finite coordinates within ±{MAX_COORD:e}, not {v:?}"
-            ),
+            format!("`{key}` must have finite coordinates within ±{MAX_COORD:e}, not {v:?}"),
         );
         false
     }

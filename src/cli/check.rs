@@ -115,9 +115,7 @@ pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
     let (mut n_species, mut n_scenarios, mut n_other) = (0, 0, 0);
     let limits = shoal::scenario::script_limits();
     for f in &files {
-        let binary = f
-            .extension()
-            .is_some_and(|x| x.eq_ignore_ascii_case("pgm"));
+        let binary = f.extension().is_some_and(|x| x.eq_ignore_ascii_case("pgm"));
         // Every file is read once, through the reader that refuses pipes and devices.
         let text = if binary {
             None

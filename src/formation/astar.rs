@@ -656,6 +656,29 @@ mod tests {
         None
     }
 
+    #[test]
+    fn slots_far_outside_the_grid_count_as_blocked() {
+        // Offsets as wide as i32 allows: a sum in i32 would wrap past the bounds test.
+        let grid = CostGrid::open(8, 8, 1.0, Vec2::ZERO);
+        for offsets in [
+            vec![(i32::MAX, 0), (1, 0)],
+            vec![(0, i32::MAX), (i32::MIN, 0)],
+            vec![(i32::MAX, i32::MAX)],
+        ] {
+            let slots = DirSlots::new(&offsets, grid.cols);
+            for (col, row) in [(0, 0), (7, 7), (3, 4)] {
+                let free = slots.free(&grid, row * grid.cols + col, col, row);
+                let expected = offsets
+                    .iter()
+                    .filter(|&&(dx, dz)| {
+                        !grid.is_blocked(col as i64 + i64::from(dx), row as i64 + i64::from(dz))
+                    })
+                    .count();
+                assert_eq!(free, expected);
+            }
+        }
+    }
+
     fn random_grid(cols: usize, rows: usize, seed: u64, density: f32) -> CostGrid {
         let mut rng = crate::terrain::SplitMix64::new(seed);
         let mut g = CostGrid::open(cols, rows, 1.0, Vec2::ZERO);

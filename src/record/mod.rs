@@ -113,15 +113,11 @@ impl Recorder {
             line: String::with_capacity(256),
             extra: Vec::new(),
         };
-        writeln!(rec.traj, "{TRAJECTORY_HEADER}")
-            .map_err(at(&partial(dir, "trajectories.csv")))?;
+        writeln!(rec.traj, "{TRAJECTORY_HEADER}").map_err(at(&partial(dir, "trajectories.csv")))?;
         writeln!(rec.food, "tick,id,x,y,z").map_err(at(&partial(dir, "food.csv")))?;
         let incomplete = dir.join("INCOMPLETE");
-        std::fs::write(
-            &incomplete,
-            "this run did not finish; see manifest.json\n",
-        )
-        .map_err(at(&incomplete))?;
+        std::fs::write(&incomplete, "this run did not finish; see manifest.json\n")
+            .map_err(at(&incomplete))?;
         rec.write_manifest(run, "incomplete", threads, None)?;
         // Spawns at t = 0 happened before the first tick.
         rec.events_of(run, &run.pipeline.events.clone())?;
@@ -274,7 +270,9 @@ impl Recorder {
             .flush()
             .map_err(at(&partial(dir, "trajectories.csv")))?;
         self.food.flush().map_err(at(&partial(dir, "food.csv")))?;
-        self.events.flush().map_err(at(&partial(dir, "events.jsonl")))?;
+        self.events
+            .flush()
+            .map_err(at(&partial(dir, "events.jsonl")))?;
         let world = world_json(run, &self.removed);
         let path = partial(dir, "world.json");
         std::fs::write(&path, serde_json::to_string(&world)?).map_err(at(&path))?;

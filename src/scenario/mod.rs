@@ -142,8 +142,18 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
         0.0,
         MAX_FOOD as f32,
     );
-    n.count("initial", u64::from(f.initial), MAX_FOOD, "food items a scenario places");
-    n.count("max", u64::from(f.max), MAX_FOOD, "food items a world holds");
+    n.count(
+        "initial",
+        u64::from(f.initial),
+        MAX_FOOD,
+        "food items a scenario places",
+    );
+    n.count(
+        "max",
+        u64::from(f.max),
+        MAX_FOOD,
+        "food items a world holds",
+    );
     if let Some(r) = &f.region {
         aabb(&mut n, "region", r);
     }
@@ -153,7 +163,12 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
         n.enter("count");
         let count = u64::try_from(g.count).unwrap_or(0);
         *total = total.saturating_add(count);
-        if !n.count("count", count, MAX_AGENTS, "agents a scenario creates in all") {
+        if !n.count(
+            "count",
+            count,
+            MAX_AGENTS,
+            "agents a scenario creates in all",
+        ) {
             return;
         }
         if *total > MAX_AGENTS {
@@ -206,7 +221,12 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
             EventAction::Spawn(g) => group(&mut n, g, &mut total),
             EventAction::DropFood { count, region } => {
                 n.enter("DropFood");
-                n.count("count", u64::from(*count), MAX_FOOD, "food items a scenario places");
+                n.count(
+                    "count",
+                    u64::from(*count),
+                    MAX_FOOD,
+                    "food items a scenario places",
+                );
                 aabb(&mut n, "region", region);
             }
             EventAction::SetCurrent(c) => {
@@ -221,8 +241,12 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
     for q in &def.squads {
         n.enter("count");
         total = total.saturating_add(u64::from(q.count));
-        if n.count("count", u64::from(q.count), MAX_AGENTS, "agents a scenario creates in all")
-            && total > MAX_AGENTS
+        if n.count(
+            "count",
+            u64::from(q.count),
+            MAX_AGENTS,
+            "agents a scenario creates in all",
+        ) && total > MAX_AGENTS
         {
             n.error(
                 "count",

@@ -184,7 +184,7 @@ pub fn load(
         let widest = crate::numbers::MAX_COORD / (members.max(1) as f32);
         if !(sq.spacing.is_finite() && sq.spacing > 0.0 && sq.spacing <= widest) {
             diags.push(diag(
-                at("spacing", here),
+                crate::numbers::locate_key(text, "spacing", here).unwrap_or(at("spacing", here)),
                 format!(
                     "`spacing` must be a positive number of at most {widest} for {members} members (the formation spans at most {:e} world units), not {}",
                     crate::numbers::MAX_COORD, sq.spacing

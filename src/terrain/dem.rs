@@ -166,7 +166,9 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
                     .ok()
                     .filter(|&n| n > 0 && n <= MAX_CELLS)
                     .ok_or_else(|| {
-                        bad(&format!("a whole number from 1 to {MAX_CELLS} (the most cells a grid may have)"))
+                        bad(&format!(
+                            "a whole number from 1 to {MAX_CELLS} (the most cells a grid may have)"
+                        ))
                     })? as usize;
                 h.size_at = (ln, value.col);
                 let slot = if lower == "ncols" {
