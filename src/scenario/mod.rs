@@ -198,12 +198,10 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
                 Some(Draw::Fixed(x)) => {
                     n.finite(key, x);
                 }
-                Some(Draw::Uniform(lo, hi)) => {
-                    if n.finite(key, lo) & n.finite(key, hi) && lo > hi {
-                        n.error(key, format!("`{key}`: `Uniform(lo, hi)` needs lo ≤ hi"));
-                    }
+                Some(Draw::Uniform(lo, hi)) if n.finite(key, lo) & n.finite(key, hi) && lo > hi => {
+                    n.error(key, format!("`{key}`: `Uniform(lo, hi)` needs lo ≤ hi"));
                 }
-                None => {}
+                _ => {}
             }
         }
     };

@@ -608,14 +608,13 @@ impl Builder<'_> {
             Draw::Fixed(x) => {
                 n.finite(key, x);
             }
-            Draw::Uniform(lo, hi) => {
-                if n.finite(key, lo) & n.finite(key, hi) && lo > hi {
-                    n.error(
-                        key,
-                        format!("`{key}`: `Uniform(lo, hi)` needs lo ≤ hi, not {lo} > {hi}"),
-                    );
-                }
+            Draw::Uniform(lo, hi) if n.finite(key, lo) & n.finite(key, hi) && lo > hi => {
+                n.error(
+                    key,
+                    format!("`{key}`: `Uniform(lo, hi)` needs lo ≤ hi, not {lo} > {hi}"),
+                );
             }
+            Draw::Uniform(..) => {}
         };
         n.from = 0;
         n.non_negative("resend_after", def.resend_after);
