@@ -576,7 +576,7 @@ mod tests {
         assert_eq!((d.line, d.col), (1, 7));
         assert_eq!(
             d.message,
-            "expected a positive whole number for `ncols`, found `three`"
+            "expected a whole number from 1 to 268435456 (the most cells a grid may have) for `ncols`, found `three`"
         );
     }
 
