@@ -16,6 +16,7 @@ pub mod health;
 pub mod index;
 pub mod live;
 pub mod locomotion;
+pub mod numbers;
 pub mod perception;
 pub mod record;
 pub mod scenario;

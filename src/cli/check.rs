@@ -1,9 +1,12 @@
-//! `shoal check [PATHS]`: validates species (with their scripts) and scenarios without running
-//! anything; exits non-zero on any error.
+//! `shoal check [PATHS]`: validates species (with their scripts), scenarios, scripts, terrain
+//! grids, feature and team files without running anything; exits non-zero on any error. A
+//! file's kind comes from its extension (`.rhai`, `.asc`, `.pgm`) or, for RON, its first word.
 
 use shoal::diag::Diagnostics;
 use shoal::scenario::Scenario;
-use shoal::species::{load_species, SpeciesSet};
+use shoal::script::Script;
+use shoal::species::{load_species_str, SpeciesSet};
+use shoal::terrain::{load_pgm, parse_asc, Features};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -30,14 +33,66 @@ fn collect(p: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// Is this RON file a scenario (rather than a species)?
-fn is_scenario(path: &Path) -> bool {
-    std::fs::read_to_string(path).is_ok_and(|t| {
-        t.lines()
-            .map(str::trim)
-            .find(|l| !l.is_empty() && !l.starts_with("//"))
-            .is_some_and(|l| l.starts_with("Scenario"))
-    })
+/// What a file given to `check` holds, told by its extension and, for RON, its first word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Species,
+    Scenario,
+    Script,
+    Features,
+    Team,
+    AsciiGrid,
+    HeightMap,
+}
+
+/// The first word of a RON text, comments and blank lines skipped (`Scenario`, `Species`, …).
+fn first_word(text: &str) -> &str {
+    let mut rest = text;
+    loop {
+        rest = rest.trim_start();
+        if let Some(after) = rest.strip_prefix("//") {
+            rest = after.split_once('\n').map_or("", |x| x.1);
+        } else if let Some(after) = rest.strip_prefix("/*") {
+            rest = after.split_once("*/").map_or("", |x| x.1);
+        } else {
+            break;
+        }
+    }
+    let end = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(rest.len());
+    &rest[..end]
+}
+
+fn kind_of(path: &Path, text: Option<&str>) -> Kind {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "rhai" => Kind::Script,
+        "asc" => Kind::AsciiGrid,
+        "pgm" => Kind::HeightMap,
+        _ => match text.map(first_word) {
+            Some("Scenario") => Kind::Scenario,
+            Some("Features") => Kind::Features,
+            Some("Team") => Kind::Team,
+            _ => Kind::Species,
+        },
+    }
+}
+
+/// The behaviors folder a script's imports resolve against: the nearest folder above it named
+/// `behaviors`, else its own folder.
+fn script_root(path: &Path) -> PathBuf {
+    path.ancestors()
+        .skip(1)
+        .find(|a| a.file_name().is_some_and(|n| n == "behaviors"))
+        .or(path.parent())
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+        .to_path_buf()
 }
 
 /// Runs `shoal check`.
@@ -57,19 +112,58 @@ pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
     }
     let mut diags = Diagnostics::default();
     let mut species = Vec::new();
-    let (mut n_species, mut n_scenarios) = (0, 0);
+    let (mut n_species, mut n_scenarios, mut n_other) = (0, 0, 0);
+    let limits = shoal::scenario::script_limits();
     for f in &files {
-        if is_scenario(f) {
-            n_scenarios += 1;
-            if let Err(d) = Scenario::load(f) {
-                diags.0.extend(d.0);
-            }
+        let binary = f.extension().is_some_and(|x| x.eq_ignore_ascii_case("pgm"));
+        // Every file is read once, through the reader that refuses pipes and devices.
+        let text = if binary {
+            None
         } else {
-            n_species += 1;
-            let root = f.parent().unwrap_or(Path::new("."));
-            match load_species(f, root, &shoal::scenario::script_limits()) {
-                Ok(s) => species.push(Arc::new(s)),
-                Err(d) => diags.0.extend(d.0),
+            match shoal::diag::read_text(f, "file") {
+                Ok(t) => Some(t),
+                Err(d) => {
+                    diags.0.push(d);
+                    continue;
+                }
+            }
+        };
+        let result = match (kind_of(f, text.as_deref()), text.as_deref()) {
+            (Kind::Scenario, Some(t)) => {
+                n_scenarios += 1;
+                Scenario::load_str(f, t).map(drop)
+            }
+            (Kind::Species, Some(t)) => {
+                n_species += 1;
+                let root = f.parent().unwrap_or(Path::new("."));
+                load_species_str(f, t, root, &limits).map(|s| species.push(Arc::new(s)))
+            }
+            (Kind::Script, Some(t)) => {
+                n_other += 1;
+                Script::compile(f, t, &script_root(f), &limits).map(drop)
+            }
+            (Kind::Features, Some(t)) => {
+                n_other += 1;
+                Features::parse(t, f).map(drop)
+            }
+            (Kind::Team, Some(t)) => {
+                n_other += 1;
+                shoal::formation::Team::parse(t, f).map(drop)
+            }
+            (Kind::AsciiGrid, Some(t)) => {
+                n_other += 1;
+                parse_asc(t, f).map(drop)
+            }
+            _ => {
+                n_other += 1;
+                // The format only; cell size and height scale are the loader's caller's.
+                load_pgm(f, 1.0, 1.0).map(drop)
+            }
+        };
+        // A species shared by several scenarios is reported once.
+        for d in result.err().map(|d| d.0).unwrap_or_default() {
+            if !diags.0.contains(&d) {
+                diags.0.push(d);
             }
         }
     }
@@ -90,7 +184,13 @@ pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
         }
     }
     if diags.0.is_empty() {
-        println!("ok: {n_species} species, {n_scenarios} scenarios, no errors");
+        if n_other > 0 {
+            println!(
+                "ok: {n_species} species, {n_scenarios} scenarios, {n_other} other files, no errors"
+            );
+        } else {
+            println!("ok: {n_species} species, {n_scenarios} scenarios, no errors");
+        }
         Ok(ExitCode::SUCCESS)
     } else {
         Ok(super::report(&diags))

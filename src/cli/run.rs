@@ -1,5 +1,6 @@
 //! `shoal run` and `shoal rerun`: headless recorded runs.
 
+use anyhow::Context as _;
 use shoal::health::Monitor;
 use shoal::record::Recorder;
 use shoal::scenario::{Overrides, Run, Scenario};
@@ -360,8 +361,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
 /// Runs `shoal rerun`: replays the resolved scenario with the stored inputs and compares the
 /// recorded files byte for byte.
 pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
-    let manifest: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(args.dir.join("manifest.json"))?)?;
+    let manifest_file = args.dir.join("manifest.json");
+    let manifest: serde_json::Value = serde_json::from_slice(&read(&manifest_file)?)
+        .with_context(|| format!("{}: not a run manifest", manifest_file.display()))?;
     let scenario_file = args.dir.join("scenario.ron");
     let scenario = match Scenario::load(&scenario_file) {
         Ok(s) => s,
@@ -389,8 +391,8 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
     }
     let mut same = true;
     for f in ["trajectories.csv", "food.csv", "events.jsonl"] {
-        let a = std::fs::read(args.dir.join(f))?;
-        let b = std::fs::read(out.join(f))?;
+        let a = read(&args.dir.join(f))?;
+        let b = read(&out.join(f))?;
         if a == b {
             println!("{f}: identical ({} bytes)", a.len());
         } else {
@@ -409,4 +411,9 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
         );
         Ok(ExitCode::from(1))
     }
+}
+
+/// The bytes of a run-folder file; an error names the file.
+fn read(path: &Path) -> anyhow::Result<Vec<u8>> {
+    std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
 }

@@ -388,11 +388,13 @@ impl DirSlots {
 
     #[inline]
     fn free(&self, grid: &CostGrid, idx: usize, col: usize, row: usize) -> usize {
-        let (c, r) = (col as i32, row as i32);
-        if c + self.min.0 >= 0
-            && r + self.min.1 >= 0
-            && c + self.max.0 < grid.cols as i32
-            && r + self.max.1 < grid.rows as i32
+        // In i64: an offset may be as large as i32 allows (a formation far wider than the grid),
+        // and an i32 sum would wrap past the bounds test into an index outside the grid.
+        let (c, r) = (col as i64, row as i64);
+        if c + i64::from(self.min.0) >= 0
+            && r + i64::from(self.min.1) >= 0
+            && c + i64::from(self.max.0) < grid.cols as i64
+            && r + i64::from(self.max.1) < grid.rows as i64
         {
             let base = idx as isize;
             self.delta
@@ -402,7 +404,7 @@ impl DirSlots {
         } else {
             self.offsets
                 .iter()
-                .filter(|&&(dx, dz)| !grid.is_blocked(i64::from(c + dx), i64::from(r + dz)))
+                .filter(|&&(dx, dz)| !grid.is_blocked(c + i64::from(dx), r + i64::from(dz)))
                 .count()
         }
     }
@@ -652,6 +654,29 @@ mod tests {
             }
         }
         None
+    }
+
+    #[test]
+    fn slots_far_outside_the_grid_count_as_blocked() {
+        // Offsets as wide as i32 allows: a sum in i32 would wrap past the bounds test.
+        let grid = CostGrid::open(8, 8, 1.0, Vec2::ZERO);
+        for offsets in [
+            vec![(i32::MAX, 0), (1, 0)],
+            vec![(0, i32::MAX), (i32::MIN, 0)],
+            vec![(i32::MAX, i32::MAX)],
+        ] {
+            let slots = DirSlots::new(&offsets, grid.cols);
+            for (col, row) in [(0, 0), (7, 7), (3, 4)] {
+                let free = slots.free(&grid, row * grid.cols + col, col, row);
+                let expected = offsets
+                    .iter()
+                    .filter(|&&(dx, dz)| {
+                        !grid.is_blocked(col as i64 + i64::from(dx), row as i64 + i64::from(dz))
+                    })
+                    .count();
+                assert_eq!(free, expected);
+            }
+        }
     }
 
     fn random_grid(cols: usize, rows: usize, seed: u64, density: f32) -> CostGrid {

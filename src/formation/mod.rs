@@ -294,8 +294,7 @@ impl TeamDef {
 impl Team {
     /// Reads and parses a team file.
     pub fn load(path: &Path) -> Result<Team, Diagnostics> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Diagnostic::file(path, format!("cannot read team file: {e}")))?;
+        let text = crate::diag::read_text(path, "team file")?;
         Team::parse(&text, path)
     }
 

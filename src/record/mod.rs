@@ -65,11 +65,16 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         path.extension().and_then(|e| e.to_str()).unwrap_or("")
     ));
     {
-        let mut f = File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
+        let mut f = File::create(&tmp).map_err(at(&tmp))?;
+        f.write_all(bytes).map_err(at(&tmp))?;
+        f.sync_all().map_err(at(&tmp))?;
     }
-    std::fs::rename(&tmp, path)
+    std::fs::rename(&tmp, path).map_err(at(path))
+}
+
+/// Adds `path` to an I/O error, so that a failed write names the file it was writing.
+fn at(path: &Path) -> impl Fn(std::io::Error) -> std::io::Error + '_ {
+    move |e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
 }
 
 fn partial(dir: &Path, name: &str) -> PathBuf {
@@ -86,7 +91,7 @@ impl Recorder {
         interval: u32,
         threads: usize,
     ) -> std::io::Result<Recorder> {
-        std::fs::create_dir_all(dir)?;
+        std::fs::create_dir_all(dir).map_err(at(dir))?;
         for f in RUN_FILES
             .iter()
             .chain(EXTRA_FILES.iter())
@@ -100,23 +105,19 @@ impl Recorder {
         let mut rec = Recorder {
             dir: dir.to_path_buf(),
             interval: interval.max(1),
-            traj: BufWriter::with_capacity(
-                1 << 20,
-                File::create(partial(dir, "trajectories.csv"))?,
-            ),
-            food: BufWriter::new(File::create(partial(dir, "food.csv"))?),
-            events: BufWriter::new(File::create(partial(dir, "events.jsonl"))?),
+            traj: BufWriter::with_capacity(1 << 20, create(&partial(dir, "trajectories.csv"))?),
+            food: BufWriter::new(create(&partial(dir, "food.csv"))?),
+            events: BufWriter::new(create(&partial(dir, "events.jsonl"))?),
             recorded: 0,
             removed: vec![None; run.world.obstacles.len()],
             line: String::with_capacity(256),
             extra: Vec::new(),
         };
-        writeln!(rec.traj, "{TRAJECTORY_HEADER}")?;
-        writeln!(rec.food, "tick,id,x,y,z")?;
-        std::fs::write(
-            dir.join("INCOMPLETE"),
-            "this run did not finish; see manifest.json\n",
-        )?;
+        writeln!(rec.traj, "{TRAJECTORY_HEADER}").map_err(at(&partial(dir, "trajectories.csv")))?;
+        writeln!(rec.food, "tick,id,x,y,z").map_err(at(&partial(dir, "food.csv")))?;
+        let incomplete = dir.join("INCOMPLETE");
+        std::fs::write(&incomplete, "this run did not finish; see manifest.json\n")
+            .map_err(at(&incomplete))?;
         rec.write_manifest(run, "incomplete", threads, None)?;
         // Spawns at t = 0 happened before the first tick.
         rec.events_of(run, &run.pipeline.events.clone())?;
@@ -128,11 +129,18 @@ impl Recorder {
         &self.dir
     }
 
+    /// Appends one event line to `events.jsonl`.
+    fn event_line(&mut self, v: &serde_json::Value) -> std::io::Result<()> {
+        serde_json::to_writer(&mut self.events, v)
+            .map_err(std::io::Error::from)
+            .and_then(|()| self.events.write_all(b"\n"))
+            .map_err(at(&partial(&self.dir, "events.jsonl")))
+    }
+
     fn events_of(&mut self, run: &Run, events: &[Event]) -> std::io::Result<()> {
         for e in events {
             let v = event_json(e, run.world.tick, run.world.dt, &run.scenario.species);
-            serde_json::to_writer(&mut self.events, &v)?;
-            self.events.write_all(b"\n")?;
+            self.event_line(&v)?;
         }
         Ok(())
     }
@@ -150,8 +158,7 @@ impl Recorder {
                 run.world.dt,
                 &run.scenario.species,
             );
-            serde_json::to_writer(&mut self.events, &v)?;
-            self.events.write_all(b"\n")?;
+            self.event_line(&v)?;
         }
         for (k, o) in run.world.obstacles.iter().enumerate() {
             if !o.active && self.removed.get(k).is_some_and(|r| r.is_none()) {
@@ -196,14 +203,17 @@ impl Recorder {
                 a.anim.phase,
                 a.anim.bend
             );
-            self.traj.write_all(self.line.as_bytes())?;
+            self.traj
+                .write_all(self.line.as_bytes())
+                .map_err(at(&partial(&self.dir, "trajectories.csv")))?;
         }
         for f in &w.food {
             writeln!(
                 self.food,
                 "{},{},{},{},{}",
                 w.tick, f.id, f.pos.x, f.pos.y, f.pos.z
-            )?;
+            )
+            .map_err(at(&partial(&self.dir, "food.csv")))?;
         }
         self.recorded += 1;
         Ok(())
@@ -255,14 +265,17 @@ impl Recorder {
     }
 
     fn flush_all(&mut self, run: &Run) -> std::io::Result<()> {
-        self.traj.flush()?;
-        self.food.flush()?;
-        self.events.flush()?;
+        let dir = &self.dir;
+        self.traj
+            .flush()
+            .map_err(at(&partial(dir, "trajectories.csv")))?;
+        self.food.flush().map_err(at(&partial(dir, "food.csv")))?;
+        self.events
+            .flush()
+            .map_err(at(&partial(dir, "events.jsonl")))?;
         let world = world_json(run, &self.removed);
-        std::fs::write(
-            partial(&self.dir, "world.json"),
-            serde_json::to_string(&world)?,
-        )?;
+        let path = partial(dir, "world.json");
+        std::fs::write(&path, serde_json::to_string(&world)?).map_err(at(&path))?;
         Ok(())
     }
 
@@ -270,9 +283,10 @@ impl Recorder {
     /// `name.partial`, it takes its name with the others when the run finishes, and an
     /// interrupted run does not keep it.
     pub fn add_output(&mut self, name: &str, bytes: &[u8]) -> std::io::Result<()> {
-        let mut f = File::create(partial(&self.dir, name))?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
+        let path = partial(&self.dir, name);
+        let mut f = create(&path)?;
+        f.write_all(bytes).map_err(at(&path))?;
+        f.sync_all().map_err(at(&path))?;
         if !self.extra.iter().any(|e| e == name) {
             self.extra.push(name.to_string());
         }
@@ -293,7 +307,8 @@ impl Recorder {
             .copied()
             .chain(self.extra.iter().map(String::as_str))
         {
-            std::fs::rename(partial(&self.dir, f), self.dir.join(f))?;
+            let to = self.dir.join(f);
+            std::fs::rename(partial(&self.dir, f), &to).map_err(at(&to))?;
         }
         self.write_manifest(run, "complete", threads, Some(summary))?;
         let _ = std::fs::remove_file(self.dir.join("INCOMPLETE"));
@@ -316,13 +331,15 @@ impl Recorder {
             threads,
             Some(serde_json::json!({ "stopped": reason })),
         )?;
+        let incomplete = self.dir.join("INCOMPLETE");
         std::fs::write(
-            self.dir.join("INCOMPLETE"),
+            &incomplete,
             format!(
                 "this run stopped at tick {} of {}: {reason}\n",
                 run.world.tick, run.total_ticks
             ),
-        )?;
+        )
+        .map_err(at(&incomplete))?;
         Ok(self.dir)
     }
 }
@@ -349,6 +366,11 @@ fn rel_name(f: &Path, run: &Run) -> String {
     )
 }
 
+/// Creates (or truncates) `path` for writing.
+fn create(path: &Path) -> std::io::Result<File> {
+    File::create(path).map_err(at(path))
+}
+
 /// Writes `scenario.ron` (resolved: seed and duration as run, species from `inputs/behaviors`)
 /// and copies of every input under `inputs/`.
 fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
@@ -357,9 +379,9 @@ fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
         let rel = rel_name(&f, run);
         let dest = inputs.join(&rel);
         if let Some(p) = dest.parent() {
-            std::fs::create_dir_all(p)?;
+            std::fs::create_dir_all(p).map_err(at(p))?;
         }
-        std::fs::copy(&f, &dest)?;
+        std::fs::copy(&f, &dest).map_err(at(&dest))?;
     }
     // Species named only in relations (a shark's prey that is not in this world) must still
     // resolve when the copy is loaded again.
@@ -369,8 +391,8 @@ fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
             let src = run.scenario.behaviors_dir.join(format!("{name}.ron"));
             let dest = inputs.join("behaviors").join(format!("{name}.ron"));
             if !dest.exists() && src.is_file() {
-                std::fs::create_dir_all(inputs.join("behaviors"))?;
-                std::fs::copy(&src, &dest)?;
+                std::fs::create_dir_all(inputs.join("behaviors")).map_err(at(&inputs))?;
+                std::fs::copy(&src, &dest).map_err(at(&dest))?;
             }
         }
     }
@@ -389,8 +411,8 @@ fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
             let dest = inputs.join("terrain").join(&name);
-            std::fs::create_dir_all(dest.parent().expect("has parent"))?;
-            std::fs::copy(&src, &dest)?;
+            std::fs::create_dir_all(dest.parent().expect("has parent")).map_err(at(&dest))?;
+            std::fs::copy(&src, &dest).map_err(at(&dest))?;
             *p = format!("inputs/terrain/{name}");
         }
     }

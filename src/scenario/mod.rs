@@ -93,6 +93,170 @@ fn check_region(
     }
 }
 
+/// The scenario's numbers outside what `load_str` checks by name: finite coordinates, obstacle
+/// shapes, food, counts within [`MAX_AGENTS`](crate::numbers::MAX_AGENTS), event times, squads.
+fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnostic> {
+    use crate::numbers::{MAX_AGENTS, MAX_COORD, MAX_FOOD};
+    let mut n = crate::numbers::NumberCheck::new(file, text);
+    let aabb = |n: &mut crate::numbers::NumberCheck, key: &str, b: &Aabb| {
+        n.enter(key);
+        n.point("min", &b.min.to_array()) & n.point("max", &b.max.to_array())
+    };
+    aabb(&mut n, "bounds", &def.bounds);
+    n.from = 0;
+    n.point("current", &def.current.to_array());
+    n.from = 0;
+    n.enter("obstacles");
+    for o in &def.obstacles {
+        match *o {
+            ObstacleDef::Sphere { center, radius } => {
+                n.enter("Sphere");
+                n.point("center", &center.to_array());
+                n.range("radius", radius, 0.0, MAX_COORD);
+            }
+            ObstacleDef::Box { min, max } => {
+                n.enter("Box");
+                if n.point("min", &min.to_array()) & n.point("max", &max.to_array())
+                    && min.cmpgt(max).any()
+                {
+                    n.error(
+                        "min",
+                        format!(
+                            "`Box`: `min` {:?} must not exceed `max` {:?} on any axis",
+                            min.to_array(),
+                            max.to_array()
+                        ),
+                    );
+                }
+            }
+        }
+    }
+    // Food: the respawn loop adds whole items per tick, so the rate is bounded by what the
+    // world may hold.
+    n.from = 0;
+    n.enter("food");
+    let f = &def.food;
+    n.range(
+        "respawn_per_second",
+        f.respawn_per_second,
+        0.0,
+        MAX_FOOD as f32,
+    );
+    n.count(
+        "initial",
+        u64::from(f.initial),
+        MAX_FOOD,
+        "food items a scenario places",
+    );
+    n.count(
+        "max",
+        u64::from(f.max),
+        MAX_FOOD,
+        "food items a world holds",
+    );
+    if let Some(r) = &f.region {
+        aabb(&mut n, "region", r);
+    }
+    // Agents: every group, timed spawn and squad together.
+    let mut total: u64 = 0;
+    let group = |n: &mut crate::numbers::NumberCheck, g: &GroupDef, total: &mut u64| {
+        n.enter("count");
+        let count = u64::try_from(g.count).unwrap_or(0);
+        *total = total.saturating_add(count);
+        if !n.count(
+            "count",
+            count,
+            MAX_AGENTS,
+            "agents a scenario creates in all",
+        ) {
+            return;
+        }
+        if *total > MAX_AGENTS {
+            n.error(
+                "count",
+                format!("the groups so far create {total} agents: a scenario creates at most {MAX_AGENTS} agents in all"),
+            );
+        }
+        aabb(n, "region", &g.region);
+        match g.heading {
+            HeadingDef::Yaw(y) => {
+                n.finite("Yaw", y);
+            }
+            HeadingDef::Toward(t) => {
+                n.point("Toward", &t.to_array());
+            }
+            HeadingDef::Random => {}
+        }
+        let d = &g.drives;
+        for (key, v) in [
+            ("hunger", d.hunger),
+            ("libido", d.libido),
+            ("fear", d.fear),
+            ("fatigue", d.fatigue),
+        ] {
+            match v {
+                Some(Draw::Fixed(x)) => {
+                    n.finite(key, x);
+                }
+                Some(Draw::Uniform(lo, hi)) if n.finite(key, lo) & n.finite(key, hi) && lo > hi => {
+                    n.error(key, format!("`{key}`: `Uniform(lo, hi)` needs lo ≤ hi"));
+                }
+                _ => {}
+            }
+        }
+    };
+    n.from = 0;
+    n.enter("groups");
+    for g in &def.groups {
+        group(&mut n, g, &mut total);
+    }
+    n.from = 0;
+    n.enter("events");
+    for e in &def.events {
+        n.enter("at");
+        n.non_negative("at", e.at);
+        match &e.action {
+            EventAction::Spawn(g) => group(&mut n, g, &mut total),
+            EventAction::DropFood { count, region } => {
+                n.enter("DropFood");
+                n.count(
+                    "count",
+                    u64::from(*count),
+                    MAX_FOOD,
+                    "food items a scenario places",
+                );
+                aabb(&mut n, "region", region);
+            }
+            EventAction::SetCurrent(c) => {
+                n.enter("SetCurrent");
+                n.point("SetCurrent", &c.to_array());
+            }
+            EventAction::RemoveObstacle(_) => {}
+        }
+    }
+    n.from = 0;
+    n.enter("squads");
+    for q in &def.squads {
+        n.enter("count");
+        total = total.saturating_add(u64::from(q.count));
+        if n.count(
+            "count",
+            u64::from(q.count),
+            MAX_AGENTS,
+            "agents a scenario creates in all",
+        ) && total > MAX_AGENTS
+        {
+            n.error(
+                "count",
+                format!("the groups and squads so far create {total} agents: a scenario creates at most {MAX_AGENTS} agents in all"),
+            );
+        }
+        n.point("start", &[q.start.0, q.start.1]);
+        n.point("goal", &[q.goal.0, q.goal.1]);
+    }
+    n.diags
+}
+
 /// Whether no point of a 9×9×9 lattice over `region` lies outside every obstacle: a region
 /// that cannot hold a group (spawning would have to put agents inside rock).
 fn region_blocked(region: &Aabb, obstacles: &[ObstacleDef]) -> bool {
@@ -118,8 +282,7 @@ fn region_blocked(region: &Aabb, obstacles: &[ObstacleDef]) -> bool {
 impl Scenario {
     /// Reads, validates and loads a scenario and every species it names.
     pub fn load(file: &Path) -> Result<Scenario, Diagnostics> {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| Diagnostic::file(file, format!("cannot read scenario: {e}")))?;
+        let text = crate::diag::read_text(file, "scenario")?;
         Self::load_str(file, &text)
     }
 
@@ -153,6 +316,7 @@ impl Scenario {
                 Some(text),
             ));
         }
+        diags.extend(scenario_numbers(file, text, &def));
         if def.bounds.min.cmpge(def.bounds.max).any() {
             let (l, c, _) = at("bounds", 0);
             diags.push(Diagnostic::new(
@@ -166,13 +330,13 @@ impl Scenario {
         let mut loaded: Vec<Arc<Species>> = Vec::new();
         for name in &def.species {
             let path = behaviors_dir.join(format!("{name}.ron"));
-            if !path.is_file() {
+            if let Some(problem) = crate::diag::file_problem(&path) {
                 let (l, c, _) = at(&format!("\"{name}\""), 0);
                 diags.push(Diagnostic::new(
                     file,
                     l,
                     c,
-                    format!("species file \"{}\" not found", path.display()),
+                    format!("species file \"{}\" {problem}", path.display()),
                     Some(text),
                 ));
                 continue;
@@ -590,12 +754,25 @@ impl Run {
         }
         let f = &self.scenario.def.food;
         if f.respawn_per_second > 0.0 {
+            // Whole items due this tick, counted as an integer: subtracting 1 from a huge float
+            // does not change it, so a loop on the float could run forever. The fraction carries
+            // over; what the world cannot hold is dropped, not owed.
             self.food_debt += f.respawn_per_second * dt;
-            let region = f.region.unwrap_or(self.world.bounds);
-            while self.food_debt >= 1.0 {
-                self.food_debt -= 1.0;
-                if (self.world.food.len() as u32) < f.max {
-                    let solid = self.solid_shapes();
+            let due = self.food_debt.floor();
+            self.food_debt -= due;
+            if !self.food_debt.is_finite() {
+                self.food_debt = 0.0;
+            }
+            let room = (f.max as usize).saturating_sub(self.world.food.len());
+            let add = if due.is_finite() && due >= 0.0 {
+                (due as usize).min(room)
+            } else {
+                room
+            };
+            if add > 0 {
+                let region = f.region.unwrap_or(self.world.bounds);
+                let solid = self.solid_shapes();
+                for _ in 0..add {
                     let p = free_in(&region, &mut self.food_rng, &solid, FOOD_CLEARANCE);
                     self.world.add_food(p);
                 }

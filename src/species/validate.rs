@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::diag::{Diagnostic, Diagnostics};
+use crate::numbers::NumberCheck;
 use crate::perception::Relations;
 use crate::script::{Limits, Script};
 use crate::steering::avoid::AvoidParams;
@@ -157,8 +158,7 @@ pub fn locate(text: &str, needle: &str, from: usize) -> Option<(usize, usize, us
 /// Reads and validates one species file (script included). Relations are checked by
 /// [`SpeciesSet::new`], which sees every species of the world.
 pub fn load_species(file: &Path, root: &Path, limits: &Limits) -> Result<Species, Diagnostics> {
-    let text = std::fs::read_to_string(file)
-        .map_err(|e| Diagnostic::file(file, format!("cannot read species file: {e}")))?;
+    let text = crate::diag::read_text(file, "species file")?;
     load_species_str(file, &text, root, limits)
 }
 
@@ -175,13 +175,14 @@ pub fn load_species_str(
     let script = match &def.script {
         Some(rel) => {
             let path = file.parent().unwrap_or(Path::new(".")).join(rel);
-            if !path.is_file() {
+            // Checked here, before the script loader opens it: a named pipe would block it.
+            if let Some(problem) = crate::diag::file_problem(&path) {
                 let (l, c, _) = locate(text, &format!("\"{rel}\""), 0).unwrap_or((0, 0, 0));
                 return Err(Diagnostic::new(
                     file,
                     l,
                     c,
-                    format!("script file \"{}\" not found", path.display()),
+                    format!("script file \"{}\" {problem}", path.display()),
                     Some(text),
                 )
                 .into());
@@ -199,6 +200,7 @@ pub fn load_species_str(
         diags: Vec::new(),
         def: &def,
         cursor: 0,
+        nums: NumberCheck::new(file, text),
     }
     .build(&def, script.clone())
 }
@@ -213,6 +215,8 @@ struct Builder<'a> {
     def: &'a SpeciesDef,
     /// Byte offset of the behavior being resolved, so located errors point into it.
     cursor: usize,
+    /// Number checks; its section moves forward through the text as the walk visits values.
+    nums: NumberCheck<'a>,
 }
 
 impl Builder<'_> {
@@ -303,7 +307,11 @@ impl Builder<'_> {
 
     fn value(&mut self, v: &Value) -> ValueNode {
         match v {
-            Value::Const(x) => ValueNode::Const(*x),
+            Value::Const(x) => {
+                self.nums.enter("Const");
+                self.nums.finite("Const", *x);
+                ValueNode::Const(*x)
+            }
             Value::Drive(d) => ValueNode::Drive(*d),
             Value::Distance(c) => {
                 self.check_category(*c, "`Distance`");
@@ -331,8 +339,24 @@ impl Builder<'_> {
             Cond::All(v) => CondNode::All(v.iter().map(|c| self.cond(c)).collect()),
             Cond::Any(v) => CondNode::Any(v.iter().map(|c| self.cond(c)).collect()),
             Cond::Not(c) => CondNode::Not(Box::new(self.cond(c))),
-            Cond::Above(v, x) => CondNode::Above(self.value(v), *x),
-            Cond::Below(v, x) => CondNode::Below(self.value(v), *x),
+            Cond::Above(v, x) => {
+                let here = self.nums.enter("Above");
+                let v = self.value(v);
+                // The threshold is checked at this `Above`, not at what its value entered.
+                let after = std::mem::replace(&mut self.nums.from, here);
+                self.nums.finite("Above", *x);
+                self.nums.from = after;
+                CondNode::Above(v, *x)
+            }
+            Cond::Below(v, x) => {
+                let here = self.nums.enter("Below");
+                let v = self.value(v);
+                // The threshold is checked at this `Below`, not at what its value entered.
+                let after = std::mem::replace(&mut self.nums.from, here);
+                self.nums.finite("Below", *x);
+                self.nums.from = after;
+                CondNode::Below(v, *x)
+            }
             Cond::Latch { on, off } => {
                 let bit = self.latches;
                 if bit >= 64 {
@@ -361,6 +385,8 @@ impl Builder<'_> {
                 CondNode::Perceives(*k)
             }
             Cond::Within(k, d) => {
+                self.nums.enter("Within");
+                self.nums.non_negative("Within", *d);
                 self.check_category(*k, "`Within`");
                 CondNode::Within(*k, *d)
             }
@@ -368,9 +394,21 @@ impl Builder<'_> {
             Cond::ObstacleNear => CondNode::ObstacleNear,
             Cond::TrafficNear => CondNode::TrafficNear,
             Cond::Heard(m) => CondNode::Heard(*m),
-            Cond::TimeIn(t) => CondNode::TimeIn(*t),
-            Cond::Chance(p) => CondNode::Chance(*p),
-            Cond::NearBounds(m) => CondNode::NearBounds(*m),
+            Cond::TimeIn(t) => {
+                self.nums.enter("TimeIn");
+                self.nums.non_negative("TimeIn", *t);
+                CondNode::TimeIn(*t)
+            }
+            Cond::Chance(p) => {
+                self.nums.enter("Chance");
+                self.nums.non_negative("Chance", *p);
+                CondNode::Chance(*p)
+            }
+            Cond::NearBounds(m) => {
+                self.nums.enter("NearBounds");
+                self.nums.finite("NearBounds", *m);
+                CondNode::NearBounds(*m)
+            }
             Cond::Script(name) => CondNode::Script(self.slot(name, SlotKind::Bool)),
         }
     }
@@ -390,6 +428,8 @@ impl Builder<'_> {
                 RecipeNode::Blend(
                     v.iter()
                         .map(|w| {
+                            self.nums.enter("w");
+                            self.nums.finite("w", w.w);
                             (
                                 w.w,
                                 w.by.as_ref().map(|b| self.value(b)),
@@ -401,6 +441,7 @@ impl Builder<'_> {
             }
             Recipe::Script(name) => RecipeNode::Script(self.slot(name, SlotKind::Steer)),
             leaf => {
+                self.leaf_numbers(leaf);
                 match leaf {
                     Recipe::Chase(c) => self.check_category_at(c.target, "`Chase`", "Chase("),
                     Recipe::Escape(e) => self.check_category_at(e.from, "`Escape`", "Escape("),
@@ -427,6 +468,273 @@ impl Builder<'_> {
                 }
             }
         }
+    }
+
+    /// The numbers of a recipe primitive (`leaf`), located from its name on.
+    fn leaf_numbers(&mut self, leaf: &Recipe) {
+        let n = &mut self.nums;
+        let avoid = |n: &mut NumberCheck, p: &AvoidParams| {
+            n.non_negative("m0", p.m0);
+            n.range("turn", p.turn, 0.0, std::f32::consts::PI);
+            if let Some(r) = p.range {
+                n.non_negative("range", r);
+            }
+            n.range("brake_floor", p.brake_floor, 0.0, 1.0);
+        };
+        let escape = |n: &mut NumberCheck, e: &EscapeDef| {
+            n.range("level_band", e.level_band, 0.0, std::f32::consts::FRAC_PI_2);
+            n.range("max_pitch", e.max_pitch, 0.0, std::f32::consts::FRAC_PI_2);
+            n.range("speed_floor", e.speed_floor, 0.0, 1.0);
+        };
+        let seek = |n: &mut NumberCheck, s: &SeekDef| {
+            n.non_negative("slow_radius", s.slow_radius);
+            n.non_negative("speed", s.speed);
+            if let Target::Point(p) = s.target {
+                n.point("Point", &p.to_array());
+            }
+        };
+        let group = |n: &mut NumberCheck, g: &GroupDef| {
+            n.finite("k", g.k);
+            n.finite("factor", g.factor);
+            n.non_negative_or_inf("radius", g.radius);
+        };
+        let look = |n: &mut NumberCheck, l: &LookAheadDef| {
+            n.non_negative("horizon", l.horizon);
+            n.finite("margin", l.margin);
+        };
+        match leaf {
+            Recipe::AvoidStatic(p) => {
+                n.enter("AvoidStatic");
+                avoid(n, p)
+            }
+            Recipe::AvoidDynamic(p) => {
+                n.enter("AvoidDynamic");
+                avoid(n, p)
+            }
+            Recipe::PredictCollision(l) => {
+                n.enter("PredictCollision");
+                look(n, l)
+            }
+            Recipe::Contain(l) => {
+                n.enter("Contain");
+                look(n, l)
+            }
+            Recipe::Chase(c) => {
+                n.enter("Chase");
+                n.non_negative("d0", c.d0);
+                n.positive("max_turn", c.max_turn);
+            }
+            Recipe::Escape(e) => {
+                n.enter("Escape");
+                escape(n, e)
+            }
+            Recipe::EscapeMirror(e) => {
+                n.enter("EscapeMirror");
+                escape(n, e)
+            }
+            Recipe::Seek(s) => {
+                n.enter("Seek");
+                seek(n, s)
+            }
+            Recipe::Flee(s) => {
+                n.enter("Flee");
+                seek(n, s)
+            }
+            Recipe::Arrive(s) => {
+                n.enter("Arrive");
+                seek(n, s)
+            }
+            Recipe::Separation(g) => {
+                n.enter("Separation");
+                group(n, g)
+            }
+            Recipe::Alignment(g) => {
+                n.enter("Alignment");
+                group(n, g)
+            }
+            Recipe::Cohesion(g) => {
+                n.enter("Cohesion");
+                group(n, g)
+            }
+            Recipe::Zones(z) => {
+                n.enter("Zones");
+                if n.non_negative("repulsion", z.repulsion)
+                    & n.non_negative("matching", z.matching)
+                    & n.non_negative("attraction", z.attraction)
+                {
+                    n.order("repulsion", z.repulsion, "matching", z.matching);
+                    n.order("matching", z.matching, "attraction", z.attraction);
+                }
+            }
+            Recipe::Vicsek(v) => {
+                n.enter("Vicsek");
+                n.non_negative("radius", v.radius);
+                n.non_negative("noise", v.noise);
+                n.non_negative("speed", v.speed);
+            }
+            Recipe::Disperse(d) => {
+                n.enter("Disperse");
+                n.non_negative("below", d.below);
+            }
+            Recipe::Wander(w) => {
+                n.enter("Wander");
+                n.non_negative("yaw_jitter", w.yaw_jitter);
+                n.non_negative("pitch_jitter", w.pitch_jitter);
+                n.non_negative("level_bias", w.level_bias);
+                n.non_negative("cruise", w.cruise);
+            }
+            Recipe::Cruise(c) => {
+                n.enter("Cruise");
+                n.non_negative("speed", c.speed);
+            }
+            Recipe::FollowPlan(c) => {
+                n.enter("FollowPlan");
+                n.non_negative("speed", c.speed);
+            }
+            Recipe::Pursue(_)
+            | Recipe::Stop
+            | Recipe::Priority(_)
+            | Recipe::Blend(_)
+            | Recipe::Script(_) => {}
+        }
+    }
+
+    /// The numbers of the species outside its behaviors: body, senses, avoidance, attributes,
+    /// drives. The tick loop clamps with several of them, and `clamp` panics on NaN or on
+    /// `min > max`.
+    fn species_numbers(&mut self, def: &SpeciesDef) {
+        let n = &mut self.nums;
+        let draw = |n: &mut NumberCheck, key: &str, d: Draw| match d {
+            Draw::Fixed(x) => {
+                n.finite(key, x);
+            }
+            Draw::Uniform(lo, hi) if n.finite(key, lo) & n.finite(key, hi) && lo > hi => {
+                n.error(
+                    key,
+                    format!("`{key}`: `Uniform(lo, hi)` needs lo ≤ hi, not {lo} > {hi}"),
+                );
+            }
+            Draw::Uniform(..) => {}
+        };
+        n.from = 0;
+        n.non_negative("resend_after", def.resend_after);
+        // Body.
+        n.from = 0;
+        n.enter("body");
+        let body = n.from;
+        let size = def.body.size;
+        if !size.to_array().iter().all(|x| x.is_finite() && *x > 0.0) {
+            n.error(
+                "size",
+                format!(
+                    "`size` must be three finite numbers > 0 (width, height, length), not {:?}",
+                    size.to_array()
+                ),
+            );
+        }
+        n.enter("limits");
+        let l = &def.body.limits;
+        if n.positive("max_speed", l.max_speed) & n.non_negative("min_speed", l.min_speed) {
+            n.order("min_speed", l.min_speed, "max_speed", l.max_speed);
+        }
+        n.positive("max_turn", l.max_turn);
+        n.range("max_pitch", l.max_pitch, 0.0, std::f32::consts::FRAC_PI_2);
+        n.positive("max_accel", l.max_accel);
+        n.non_negative("response", l.response);
+        n.non_negative("smoothing", l.smoothing);
+        if let crate::locomotion::Mode::RigidBody(r) = &def.body.locomotion {
+            n.from = body;
+            n.enter("RigidBody");
+            n.positive("mass", r.mass);
+            n.non_negative("max_thrust", r.max_thrust);
+            n.non_negative("thrust_gain", r.thrust_gain);
+            n.non_negative("drag", r.drag);
+            n.non_negative("max_yaw_torque", r.max_yaw_torque);
+            n.non_negative("max_pitch_torque", r.max_pitch_torque);
+            n.non_negative("turn_gain", r.turn_gain);
+            n.non_negative("angular_damping", r.angular_damping);
+            n.positive("inertia", r.inertia);
+        }
+        n.from = body;
+        n.enter("anim");
+        let a = &def.body.anim;
+        n.non_negative("max_bend", a.max_bend);
+        n.non_negative("idle_rate", a.idle_rate);
+        n.non_negative("beats_per_length", a.beats_per_length);
+        n.non_negative("accel_rate", a.accel_rate);
+        n.from = body;
+        n.enter("mobility");
+        let m = &def.body.mobility;
+        n.range("max_slope_deg", m.max_slope_deg, 0.0, 90.0);
+        n.non_negative("slope_cost", m.slope_cost);
+        n.positive("road_factor", m.road_factor);
+        n.non_negative("vegetation_factor", m.vegetation_factor);
+        n.non_negative("vegetation_blocks_at", m.vegetation_blocks_at);
+        n.positive("water_factor", m.water_factor);
+        // Senses.
+        n.from = 0;
+        n.enter("senses");
+        let s = &def.senses;
+        n.non_negative("vision_radius", s.vision_radius);
+        n.range(
+            "vision_half_angle",
+            s.vision_half_angle,
+            0.0,
+            std::f32::consts::TAU,
+        );
+        n.non_negative("smell_radius", s.smell_radius);
+        if let Some(crate::perception::Volume::Egg {
+            ahead,
+            behind,
+            side,
+            up,
+        }) = s.volume
+        {
+            n.enter("Egg");
+            n.non_negative("ahead", ahead);
+            n.non_negative("behind", behind);
+            n.non_negative("side", side);
+            n.non_negative("up", up);
+        }
+        // Avoidance constants.
+        n.from = 0;
+        n.enter("avoid");
+        let p = &def.avoid;
+        n.non_negative("m0", p.m0);
+        n.range("turn", p.turn, 0.0, std::f32::consts::PI);
+        if let Some(r) = p.range {
+            n.non_negative("range", r);
+        }
+        n.range("brake_floor", p.brake_floor, 0.0, 1.0);
+        // Attributes and drives.
+        n.from = 0;
+        n.enter("attributes");
+        draw(n, "age", def.attributes.age);
+        draw(n, "mass", def.attributes.mass);
+        n.from = 0;
+        n.enter("drives");
+        let drives = n.from;
+        let d = &def.drives;
+        draw(n, "hunger", d.hunger);
+        draw(n, "libido", d.libido);
+        draw(n, "since_meal", d.since_meal);
+        n.non_negative("meal_size", d.meal_size);
+        n.enter("params");
+        let q = &d.params;
+        for (key, v) in [
+            ("p0", q.p0),
+            ("appetite", q.appetite),
+            ("p1", q.p1),
+            ("d0", q.d0),
+            ("rho0", q.rho0),
+        ] {
+            n.non_negative(key, v);
+        }
+        for (key, v) in [("a_h", q.a_h), ("a_l", q.a_l), ("u", q.u)] {
+            n.finite(key, v);
+        }
+        n.positive("c", q.c);
+        n.from = drives;
     }
 
     fn build(
@@ -479,18 +787,22 @@ impl Builder<'_> {
                     ),
                 );
             }
-            if b.min_time < 0.0
-                || b.cooldown < 0.0
-                || !b.min_time.is_finite()
-                || !b.cooldown.is_finite()
-            {
-                self.error_at(
-                    "min_time",
-                    format!(
-                        "behavior \"{}\": `min_time` and `cooldown` must be ≥ 0",
-                        b.name
-                    ),
-                );
+            self.nums.from = self.cursor;
+            self.nums.non_negative("min_time", b.min_time);
+            self.nums.non_negative("cooldown", b.cooldown);
+            match b.contact {
+                Some(Contact::Eat { reach }) | Some(Contact::Mate { reach }) => {
+                    self.nums.enter("contact");
+                    self.nums.non_negative("reach", reach);
+                }
+                None => {}
+            }
+            for a in &b.on_enter {
+                if let Action::Send(_, r) = a {
+                    self.nums.from = self.cursor;
+                    self.nums.enter("Send");
+                    self.nums.non_negative("Send", *r);
+                }
             }
             match b.contact {
                 Some(Contact::Eat { .. }) => {
@@ -501,8 +813,15 @@ impl Builder<'_> {
                 }
                 None => {}
             }
+            // Each field's values are located from where the field is written.
+            self.nums.from = self.cursor;
+            self.nums.enter("when");
             let when = self.cond(&b.when);
+            self.nums.from = self.cursor;
+            self.nums.enter("done");
             let done = self.cond(&b.done);
+            self.nums.from = self.cursor;
+            self.nums.enter("steer");
             let steer = self.recipe(&b.steer);
             let on_enter = b
                 .on_enter
@@ -582,27 +901,11 @@ impl Builder<'_> {
         let mut recipe_names = Vec::new();
         for (name, r) in &def.recipes {
             self.cursor = locate(self.text, &format!("\"{name}\""), 0).map_or(0, |x| x.2);
+            self.nums.from = self.cursor;
             recipes.push(self.recipe(r));
             recipe_names.push(name.clone());
         }
-        if !(def.resend_after.is_finite() && def.resend_after >= 0.0) {
-            self.error_at(
-                "resend_after",
-                format!(
-                    "`resend_after` must be a number of seconds ≥ 0, not {}",
-                    def.resend_after
-                ),
-            );
-        }
-        let l = &def.body.limits;
-        for (key, v) in [("response", l.response), ("smoothing", l.smoothing)] {
-            if !(v.is_finite() && v >= 0.0) {
-                self.error_at(
-                    key,
-                    format!("`{key}` must be a number of seconds ≥ 0, not {v}"),
-                );
-            }
-        }
+        self.species_numbers(def);
         if def.decision_interval == 0 {
             self.error_at(
                 "decision_interval",
@@ -621,6 +924,7 @@ impl Builder<'_> {
                 ),
             );
         }
+        self.diags.append(&mut self.nums.diags);
         if !self.diags.is_empty() {
             return Err(Diagnostics(self.diags));
         }

@@ -76,10 +76,10 @@ pub fn load(
         None => None,
         Some(t) => {
             let dem = normalize(&dir.join(&t.dem));
-            if !dem.is_file() {
+            if let Some(problem) = crate::diag::file_problem(&dem) {
                 return Err(diag(
                     at(&format!("\"{}\"", t.dem), 0),
-                    format!("terrain file \"{}\" not found", dem.display()),
+                    format!("terrain file \"{}\" {problem}", dem.display()),
                 )
                 .into());
             }
@@ -97,10 +97,10 @@ pub fn load(
             let mut terrain = load_asc(&dem)?;
             if let Some(f) = &t.features {
                 let path = normalize(&dir.join(f));
-                if !path.is_file() {
+                if let Some(problem) = crate::diag::file_problem(&path) {
                     return Err(diag(
                         at(&format!("\"{f}\""), 0),
-                        format!("feature file \"{}\" not found", path.display()),
+                        format!("feature file \"{}\" {problem}", path.display()),
                     )
                     .into());
                 }
@@ -180,10 +180,15 @@ pub fn load(
             diags.push(diag(at("count", here), "`count` must be at least 1".into()));
             ok = false;
         }
-        if !(sq.spacing.is_finite() && sq.spacing > 0.0) {
+        // A formation spans about `spacing × count`; past MAX_COORD its slots leave any grid.
+        let widest = crate::numbers::MAX_COORD / (members.max(1) as f32);
+        if !(sq.spacing.is_finite() && sq.spacing > 0.0 && sq.spacing <= widest) {
             diags.push(diag(
-                at("spacing", here),
-                format!("`spacing` must be a positive number, not {}", sq.spacing),
+                crate::numbers::locate_key(text, "spacing", here).unwrap_or(at("spacing", here)),
+                format!(
+                    "`spacing` must be a positive number of at most {widest} for {members} members (the formation spans at most {:e} world units), not {}",
+                    crate::numbers::MAX_COORD, sq.spacing
+                ),
             ));
             ok = false;
         }

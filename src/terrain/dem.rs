@@ -7,6 +7,7 @@
 
 use super::{CellAttrs, Terrain};
 use crate::diag::{Diagnostic, Diagnostics};
+use crate::numbers::MAX_CELLS;
 use glam::Vec2;
 use std::collections::VecDeque;
 use std::path::Path;
@@ -19,8 +20,7 @@ const HEADER_KEYS: &str =
 
 /// Reads and parses an ESRI ASCII grid file.
 pub fn load_asc(path: &Path) -> Result<Terrain, Diagnostics> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Diagnostic::file(path, format!("cannot read terrain file: {e}")))?;
+    let text = crate::diag::read_text(path, "terrain file")?;
     parse_asc(&text, path)
 }
 
@@ -66,6 +66,8 @@ struct Header {
     y: Option<(f64, bool)>,
     cellsize: Option<f64>,
     nodata: Option<f64>,
+    /// Line and column of the last `ncols` or `nrows` value, where a grid too large is reported.
+    size_at: (usize, usize),
 }
 
 /// Parses the text of an ESRI ASCII grid; `file` names it in diagnostics.
@@ -160,10 +162,15 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
             "ncols" | "nrows" => {
                 let n = value
                     .text
-                    .parse::<usize>()
+                    .parse::<u64>()
                     .ok()
-                    .filter(|&n| n > 0)
-                    .ok_or_else(|| bad("a positive whole number"))?;
+                    .filter(|&n| n > 0 && n <= MAX_CELLS)
+                    .ok_or_else(|| {
+                        bad(&format!(
+                            "a whole number from 1 to {MAX_CELLS} (the most cells a grid may have)"
+                        ))
+                    })? as usize;
+                h.size_at = (ln, value.col);
                 let slot = if lower == "ncols" {
                     &mut h.ncols
                 } else {
@@ -217,6 +224,17 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
     let (x, x_centre) = h.x.ok_or_else(|| missing("xllcorner"))?;
     let (y, y_centre) = h.y.ok_or_else(|| missing("yllcorner"))?;
     let cs = h.cellsize.ok_or_else(|| missing("cellsize"))?;
+    let cells = (ncols as u64).saturating_mul(nrows as u64);
+    if cells > MAX_CELLS {
+        return Err(at(
+            h.size_at.0,
+            h.size_at.1,
+            format!(
+                "the grid has {ncols} × {nrows} = {cells} cells; a terrain may have at most {MAX_CELLS} (2^28)"
+            ),
+        )
+        .into());
+    }
 
     // Data rows.
     let mut heights = Vec::with_capacity(ncols * nrows);
@@ -317,6 +335,18 @@ pub fn parse_asc(text: &str, file: impl AsRef<Path>) -> Result<Terrain, Diagnost
         return Err(Diagnostics(errors));
     }
 
+    let span = cs * ncols.max(nrows) as f64;
+    let far = f64::from(crate::numbers::MAX_COORD);
+    if span > far || x.abs() > far || y.abs() > far {
+        return Err(at(
+            h.size_at.0,
+            h.size_at.1,
+            format!(
+                "the grid spans {span} world units from ({x}, {y}); coordinates must stay within ±{far:e}"
+            ),
+        )
+        .into());
+    }
     let west = if x_centre { x - cs / 2.0 } else { x };
     let south = if y_centre { y - cs / 2.0 } else { y };
     let origin = Vec2::new(west as f32, -(south + nrows as f64 * cs) as f32);
@@ -365,8 +395,7 @@ fn fill_nodata(t: &mut Terrain, nodata: &[bool]) {
 
 /// Reads and parses a binary PGM height map; see [`parse_pgm`].
 pub fn load_pgm(path: &Path, cell_size: f32, vertical_scale: f32) -> Result<Terrain, Diagnostics> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| Diagnostic::file(path, format!("cannot read height map: {e}")))?;
+    let bytes = crate::diag::read_bytes(path, "height map")?;
     parse_pgm(&bytes, path, cell_size, vertical_scale)
 }
 
@@ -452,6 +481,14 @@ pub fn parse_pgm(
     let cols = number(1, "a positive whole number for the width", 1 << 20)?;
     let rows = number(2, "a positive whole number for the height", 1 << 20)?;
     let maxval = number(3, "a maxval from 1 to 65535", 65535)?;
+    if (cols as u64) * (rows as u64) > MAX_CELLS {
+        return Err(at(
+            2,
+            format!(
+                "the image has {cols} × {rows} cells; a terrain may have at most {MAX_CELLS} (2^28)"
+            ),
+        ));
+    }
     // Exactly one whitespace byte separates the header from the samples.
     let data = &bytes[(pos + 1).min(bytes.len())..];
     let width = if maxval < 256 { 1 } else { 2 };
@@ -539,7 +576,7 @@ mod tests {
         assert_eq!((d.line, d.col), (1, 7));
         assert_eq!(
             d.message,
-            "expected a positive whole number for `ncols`, found `three`"
+            "expected a whole number from 1 to 268435456 (the most cells a grid may have) for `ncols`, found `three`"
         );
     }
 

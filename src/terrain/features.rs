@@ -136,8 +136,7 @@ pub struct Features {
 impl Features {
     /// Reads and parses a feature file.
     pub fn load(path: &Path) -> Result<Features, Diagnostics> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Diagnostic::file(path, format!("cannot read feature file: {e}")))?;
+        let text = crate::diag::read_text(path, "feature file")?;
         Features::parse(&text, path)
     }
 

@@ -1,0 +1,436 @@
+//! Hostile input: files that used to pass `check` and then hang, panic or abort the run, or that
+//! made `check` itself hang or flood the terminal. Each is refused at load with a located
+//! diagnostic, or handled, within a time limit.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A copy of the shipped behaviors, scenarios and assets to edit.
+fn world() -> tempfile::TempDir {
+    fn copy(from: &Path, to: &Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for e in std::fs::read_dir(from).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                copy(&p, &to.join(e.file_name()));
+            } else {
+                std::fs::copy(&p, to.join(e.file_name())).unwrap();
+            }
+        }
+    }
+    let t = tempfile::tempdir().unwrap();
+    for d in ["behaviors", "scenarios", "assets"] {
+        copy(Path::new(d), &t.path().join(d));
+    }
+    t
+}
+
+/// Runs `shoal ARGS` in `dir`; a run past 60 s counts as a hang.
+fn shoal(dir: &Path, args: &[&str]) -> (i32, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        if start.elapsed() > Duration::from_secs(60) {
+            child.kill().ok();
+            panic!("`shoal {}` hung", args.join(" "));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (out.status.code().unwrap_or(-1), text)
+}
+
+/// Writes `text` as `rel` under `dir`.
+fn write(dir: &Path, rel: &str, text: &str) -> PathBuf {
+    let p = dir.join(rel);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// `rel` with `from` replaced by `to` (which must occur).
+fn edit(dir: &Path, rel: &str, from: &str, to: &str) {
+    let p = dir.join(rel);
+    let text = std::fs::read_to_string(&p).unwrap();
+    assert!(text.contains(from), "{rel} has no `{from}`");
+    std::fs::write(&p, text.replacen(from, to, 1)).unwrap();
+}
+
+/// `file:line:col` of the first occurrence of `needle`'s end in `rel` (1-based), as a
+/// diagnostic would print it.
+fn at(dir: &Path, rel: &str, needle: &str) -> String {
+    let text = std::fs::read_to_string(dir.join(rel)).unwrap();
+    let i = text.find(needle).unwrap() + needle.len();
+    let line = text[..i].matches('\n').count() + 1;
+    let col = text[..i].rsplit('\n').next().unwrap().chars().count() + 1;
+    format!("{rel}:{line}:{col}")
+}
+
+/// Refused: a non-zero exit that is not a panic (101) or an abort.
+fn refused(code: i32, out: &str) {
+    assert!(code != 0 && code != 101 && code > 0, "exit {code}:\n{out}");
+    assert!(!out.contains("panicked"), "{out}");
+}
+
+#[test]
+fn infinite_food_respawn_is_refused_at_its_key() {
+    let w = world();
+    let d = w.path();
+    for rate in ["inf", "4e8", "-1.0", "NaN"] {
+        edit(
+            d,
+            "scenarios/tiny.ron",
+            "respawn_per_second: 0.5",
+            &format!("respawn_per_second: {rate}"),
+        );
+        let (code, out) = shoal(d, &["check", "scenarios/tiny.ron"]);
+        refused(code, &out);
+        let here = at(d, "scenarios/tiny.ron", "respawn_per_second: ");
+        assert!(
+            out.contains(&format!("{here}: `respawn_per_second` must be")),
+            "{out}"
+        );
+        edit(
+            d,
+            "scenarios/tiny.ron",
+            &format!("respawn_per_second: {rate}"),
+            "respawn_per_second: 0.5",
+        );
+    }
+}
+
+#[test]
+fn the_respawn_loop_ends_whatever_the_rate() {
+    use shoal::scenario::{Overrides, Run, Scenario};
+    let w = world();
+    let mut s = Scenario::load(&w.path().join("scenarios/tiny.ron")).unwrap();
+    // Past validation, as an embedding program could set it.
+    s.def.food.respawn_per_second = f32::INFINITY;
+    let max = s.def.food.max as usize;
+    let mut run = Run::new(
+        s,
+        Overrides {
+            duration: Some(0.2),
+            ..Default::default()
+        },
+    );
+    for _ in 0..3 {
+        run.step();
+    }
+    assert!(run.world.food.len() <= max);
+}
+
+const PROBE: &str = r#"Species(
+    name: "probe",
+    body: (
+        limits: (
+            max_turn: NaN,
+            max_speed: 2.0,
+            min_speed: 3.0,
+            max_accel: -1.0,
+        ),
+        locomotion: RigidBody(
+            max_yaw_torque: inf,
+        ),
+        size: (0.2, 0.3, -1.0),
+    ),
+    senses: (vision_radius: NaN),
+    initial: "swim",
+    behaviors: [
+        (
+            name: "swim",
+            priority: 1,
+            steer: Cruise(speed: 0.5),
+            cooldown: inf,
+            min_time: -1.0,
+        ),
+    ],
+)
+"#;
+
+#[test]
+fn nan_and_inf_in_a_species_are_refused_at_their_keys() {
+    let w = world();
+    let d = w.path();
+    write(d, "behaviors/probe.ron", PROBE);
+    let (code, out) = shoal(d, &["check", "behaviors/probe.ron"]);
+    refused(code, &out);
+    let f = "behaviors/probe.ron";
+    for (needle, msg) in [
+        (
+            "max_turn: ",
+            "`max_turn` must be a finite number > 0, not NaN",
+        ),
+        (
+            "min_speed: ",
+            "`min_speed` (3) must not exceed `max_speed` (2)",
+        ),
+        (
+            "max_accel: ",
+            "`max_accel` must be a finite number > 0, not -1",
+        ),
+        (
+            "max_yaw_torque: ",
+            "`max_yaw_torque` must be a finite number ≥ 0, not inf",
+        ),
+        ("size: ", "`size` must be three finite numbers > 0"),
+        (
+            "vision_radius: ",
+            "`vision_radius` must be a finite number ≥ 0, not NaN",
+        ),
+        (
+            "cooldown: ",
+            "`cooldown` must be a finite number ≥ 0, not inf",
+        ),
+        (
+            "min_time: ",
+            "`min_time` must be a finite number ≥ 0, not -1",
+        ),
+    ] {
+        let here = at(d, f, needle);
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
+    }
+}
+
+#[test]
+fn a_huge_squad_spacing_is_refused_without_a_panic() {
+    let w = world();
+    let d = w.path();
+    edit(
+        d,
+        "scenarios/squad_march.ron",
+        "spacing: 4.0",
+        "spacing: 1e10",
+    );
+    let (code, out) = shoal(d, &["check", "scenarios/squad_march.ron"]);
+    refused(code, &out);
+    let here = at(d, "scenarios/squad_march.ron", "spacing: ");
+    assert!(out.contains(&format!("{here}: `spacing` must be")), "{out}");
+}
+
+#[test]
+fn counts_beyond_the_agent_limit_are_refused_with_the_limit() {
+    let w = world();
+    let d = w.path();
+    for count in ["2147483648", "9223372036854775807"] {
+        edit(
+            d,
+            "scenarios/tiny.ron",
+            "count: 40",
+            &format!("count: {count}"),
+        );
+        let (code, out) = shoal(d, &["check", "scenarios/tiny.ron"]);
+        refused(code, &out);
+        let here = at(d, "scenarios/tiny.ron", "count: ");
+        assert!(
+            out.contains(&format!(
+                "{here}: `count` is {count}, above the limit of 10000000"
+            )),
+            "{out}"
+        );
+        edit(
+            d,
+            "scenarios/tiny.ron",
+            &format!("count: {count}"),
+            "count: 40",
+        );
+    }
+    edit(
+        d,
+        "scenarios/squad_march.ron",
+        "count: 5",
+        "count: 2147483648",
+    );
+    let (code, out) = shoal(d, &["check", "scenarios/squad_march.ron"]);
+    refused(code, &out);
+    assert!(out.contains("above the limit of 10000000"), "{out}");
+}
+
+#[test]
+fn terrain_sizes_beyond_the_cell_limit_are_refused() {
+    let w = world();
+    let d = w.path();
+    for (key, n) in [("ncols", "4294967297"), ("nrows", "18446744073709551615")] {
+        let text = format!(
+            "ncols 4\nnrows 4\nxllcorner 0\nyllcorner 0\ncellsize 1\n{}",
+            "0 0 0 0\n".repeat(4)
+        )
+        .replace(&format!("{key} 4"), &format!("{key} {n}"));
+        write(d, "big.asc", &text);
+        let (code, out) = shoal(d, &["check", "big.asc"]);
+        refused(code, &out);
+        assert!(out.contains(&at(d, "big.asc", &format!("{key} "))), "{out}");
+        assert!(out.contains("268435456"), "{out}");
+    }
+    // Each side within the limit, the product not.
+    write(
+        d,
+        "wide.asc",
+        "ncols 100000\nnrows 100000\nxllcorner 0\nyllcorner 0\ncellsize 1\n0\n",
+    );
+    let (code, out) = shoal(d, &["check", "wide.asc"]);
+    refused(code, &out);
+    assert!(out.contains("at most 268435456"), "{out}");
+}
+
+#[test]
+fn bad_obstacle_shapes_are_refused_at_their_keys() {
+    let w = world();
+    let d = w.path();
+    let f = "scenarios/tiny.ron";
+    let rock = "obstacles: [Sphere(center: (0.0, 5.0, 0.0), radius: 2.5)]";
+    for (shape, needle, msg) in [
+        (
+            "Box(min: (5.0, 5.0, 5.0), max: (1.0, 6.0, 6.0))",
+            "Box(min: ",
+            "`Box`: `min` [5.0, 5.0, 5.0] must not exceed `max`",
+        ),
+        (
+            "Sphere(center: (0.0, 5.0, 0.0), radius: -2.5)",
+            "radius: ",
+            "`radius` must be a number from 0 to",
+        ),
+        (
+            "Sphere(center: (NaN, 5.0, 0.0), radius: 2.5)",
+            "center: ",
+            "`center` must have finite coordinates",
+        ),
+    ] {
+        edit(d, f, rock, &format!("obstacles: [{shape}]"));
+        let (code, out) = shoal(d, &["check", f]);
+        refused(code, &out);
+        let here = at(d, f, needle);
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
+        edit(d, f, &format!("obstacles: [{shape}]"), rock);
+    }
+}
+
+#[test]
+fn check_reads_scripts_terrain_and_features() {
+    let w = world();
+    let (code, out) = shoal(
+        w.path(),
+        &[
+            "check",
+            "behaviors/reef_fish.rhai",
+            "assets/terrain/valley.asc",
+            "assets/terrain/valley_features.ron",
+        ],
+    );
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("3 other files, no errors"), "{out}");
+    // A broken feature file is checked as one, not as a species.
+    let d = w.path();
+    write(
+        d,
+        "bad_features.ron",
+        "Features(items: [Road(points: [(0.0, 0.0)], width: 4.0)])",
+    );
+    let (code, out) = shoal(d, &["check", "bad_features.ron"]);
+    refused(code, &out);
+    assert!(out.contains("a line needs at least two points"), "{out}");
+    assert!(!out.contains("Species"), "{out}");
+}
+
+#[test]
+fn invalid_utf8_is_located_at_its_first_bad_byte() {
+    let w = world();
+    let d = w.path();
+    std::fs::write(
+        d.join("behaviors/bad.ron"),
+        b"Species(\n    name: \"b\xe9d\",\n)\n",
+    )
+    .unwrap();
+    let (code, out) = shoal(d, &["check", "behaviors/bad.ron"]);
+    refused(code, &out);
+    assert!(out.contains("behaviors/bad.ron:2:13: "), "{out}");
+    assert!(out.contains("not valid UTF-8"), "{out}");
+}
+
+#[cfg(unix)]
+#[test]
+fn named_pipes_are_refused_by_name_not_waited_on() {
+    let w = world();
+    let d = w.path();
+    let fifo = |rel: &str| {
+        let p = d.join(rel);
+        std::fs::remove_file(&p).ok();
+        let ok = Command::new("mkfifo").arg(&p).status().unwrap().success();
+        assert!(ok, "mkfifo");
+    };
+    fifo("behaviors/pipe.ron");
+    let (code, out) = shoal(d, &["check", "behaviors/pipe.ron"]);
+    refused(code, &out);
+    assert!(
+        out.contains("behaviors/pipe.ron: cannot read file: it is a named pipe"),
+        "{out}"
+    );
+    // A species' script, a scenario and a terrain file.
+    fifo("behaviors/reef_fish.rhai");
+    let (code, out) = shoal(d, &["check", "behaviors/reef_fish.ron"]);
+    refused(code, &out);
+    assert!(out.contains("reef_fish.rhai\" is a named pipe"), "{out}");
+    fifo("scenarios/pipe.ron");
+    let (code, out) = shoal(d, &["run", "scenarios/pipe.ron"]);
+    refused(code, &out);
+    assert!(
+        out.contains("scenarios/pipe.ron: cannot read scenario: it is a named pipe"),
+        "{out}"
+    );
+    fifo("assets/terrain/valley.asc");
+    let (code, out) = shoal(d, &["check", "scenarios/squad_march.ron"]);
+    refused(code, &out);
+    assert!(out.contains("valley.asc\" is a named pipe"), "{out}");
+}
+
+#[test]
+fn run_folder_errors_name_the_path() {
+    let w = world();
+    let d = w.path();
+    write(d, "blocker", "a file where the run folder should go");
+    let (code, out) = shoal(
+        d,
+        &[
+            "run",
+            "scenarios/tiny.ron",
+            "--duration",
+            "0.1",
+            "--out",
+            "blocker/run",
+        ],
+    );
+    assert_ne!(code, 0, "{out}");
+    assert!(out.contains("blocker/run"), "{out}");
+}
+
+#[test]
+fn a_huge_line_is_not_echoed_whole() {
+    let w = world();
+    let d = w.path();
+    let line = format!("Species(name: \"x\", {}oops)", "  ".repeat(1_000_000));
+    write(d, "behaviors/wide.ron", &line);
+    let (code, out) = shoal(d, &["check", "behaviors/wide.ron"]);
+    refused(code, &out);
+    assert!(out.len() < 4_000, "{} bytes of output", out.len());
+    assert!(out.contains('…'), "{out}");
+}
