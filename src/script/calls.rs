@@ -98,14 +98,13 @@ pub(crate) fn check(ast: &AST, known: &Known, file: &Path, text: &str) -> Vec<Di
         out.push(Diagnostic::new(file, line, col, msg, Some(text)));
     };
     ast.walk(&mut |path| {
-        let Some(rhai::ASTNode::Expr(e)) = path.last() else {
-            return true;
+        let call = match path.last() {
+            Some(rhai::ASTNode::Expr(Expr::FnCall(x, pos)))
+            | Some(rhai::ASTNode::Stmt(Stmt::FnCall(x, pos))) => Some((x, pos)),
+            _ => None,
         };
-        match e {
-            Expr::FnCall(x, pos) if x.is_operator_call() => {
-                let _ = pos;
-            }
-            Expr::FnCall(x, pos) => {
+        if let Some((x, pos)) = call {
+            if !x.is_operator_call() {
                 let name = x.name.as_str();
                 let n = x.args.len();
                 if x.is_qualified() {
@@ -119,7 +118,8 @@ pub(crate) fn check(ast: &AST, known: &Known, file: &Path, text: &str) -> Vec<Di
                         }
                         return true;
                     };
-                    if x.namespace.path.len() == 1 && !fns.iter().any(|(f, p)| f == name && *p == n)
+                    if x.namespace.path.len() == 1
+                        && !fns.iter().any(|(f, p)| f == name && *p == n)
                     {
                         let hint = match fns.iter().find(|(f, _)| f == name) {
                             Some((_, p)) => format!(" (it takes {})", plural(*p, "parameter")),
@@ -168,6 +168,12 @@ pub(crate) fn check(ast: &AST, known: &Known, file: &Path, text: &str) -> Vec<Di
                     ),
                 );
             }
+            return true;
+        }
+        let Some(rhai::ASTNode::Expr(e)) = path.last() else {
+            return true;
+        };
+        match e {
             Expr::MethodCall(x, pos) => {
                 let name = x.name.as_str();
                 if KEYWORDS.contains(&name) || named(name) || locals.contains(name) {
