@@ -170,29 +170,24 @@ pub(crate) fn check(ast: &AST, known: &Known, file: &Path, text: &str) -> Vec<Di
             }
             return true;
         }
-        let Some(rhai::ASTNode::Expr(e)) = path.last() else {
+        let Some(rhai::ASTNode::Expr(Expr::MethodCall(x, pos))) = path.last() else {
             return true;
         };
-        match e {
-            Expr::MethodCall(x, pos) => {
-                let name = x.name.as_str();
-                if KEYWORDS.contains(&name) || named(name) || locals.contains(name) {
-                    return true;
-                }
-                if DENIED.contains(&name) {
-                    report(
-                        *pos,
-                        format!("`{name}` is not available to scripts: a run must not depend on the clock"),
-                    );
-                    return true;
-                }
-                report(
-                    *pos,
-                    format!("call to undefined method `{name}`: no function of that name exists in this script, its imports or the engine"),
-                );
-            }
-            _ => {}
+        let name = x.name.as_str();
+        if KEYWORDS.contains(&name) || named(name) || locals.contains(name) {
+            return true;
         }
+        if DENIED.contains(&name) {
+            report(
+                *pos,
+                format!("`{name}` is not available to scripts: a run must not depend on the clock"),
+            );
+            return true;
+        }
+        report(
+            *pos,
+            format!("call to undefined method `{name}`: no function of that name exists in this script, its imports or the engine"),
+        );
         true
     });
     out
