@@ -381,3 +381,74 @@ fn a_slow_on_tick_in_a_run_is_reported_and_counted_apart() {
     sim.run(2);
     assert_eq!(sim.pipe.stats.script_errors, before);
 }
+
+#[test]
+fn shoal_check_reports_a_self_import_at_once() {
+    let ron = species("me", "ok");
+    let rhai = "import \"me\" as a;\nimport \"me\" as b;\nimport \"me\" as c;\nfn ok() { true }\n";
+    let dir = folder(&[("me.ron", &ron), ("me.rhai", rhai)]);
+    let start = Instant::now();
+    let (code, out, err) = common::shoal(&["check", dir.path().to_str().unwrap()]);
+    assert!(
+        start.elapsed() < Duration::from_secs(10),
+        "took {:?}",
+        start.elapsed()
+    );
+    assert_ne!(code, 0);
+    let all = format!("{out}{err}");
+    assert!(
+        all.contains("me.rhai:1:1: import cycle: me.rhai → me.rhai"),
+        "{all}"
+    );
+    assert!(all.contains("3 errors"), "{all}");
+}
+
+#[test]
+fn shoal_run_fails_when_a_call_runs_past_its_time_budget() {
+    let species = r#"Species(
+    name: "slow",
+    script: Some("slow.rhai"),
+    initial: "idle",
+    behaviors: [Behavior(name: "idle", priority: 1, steer: Wander())],
+)
+"#;
+    let script = "fn on_tick() {\n    let m = #{};\n    for i in 0..20000 { m[\"k\"] = i; }\n}\n";
+    let scenario = r#"Scenario(
+    seed: 1,
+    dt: 0.05,
+    duration: 0.5,
+    bounds: (min: (-20.0, 0.0, -20.0), max: (20.0, 12.0, 20.0)),
+    species: ["slow"],
+    groups: [(species: "slow", count: 2, region: (min: (-5.0, 2.0, -5.0), max: (5.0, 8.0, 5.0)))],
+)
+"#;
+    let dir = folder(&[
+        ("behaviors/slow.ron", species),
+        ("behaviors/slow.rhai", script),
+        ("scenarios/slow.ron", scenario),
+    ]);
+    let sc = dir.path().join("scenarios/slow.ron");
+    let run = |out: &str, budget: &str| {
+        common::shoal(&[
+            "run",
+            sc.to_str().unwrap(),
+            "-q",
+            "--no-health",
+            "--out",
+            dir.path().join(out).to_str().unwrap(),
+            "--script-call-ms",
+            budget,
+        ])
+    };
+    // A loop of 20,000 map writes (well within 200,000 operations) takes more than 1 ms.
+    let (code, _, err) = run("tight", "1");
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("ran past their time budget"), "{err}");
+    let events = std::fs::read_to_string(dir.path().join("tight/events.jsonl")).unwrap();
+    assert!(
+        events.contains("`on_tick()` of agent 0 ran longer than the 1 ms"),
+        "{events}"
+    );
+    let (code, _, err) = run("off", "0");
+    assert_eq!(code, 0, "{err}");
+}
