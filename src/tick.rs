@@ -94,6 +94,9 @@ pub struct Stats {
     pub transitions: u64,
     /// Failed script calls (each agent's first one is also an event).
     pub script_errors: u64,
+    /// Of those, calls stopped by a wall-time budget ([`crate::script::TimeBudget`]): when
+    /// non-zero, the run's results depend on the machine's speed.
+    pub script_timeouts: u64,
     /// Agent-ticks spent in each behavior, by species then behavior index.
     pub behavior_ticks: Vec<Vec<u64>>,
 }
@@ -172,6 +175,8 @@ pub struct Pipeline {
     /// Per worker thread (by rayon thread index): buffers kept across ticks.
     workers: Vec<std::sync::Mutex<Worker>>,
     times: StageTimes,
+    /// Wall-time guard of the tick's script calls.
+    script_clock: Arc<crate::script::TickClock>,
 }
 
 /// The species with the most agents in `counts` (the first of equals): its query radius sizes
@@ -221,9 +226,21 @@ impl Pipeline {
             species_counts: Vec::new(),
             workers: Vec::new(),
             times: StageTimes::default(),
+            script_clock: Default::default(),
         };
         p.set_species(species);
         p
+    }
+
+    /// Sets the wall-time budgets of script calls (default: [`crate::script::TimeBudget`]'s).
+    pub fn set_time_budget(&mut self, budget: crate::script::TimeBudget) {
+        self.stats.script_timeouts += self.script_clock.take_exceeded();
+        self.script_clock = Arc::new(crate::script::TickClock::new(budget));
+    }
+
+    /// The wall-time budgets of script calls.
+    pub fn time_budget(&self) -> crate::script::TimeBudget {
+        self.script_clock.budget()
     }
 
     /// Installs a species set (at a tick boundary) and refreshes the name tables.
@@ -470,6 +487,8 @@ impl Pipeline {
             self.workers.resize_with(threads, Default::default);
         }
         let workers = &self.workers;
+        let clock = &self.script_clock;
+        clock.reset();
         // A panic in the pass (a bug) still gives the world its agents back before it unwinds.
         let pass = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             agents
@@ -479,6 +498,7 @@ impl Pipeline {
                 .with_min_len(32)
                 .for_each_init(
                     || {
+                        crate::script::budget::install(clock);
                         // This thread's buffers, kept from tick to tick; a fresh set only if they
                         // are somehow in use.
                         let own = rayon::current_thread_index()
@@ -520,6 +540,7 @@ impl Pipeline {
         let passed = Instant::now();
         // 7. World events, applied in agent order.
         self.apply(world);
+        self.stats.script_timeouts += self.script_clock.take_exceeded();
         self.times.agents += passed - start;
         self.times.events += passed.elapsed();
     }
@@ -754,12 +775,14 @@ impl Pipeline {
         );
         let mut this = Dynamic::from(view);
         let mut scope = Scope::new();
-        let r: Result<Dynamic, _> = script.call_args(
-            &mut scope,
-            &mut this,
-            "on_event",
-            (ImmutableString::from(kind),),
-        );
+        let r: Result<Dynamic, _> = crate::script::with_tick(&self.script_clock, || {
+            script.call_args(
+                &mut scope,
+                &mut this,
+                "on_event",
+                (ImmutableString::from(kind),),
+            )
+        });
         match r {
             Ok(_) => {
                 if let Some(v) = this.try_cast::<crate::script::AgentView>() {

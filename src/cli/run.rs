@@ -37,6 +37,14 @@ pub struct RunArgs {
     /// Do not follow the run's health (no `health.json`, no health section).
     #[arg(long)]
     pub no_health: bool,
+    /// Longest a script call may run, in milliseconds (0: no limit). A call stopped by it makes
+    /// the run fail: its results would depend on the machine's speed.
+    #[arg(long, value_name = "MS")]
+    pub script_call_ms: Option<u64>,
+    /// Script time the calls of one tick may add up to on one thread, in milliseconds (0: no
+    /// limit); like `--script-call-ms`, a guard that fails the run.
+    #[arg(long, value_name = "MS")]
+    pub script_tick_ms: Option<u64>,
 }
 
 /// Arguments of `shoal rerun`.
@@ -58,6 +66,8 @@ pub struct Outcome {
     pub dir: PathBuf,
     /// Whether all ticks ran.
     pub complete: bool,
+    /// Script calls stopped by a wall-time budget (the results then depend on the machine).
+    pub script_timeouts: u64,
 }
 
 /// A thread pool of `threads` workers (default: all cores), and its size.
@@ -182,6 +192,7 @@ pub fn execute(
             Ok(Outcome {
                 dir,
                 complete: true,
+                script_timeouts: run.pipeline.stats.script_timeouts,
             })
         }
         Err(e) => {
@@ -193,6 +204,7 @@ pub fn execute(
             Ok(Outcome {
                 dir,
                 complete: false,
+                script_timeouts: run.pipeline.stats.script_timeouts,
             })
         }
     }
@@ -331,13 +343,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("runs").join(format!("{}-{seed}", scenario.name)));
     let interval = args.interval.unwrap_or(scenario.def.record.interval).max(1);
-    let run = Run::new(
+    let mut run = Run::new(
         scenario,
         Overrides {
             seed: Some(seed),
             duration: args.duration,
         },
     );
+    run.pipeline.set_time_budget(time_budget(&args));
     let out = execute(
         run,
         &dir,
@@ -346,7 +359,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         args.quiet,
         !args.no_health,
     )?;
-    if out.complete {
+    if out.script_timeouts > 0 {
+        eprintln!(
+            "error: {} script call(s) ran past their time budget (see the script_error events): the results in {} depend on the machine's speed",
+            out.script_timeouts,
+            out.dir.display()
+        );
+        Ok(ExitCode::from(1))
+    } else if out.complete {
         println!("output written to {}", out.dir.display());
         Ok(ExitCode::SUCCESS)
     } else {
@@ -355,6 +375,20 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             out.dir.display()
         );
         Ok(ExitCode::from(130))
+    }
+}
+
+/// The script time budgets `args` ask for (the defaults where they say nothing; 0 turns one off).
+fn time_budget(args: &RunArgs) -> shoal::script::TimeBudget {
+    let default = shoal::script::TimeBudget::default();
+    let ms = |v: Option<u64>, d: Option<Duration>| match v {
+        None => d,
+        Some(0) => None,
+        Some(ms) => Some(Duration::from_millis(ms)),
+    };
+    shoal::script::TimeBudget {
+        per_call: ms(args.script_call_ms, default.per_call),
+        per_tick: ms(args.script_tick_ms, default.per_tick),
     }
 }
 
@@ -388,6 +422,13 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
     let o = execute(run, &out, interval, args.threads, true, true)?;
     if !o.complete {
         return Ok(ExitCode::from(130));
+    }
+    if o.script_timeouts > 0 {
+        eprintln!(
+            "error: {} script call(s) of the re-run ran past their time budget: it cannot be compared",
+            o.script_timeouts
+        );
+        return Ok(ExitCode::from(1));
     }
     let mut same = true;
     for f in ["trajectories.csv", "food.csv", "events.jsonl"] {

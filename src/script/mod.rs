@@ -1,18 +1,34 @@
 //! Part of stage 4 (decision): the Rhai script host.
 //!
 //! One [`Script`] per species file, compiled once per (re)load with the imports it names compiled
-//! as static modules. Scripts run sandboxed: no file, network or environment access, and limits
-//! on operations per call (a `loop {}` is stopped), call depth, string, array and map sizes.
-//! Calls bind the agent's typed [`AgentView`] as `this`; nothing is looked up by string in the hot
-//! path, and calls happen only at the species' decision rate or on events.
+//! as static modules, each module once per load ([`imports`]), and every call it makes checked
+//! against what exists ([`calls`]). Scripts run sandboxed: no file, network, environment or
+//! clock access, and limits on operations per call (a `loop {}` is stopped), call depth, string,
+//! array and map sizes. Calls bind the agent's typed [`AgentView`] as `this`; nothing is looked
+//! up by string in the hot path, and calls happen only at the species' decision rate or on
+//! events.
+//!
+//! Determinism: the operation limit is the deterministic bound of a call; the wall-time budgets
+//! of [`budget`] are a guard only. A call that runs past one is aborted with an error naming the
+//! script, the function and the agent; the run reports it like any other script error and
+//! counts it apart, so a result that depends on the machine's speed is never passed off as a
+//! normal one.
 
+pub mod budget;
+pub mod calls;
+mod imports;
 mod view;
 
+pub use budget::{with_tick, Exceeded, TickClock, TimeBudget};
 pub use view::{from_mem, register_api, to_mem, AgentView, CategoryView, ScriptSteer, SteerTerm};
 
 use crate::diag::{Diagnostic, Diagnostics};
-use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Module, Position, Scope, AST};
-use std::collections::BTreeSet;
+use rhai::packages::{
+    ArithmeticPackage, BasicArrayPackage, BasicBlobPackage, BasicFnPackage, BasicIteratorPackage,
+    BasicMapPackage, BasicMathPackage, BasicStringPackage, BitFieldPackage, LogicPackage,
+    MoreStringPackage, Package,
+};
+use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Position, Scope, AST};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -71,11 +87,56 @@ impl std::fmt::Debug for Script {
 pub struct CallError {
     /// `file:line:col: message`.
     pub diagnostic: Diagnostic,
+    /// The wall-time budget the call ran past, when that is why it failed.
+    pub time_budget: Option<Exceeded>,
+}
+
+/// The budget a failed call ran past, when that is why it failed.
+fn exceeded(e: &EvalAltResult) -> Option<Exceeded> {
+    match e {
+        EvalAltResult::ErrorTerminated(token, _) => budget::exceeded_of(token),
+        EvalAltResult::ErrorInFunctionCall(_, _, inner, _)
+        | EvalAltResult::ErrorInModule(_, inner, _) => exceeded(inner),
+        _ => None,
+    }
+}
+
+fn time_message(name: &str, agent: &str, over: Exceeded) -> String {
+    match over {
+        Exceeded::Call(d) => format!(
+            "`{name}()`{agent} ran longer than the {} ms a script call may take, and was stopped; the run's results now depend on the machine's speed (make the function do less, or raise the budget)",
+            d.as_millis()
+        ),
+        Exceeded::Tick(d) => format!(
+            "`{name}()`{agent} was stopped: the tick's script calls took more than {} ms together; the run's results now depend on the machine's speed (make the scripts do less, or raise the budget)",
+            d.as_millis()
+        ),
+    }
 }
 
 /// A fresh sandboxed engine with the shoal API registered.
+///
+/// Rhai's standard packages except the two that reach outside the script: `BasicTimePackage`
+/// (`timestamp`, `elapsed`) and `LanguageCorePackage` (`sleep`, `exit`, and reflection that
+/// scripts have no use for). See [`calls::DENIED`].
 pub fn new_engine(limits: &Limits) -> Engine {
-    let mut e = Engine::new();
+    let mut e = Engine::new_raw();
+    e.set_max_strings_interned(256);
+    for p in [
+        ArithmeticPackage::new().as_shared_module(),
+        BasicStringPackage::new().as_shared_module(),
+        BasicIteratorPackage::new().as_shared_module(),
+        BasicFnPackage::new().as_shared_module(),
+        BitFieldPackage::new().as_shared_module(),
+        LogicPackage::new().as_shared_module(),
+        BasicMathPackage::new().as_shared_module(),
+        BasicArrayPackage::new().as_shared_module(),
+        BasicBlobPackage::new().as_shared_module(),
+        BasicMapPackage::new().as_shared_module(),
+        MoreStringPackage::new().as_shared_module(),
+    ] {
+        e.register_global_module(p);
+    }
     e.set_max_operations(limits.max_operations);
     e.set_max_call_levels(limits.max_call_levels);
     e.set_max_string_size(limits.max_string_size);
@@ -89,11 +150,13 @@ pub fn new_engine(limits: &Limits) -> Engine {
     e.on_debug(|_, _, _| {});
     // Imports are resolved by the host (static modules); nothing loads files at run time.
     e.set_module_resolver(rhai::module_resolvers::DummyModuleResolver::new());
+    // The wall-time guard (not a deterministic bound: see the module header).
+    e.on_progress(|ops| budget::check(ops).map(budget::token));
     register_api(&mut e);
     e
 }
 
-fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Diagnostic {
+pub(crate) fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Diagnostic {
     let pos = err.1;
     Diagnostic::new(
         file,
@@ -102,31 +165,6 @@ fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Diagnostic {
         err.0.to_string(),
         Some(text),
     )
-}
-
-/// Finds `import "path" as name;` statements at the top level of `text`, with the line and
-/// column of each path.
-fn find_imports(text: &str) -> Vec<(String, String, usize, usize)> {
-    let mut out = Vec::new();
-    for (ln, line) in text.lines().enumerate() {
-        let t = line.trim_start();
-        if let Some(rest) = t.strip_prefix("import") {
-            let col = line.len() - t.len() + 1;
-            let rest = rest.trim_start();
-            if let Some(q) = rest.strip_prefix('"') {
-                if let Some(end) = q.find('"') {
-                    let path = q[..end].to_string();
-                    let after = q[end + 1..].trim_start();
-                    let alias = after
-                        .strip_prefix("as")
-                        .map(|a| a.trim().trim_end_matches(';').trim().to_string())
-                        .unwrap_or_default();
-                    out.push((path, alias, ln + 1, col));
-                }
-            }
-        }
-    }
-    out
 }
 
 impl Script {
@@ -146,29 +184,25 @@ impl Script {
         limits: &Limits,
     ) -> Result<Script, Diagnostics> {
         let mut engine = new_engine(limits);
-        let mut imports = Vec::new();
-        let mut seen = BTreeSet::new();
-        let mut diags = Vec::new();
-        let mut nested = Vec::new();
-        register_imports(
-            &mut engine,
-            file,
-            text,
-            root,
-            limits,
-            &mut imports,
-            &mut seen,
-            &mut diags,
-            &mut nested,
-            0,
-        );
+        let mut loader = imports::Loader::new(file, root, limits);
+        let known = loader.register(&mut engine, file, text);
+        let mut diags = std::mem::take(&mut loader.diags);
+        let mut ast = match engine.compile(text) {
+            Ok(a) => a,
+            Err(e) => {
+                diags.push(parse_diag(file, text, &e));
+                return Err(Diagnostics(diags));
+            }
+        };
+        ast.set_source(file.display().to_string());
+        // Calls into modules that did not load would only repeat the import errors.
+        if diags.is_empty() {
+            diags.extend(calls::check(&ast, &known, file, text));
+        }
         if !diags.is_empty() {
             return Err(Diagnostics(diags));
         }
-        let mut ast = engine
-            .compile(text)
-            .map_err(|e| Diagnostics::from(parse_diag(file, text, &e)))?;
-        ast.set_source(file.display().to_string());
+        let imports = loader.files;
         let functions = ast
             .iter_functions()
             .map(|f| (f.name.to_string(), f.params.len()))
@@ -226,23 +260,32 @@ impl Script {
             .eval_ast(false)
             .rewind_scope(true)
             .bind_this_ptr(this);
-        self.engine
-            .call_fn_with_options::<T>(options, scope, &self.ast, name, args)
-            .map_err(|e| {
-                let mut diagnostic = self.locate_error(&e);
-                // Some errors (the operation limit) carry no position: point at the function.
-                if diagnostic.line == 0 && diagnostic.file == self.file {
-                    let (line, col) = self.fn_position(name);
-                    diagnostic = Diagnostic::new(
-                        &self.file,
-                        line,
-                        col,
-                        diagnostic.message,
-                        Some(&self.text),
-                    );
-                }
-                CallError { diagnostic }
-            })
+        let timer = budget::CallTimer::start();
+        let r = self
+            .engine
+            .call_fn_with_options::<T>(options, scope, &self.ast, name, args);
+        let over = r.as_ref().err().and_then(|e| exceeded(e));
+        timer.finish(over.is_some());
+        r.map_err(|e| {
+            let mut diagnostic = self.locate_error(&e);
+            if let Some(over) = over {
+                let agent = this
+                    .read_lock::<AgentView>()
+                    .map(|v| format!(" of agent {}", v.id))
+                    .unwrap_or_default();
+                diagnostic.message = time_message(name, &agent, over);
+            }
+            // Some errors (the operation limit) carry no position: point at the function.
+            if diagnostic.line == 0 && diagnostic.file == self.file {
+                let (line, col) = self.fn_position(name);
+                diagnostic =
+                    Diagnostic::new(&self.file, line, col, diagnostic.message, Some(&self.text));
+            }
+            CallError {
+                diagnostic,
+                time_budget: over,
+            }
+        })
     }
 
     /// Turns a runtime error into a diagnostic that names the right file at the innermost frame.
@@ -268,121 +311,6 @@ impl Script {
 /// Position of a rhai error, as (line, col).
 pub fn position_of(p: Position) -> (usize, usize) {
     (p.line().unwrap_or(0), p.position().unwrap_or(0))
-}
-
-#[allow(clippy::too_many_arguments)]
-fn register_imports(
-    engine: &mut Engine,
-    file: &Path,
-    text: &str,
-    root: &Path,
-    limits: &Limits,
-    imports: &mut Vec<PathBuf>,
-    seen: &mut BTreeSet<PathBuf>,
-    diags: &mut Vec<Diagnostic>,
-    nested: &mut Vec<(String, rhai::Shared<Module>)>,
-    depth: usize,
-) {
-    for (path, alias, line, col) in find_imports(text) {
-        let rel = if path.ends_with(".rhai") {
-            path.clone()
-        } else {
-            format!("{path}.rhai")
-        };
-        let candidates = [
-            root.join(&rel),
-            file.parent().unwrap_or(Path::new(".")).join(&rel),
-        ];
-        let Some(found) = candidates.iter().find(|p| p.is_file()).cloned() else {
-            diags.push(Diagnostic::new(
-                file,
-                line,
-                col,
-                format!(
-                    "cannot find imported module \"{path}\" (looked for {})",
-                    candidates[0].display()
-                ),
-                Some(text),
-            ));
-            continue;
-        };
-        if alias.is_empty() {
-            diags.push(Diagnostic::new(
-                file,
-                line,
-                col,
-                "expected `import \"path\" as name;`",
-                Some(text),
-            ));
-            continue;
-        }
-        if depth > 8 {
-            diags.push(Diagnostic::new(
-                file,
-                line,
-                col,
-                "imports nested too deeply (a cycle?)",
-                Some(text),
-            ));
-            continue;
-        }
-        seen.insert(found.clone());
-        imports.push(found.clone());
-        let sub_text = match std::fs::read_to_string(&found) {
-            Ok(t) => t,
-            Err(e) => {
-                diags.push(Diagnostic::file(&found, format!("cannot read module: {e}")));
-                continue;
-            }
-        };
-        // Modules see the modules they import themselves; nested modules are registered on the
-        // importing engine too, because a module's functions run on the engine that calls them.
-        let mut sub_engine = new_engine(limits);
-        if depth <= 8 {
-            let before = nested.len();
-            register_imports(
-                &mut sub_engine,
-                &found,
-                &sub_text,
-                root,
-                limits,
-                imports,
-                seen,
-                diags,
-                nested,
-                depth + 1,
-            );
-            for (a, m) in nested[before..].iter() {
-                engine.register_static_module(a.as_str(), m.clone());
-            }
-        }
-        let mut ast = match sub_engine.compile(&sub_text) {
-            Ok(a) => a,
-            Err(e) => {
-                diags.push(parse_diag(&found, &sub_text, &e));
-                continue;
-            }
-        };
-        ast.set_source(found.display().to_string());
-        match Module::eval_ast_as_new(Scope::new(), &ast, &sub_engine) {
-            Ok(mut m) => {
-                m.build_index();
-                let m: rhai::Shared<Module> = m.into();
-                engine.register_static_module(alias.as_str(), m.clone());
-                nested.push((alias.clone(), m));
-            }
-            Err(e) => {
-                let (l, c) = position_of(e.position());
-                diags.push(Diagnostic::new(
-                    &found,
-                    l,
-                    c,
-                    e.to_string(),
-                    Some(&sub_text),
-                ));
-            }
-        }
-    }
 }
 
 /// Where a runtime error happened: its innermost frame (through nested function calls and
