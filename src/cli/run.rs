@@ -106,7 +106,7 @@ pub fn execute(
     let result: anyhow::Result<()> = pool.install(|| {
         while !run.finished() {
             if stop.load(Ordering::SeqCst) {
-                anyhow::bail!("interrupted (Ctrl-C)");
+                anyhow::bail!("interrupted (Ctrl-C or SIGTERM)");
             }
             run.step();
             let stepped = Instant::now();
