@@ -95,7 +95,12 @@ fn two_hundred_hostile_connections_neither_block_a_good_request_nor_grow_memory(
             2 => threads.push(std::thread::spawn(move || {
                 let here = addr.to_string();
                 let (code, _) = if i % 8 == 2 {
-                    post(addr, &here, Some("http://evil.example"), r#"{"cmd":"pause"}"#)
+                    post(
+                        addr,
+                        &here,
+                        Some("http://evil.example"),
+                        r#"{"cmd":"pause"}"#,
+                    )
                 } else {
                     post(
                         addr,
@@ -305,9 +310,12 @@ fn a_reload_that_never_finishes_times_out_and_later_edits_still_load() {
     .unwrap_or_else(|d| panic!("{d}"));
     wait_past_tick(&s, 2);
     make_fifo(&p, "behaviors/fish.ron");
-    let (e, _) = wait_for(&s, Duration::from_secs(20), "the timeout", |e| {
-        matches!(e, LiveEvent::Rejected(r) if r.diagnostics.iter().any(|d| d.contains("did not finish")))
-    });
+    let (e, _) = wait_for(
+        &s,
+        Duration::from_secs(20),
+        "the timeout",
+        |e| matches!(e, LiveEvent::Rejected(r) if r.diagnostics.iter().any(|d| d.contains("did not finish"))),
+    );
     let LiveEvent::Rejected(r) = e else {
         unreachable!()
     };
@@ -375,8 +383,7 @@ fn sigterm_and_ctrl_c_end_watch_during_a_hung_reload_and_mark_the_record_incompl
         assert!(status.success(), "{signal}: {status:?}\n{rest}");
         assert!(rest.contains("stopped at tick"), "{rest}");
         let meta: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(rec.join("live.json")).unwrap())
-                .unwrap();
+            serde_json::from_str(&std::fs::read_to_string(rec.join("live.json")).unwrap()).unwrap();
         assert_eq!(meta["status"], "incomplete", "{meta}");
         assert!(meta["stopped"].as_str().unwrap().contains("interrupted"));
         let marker = std::fs::read_to_string(rec.join("INCOMPLETE")).unwrap();
@@ -423,7 +430,11 @@ fn rerun_and_diff_say_up_front_that_a_run_is_incomplete_and_compare_as_far_as_it
         .unwrap()
         .success());
     let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(130), "SIGTERM marks the run incomplete");
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "SIGTERM marks the run incomplete"
+    );
     let manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("manifest.json")).unwrap()).unwrap();
     let ticks = manifest["ticks"].as_u64().unwrap();
@@ -456,7 +467,10 @@ fn rerun_and_diff_say_up_front_that_a_run_is_incomplete_and_compare_as_far_as_it
     ]);
     assert_eq!(code, Some(0), "{text}");
     let (code, text) = shoal(&["diff", d, full.to_str().unwrap()]);
-    assert!(text.contains("A (") && text.contains("is an incomplete run"), "{text}");
+    assert!(
+        text.contains("A (") && text.contains("is an incomplete run"),
+        "{text}"
+    );
     assert!(text.contains("no divergence"), "{text}");
     assert!(!text.contains("first divergence"), "{text}");
     assert!(!text.contains("differing decisions"), "{text}");

@@ -149,9 +149,8 @@ fn read_line(
 
 fn is_token(s: &[u8]) -> bool {
     !s.is_empty()
-        && s.iter().all(|&b| {
-            b.is_ascii_alphanumeric() || b"!#$%&'*+-.^_`|~".contains(&b)
-        })
+        && s.iter()
+            .all(|&b| b.is_ascii_alphanumeric() || b"!#$%&'*+-.^_`|~".contains(&b))
 }
 
 /// Reads one request from `r` within `limits` (sizes only; time limits belong to the reader).
@@ -294,8 +293,7 @@ pub fn is_loopback_host(host: &str, port: u16) -> bool {
         Some(p) => !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()) && p.parse() == Ok(port),
         None => rest.is_empty() && port == 80,
     };
-    let name_ok =
-        name.eq_ignore_ascii_case("localhost") || name == "127.0.0.1" || name == "::1";
+    let name_ok = name.eq_ignore_ascii_case("localhost") || name == "127.0.0.1" || name == "::1";
     port_ok && name_ok
 }
 
@@ -387,10 +385,7 @@ mod tests {
         let endless = io::repeat(b'a').take(1 << 30);
         let mut r = io::BufReader::new(b"GET / HTTP/1.1\r\nX-Long: ".chain(endless));
         let mut limits = Limits::default();
-        assert_eq!(
-            read_request(&mut r, &limits),
-            Err(Refusal::HeadersTooLarge)
-        );
+        assert_eq!(read_request(&mut r, &limits), Err(Refusal::HeadersTooLarge));
         limits.line = 16;
         let mut r = io::BufReader::new(io::repeat(b'G').take(1 << 30));
         assert_eq!(read_request(&mut r, &limits), Err(Refusal::UriTooLong));

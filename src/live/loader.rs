@@ -345,7 +345,9 @@ impl Loader {
             Err(std::sync::mpsc::SendError(job)) => {
                 match spawn_worker(self.sim.clone(), self.inbox.clone()) {
                     Ok(w) => {
-                        let r = w.send(job).map_err(|_| "the loader worker stopped".to_string());
+                        let r = w
+                            .send(job)
+                            .map_err(|_| "the loader worker stopped".to_string());
                         self.worker = Some(w);
                         r
                     }

@@ -240,7 +240,6 @@ fn stream_events(mut stream: TcpStream, handle: &SessionHandle) {
     }
 }
 
-
 fn handle_connection(
     mut stream: TcpStream,
     ticket: Ticket,
