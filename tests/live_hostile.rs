@@ -76,6 +76,8 @@ fn two_hundred_hostile_connections_neither_block_a_good_request_nor_grow_memory(
                 let Ok(mut c) = TcpStream::connect(addr) else {
                     return 0;
                 };
+                // A server that neither reads nor closes must fail the test, not hang it.
+                c.set_write_timeout(Some(Duration::from_secs(20))).unwrap();
                 let _ = c.write_all(b"GET /status HTTP/1.1\r\nX-Endless: ");
                 let chunk = vec![b'a'; 64 * 1024];
                 let mut sent = 0;
@@ -132,9 +134,11 @@ fn two_hundred_hostile_connections_neither_block_a_good_request_nor_grow_memory(
         worst = worst.max(took);
         std::thread::sleep(Duration::from_millis(50));
     }
+    let t_join = Instant::now();
     for t in threads {
         let _ = t.join();
     }
+    eprintln!("hostile clients done {:?} after the good requests", t_join.elapsed());
     let rss1 = rss_kb();
     eprintln!(
         "worst GET /status under attack: {worst:?}; RSS {rss0} kB -> {rss1} kB (+{} kB); open connections {}",

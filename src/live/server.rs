@@ -53,12 +53,14 @@ pub struct Server {
     conns: Arc<Connections>,
 }
 
-/// What a connection is doing: only one still sending its request may be displaced.
+/// What a connection is doing: only one still sending its request, or one refused and being
+/// drained before it is closed, may be displaced.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Phase {
     Reading,
     Answering,
     Streaming,
+    Draining,
 }
 
 struct Entry {
@@ -94,15 +96,17 @@ impl Connections {
         let mut g = self.lock();
         let (next, conns) = &mut *g;
         if conns.len() >= max {
-            // Displaced connections still count until their thread ends; bound how many.
+            // Displaced connections still count until their thread ends (slow on a busy
+            // machine); bound how many, so threads stay under twice the cap.
             let leaving = conns.values().filter(|e| e.evicted).count();
-            if leaving > max / 4 {
+            if leaving >= max {
                 return None;
             }
+            // Refused ones being drained first, then the oldest unfinished request.
             let oldest = conns
                 .values_mut()
-                .filter(|e| e.phase == Phase::Reading && !e.evicted)
-                .min_by_key(|e| e.since)?;
+                .filter(|e| matches!(e.phase, Phase::Reading | Phase::Draining) && !e.evicted)
+                .min_by_key(|e| (e.phase != Phase::Draining, e.since))?;
             oldest.evicted = true;
             let _ = oldest.stream.shutdown(Shutdown::Both);
         }
@@ -269,6 +273,7 @@ fn handle_connection(
             if let Some((status, msg)) = refusal.status() {
                 json_error(&mut stream, status, msg);
             }
+            ticket.set_phase(Phase::Draining);
             linger_close(&stream);
             return;
         }
