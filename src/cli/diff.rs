@@ -99,6 +99,18 @@ pub fn diff(args: DiffArgs) -> anyhow::Result<ExitCode> {
             .unwrap_or_default()
     };
     let (ma, mb) = (manifest(&args.a), manifest(&args.b));
+    // An interrupted run is compared as far as it got, and said to be incomplete up front.
+    let mut stops: Vec<(&str, u64)> = Vec::new();
+    for (name, dir, m) in [("A", &args.a, &ma), ("B", &args.b, &mb)] {
+        if let Some(why) = super::run::incomplete(dir, m) {
+            println!(
+                "note: {name} ({}) is an incomplete run: {why}; compared as far as it got",
+                dir.display()
+            );
+            stops.push((name, m["ticks"].as_u64().unwrap_or(0)));
+        }
+    }
+    let horizon = stops.iter().map(|s| s.1).min();
     if ma["scenario"] != mb["scenario"] {
         println!(
             "note: different scenarios ({} vs {})",
@@ -170,16 +182,29 @@ pub fn diff(args: DiffArgs) -> anyhow::Result<ExitCode> {
         break;
     }
     if !diverged && ta.len() != tb.len() {
-        println!(
-            "one run is longer: {} vs {} recorded ticks",
-            ta.len(),
-            tb.len()
-        );
+        let shorter = if ta.len() < tb.len() { "A" } else { "B" };
+        match stops.iter().find(|s| s.0 == shorter) {
+            Some((name, t)) => println!(
+                "no divergence in the {} recorded ticks both runs have; {name} is incomplete (stopped at tick {t}), so nothing after that is compared",
+                ta.len().min(tb.len())
+            ),
+            None => println!(
+                "one run is longer: {} vs {} recorded ticks",
+                ta.len(),
+                tb.len()
+            ),
+        }
         diverged = true;
     }
     let da = read_decisions(&args.a.join("events.jsonl"))?;
     let db = read_decisions(&args.b.join("events.jsonl"))?;
-    let ticks: std::collections::BTreeSet<u64> = da.keys().chain(db.keys()).copied().collect();
+    // Decisions after an incomplete run stopped are not a difference.
+    let ticks: std::collections::BTreeSet<u64> = da
+        .keys()
+        .chain(db.keys())
+        .copied()
+        .filter(|t| horizon.is_none_or(|h| *t < h))
+        .collect();
     for t in ticks {
         let (a, b) = (da.get(&t), db.get(&t));
         if a == b {

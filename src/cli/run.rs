@@ -117,7 +117,7 @@ pub fn execute(
     let result: anyhow::Result<()> = pool.install(|| {
         while !run.finished() {
             if stop.load(Ordering::SeqCst) {
-                anyhow::bail!("interrupted (Ctrl-C)");
+                anyhow::bail!("interrupted (Ctrl-C or SIGTERM)");
             }
             run.step();
             let stepped = Instant::now();
@@ -392,6 +392,27 @@ fn time_budget(args: &RunArgs) -> shoal::script::TimeBudget {
     }
 }
 
+/// Why the run folder `dir` with `manifest` is incomplete (interrupted, or still running), if it
+/// is: its manifest does not say `complete`, or an `INCOMPLETE` marker is there.
+pub fn incomplete(dir: &Path, manifest: &serde_json::Value) -> Option<String> {
+    let marker = std::fs::read_to_string(dir.join("INCOMPLETE")).ok();
+    if manifest["status"] == "complete" && marker.is_none() {
+        return None;
+    }
+    let why = match (&marker, manifest["summary"]["stopped"].as_str()) {
+        (Some(m), _) if !m.trim().is_empty() => m.trim().to_string(),
+        (_, Some(reason)) => format!(
+            "stopped at tick {} of {}: {reason}",
+            manifest["ticks"], manifest["total_ticks"]
+        ),
+        _ => format!(
+            "marked {} at tick {} of {}",
+            manifest["status"], manifest["ticks"], manifest["total_ticks"]
+        ),
+    };
+    Some(why)
+}
+
 /// Runs `shoal rerun`: replays the resolved scenario with the stored inputs and compares the
 /// recorded files byte for byte.
 pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
@@ -418,7 +439,23 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
     }
     let interval = manifest["record_interval"].as_u64().unwrap_or(1) as u32;
     let out = args.out.clone().unwrap_or_else(|| args.dir.join("rerun"));
-    let run = Run::new(scenario, Overrides::default());
+    let mut run = Run::new(scenario, Overrides::default());
+    // An interrupted run is re-run as far as it got, and said to be incomplete up front.
+    let stopped_at = match incomplete(&args.dir, &manifest) {
+        Some(why) => {
+            println!("{} is an incomplete run: {why}", args.dir.display());
+            let Some(ticks) = manifest["ticks"].as_u64() else {
+                anyhow::bail!(
+                    "{}: the manifest does not say how many ticks it ran; nothing to compare",
+                    args.dir.display()
+                );
+            };
+            println!("re-running only the {ticks} ticks it recorded");
+            run.total_ticks = run.total_ticks.min(ticks);
+            Some(ticks)
+        }
+        None => None,
+    };
     let o = execute(run, &out, interval, args.threads, true, true)?;
     if !o.complete {
         return Ok(ExitCode::from(130));
@@ -441,12 +478,16 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
             println!("{f}: DIFFERENT ({} vs {} bytes)", a.len(), b.len());
         }
     }
+    let scope = match stopped_at {
+        Some(t) => format!(" over the {t} ticks of the incomplete run"),
+        None => String::new(),
+    };
     if same {
-        println!("re-run matches bit for bit: {}", out.display());
+        println!("re-run matches bit for bit{scope}: {}", out.display());
         Ok(ExitCode::SUCCESS)
     } else {
         println!(
-            "re-run differs; see `shoal diff {} {}`",
+            "re-run differs{scope}; see `shoal diff {} {}`",
             args.dir.display(),
             out.display()
         );

@@ -32,6 +32,9 @@ pub struct WatchArgs {
     /// Watcher debounce in milliseconds.
     #[arg(long, default_value_t = 50, hide = true)]
     pub debounce_ms: u64,
+    /// Longest a reload may take before it is rejected as timed out, in milliseconds.
+    #[arg(long, default_value_t = 10_000, hide = true)]
+    pub reload_timeout_ms: u64,
 }
 
 /// `HH:MM:SS.mmm` (UTC) of `t`.
@@ -126,6 +129,7 @@ pub fn watch(args: WatchArgs) -> anyhow::Result<ExitCode> {
         paused: args.paused,
         seed: args.seed,
         record: args.record.clone(),
+        reload_timeout: Duration::from_millis(args.reload_timeout_ms.max(1)),
         ..LiveOptions::default()
     };
     let session = match Session::start(&args.scenario, options) {
@@ -141,7 +145,12 @@ pub fn watch(args: WatchArgs) -> anyhow::Result<ExitCode> {
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
-        ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed))?;
+        // Ctrl-C or SIGTERM stops the session; a second one exits at once, whatever is stuck.
+        ctrlc::set_handler(move || {
+            if stop.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        })?;
     }
     let species: Vec<String> = session
         .started_with
@@ -158,21 +167,33 @@ pub fn watch(args: WatchArgs) -> anyhow::Result<ExitCode> {
         println!("recording versions and reloads in {}", dir.display());
     }
     println!("live view: {}  (Ctrl-C to stop)", server.url());
-    while !stop.load(Ordering::Relaxed) {
+    while !stop.load(Ordering::SeqCst) {
         match session.events().recv_timeout(Duration::from_millis(100)) {
             Ok(e) => print_event(&e),
             Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
             Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
         }
     }
-    let status = session.status();
+    let reason = if stop.load(Ordering::SeqCst) {
+        "interrupted (Ctrl-C or SIGTERM)"
+    } else {
+        "the session ended"
+    };
     drop(server);
-    session.stop();
+    let status = session.status();
+    let all_stopped = session.stop_because(reason);
     println!(
         "[{}] stopped at tick {} (version {})",
         clock(SystemTime::now()),
         status.tick,
         status.version
     );
+    if let Some(dir) = &args.record {
+        println!("record in {} marked incomplete: {reason}", dir.display());
+    }
+    if !all_stopped {
+        // A thread stuck in a system call (a reload left behind) must not keep the process up.
+        println!("(a reload still running was abandoned)");
+    }
     Ok(ExitCode::SUCCESS)
 }

@@ -9,6 +9,24 @@ use std::time::Duration;
 /// Reload messages kept for readers that connect late (only the newest matter).
 const RELOADS_KEPT: usize = 8;
 
+/// Longest message kept (bytes): a diagnostic that echoes a huge line, or a huge script error,
+/// must not grow every `/status` answer, stream event and record line with it.
+pub const MAX_MESSAGE: usize = 4 * 1024;
+
+/// `message`, cut to at most [`MAX_MESSAGE`] bytes (on a character boundary) with an ellipsis
+/// saying how much was left out.
+pub fn cap_message(message: &str) -> String {
+    if message.len() <= MAX_MESSAGE {
+        return message.to_string();
+    }
+    let tail = format!("… ({} more bytes)", message.len());
+    let mut end = MAX_MESSAGE.saturating_sub(tail.len());
+    while !message.is_char_boundary(end) {
+        end -= 1;
+    }
+    format!("{}… ({} more bytes)", &message[..end], message.len() - end)
+}
+
 /// Where a live session stands.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Status {
@@ -139,13 +157,14 @@ impl Hub {
     /// Publishes the diagnostics of the last rejected edit (empty: none). Returns whether they
     /// changed.
     pub fn set_diagnostics(&self, lines: &[String]) -> bool {
-        let json = serde_json::to_string(lines).unwrap_or_else(|_| "[]".into());
+        let lines: Vec<String> = lines.iter().map(|l| cap_message(l)).collect();
+        let json = serde_json::to_string(&lines).unwrap_or_else(|_| "[]".into());
         let mut s = self.lock();
         if s.diagnostics.data.as_deref() == Some(json.as_str()) {
             return false;
         }
         Self::bump(&mut s.diagnostics, json.into());
-        s.status.diagnostics = lines.to_vec();
+        s.status.diagnostics = lines;
         drop(s);
         self.changed.notify_all();
         true
@@ -153,7 +172,7 @@ impl Hub {
 
     /// Publishes a reload message (`{"message": ...}`).
     pub fn push_reload(&self, message: &str) {
-        let json = serde_json::json!({ "message": message }).to_string();
+        let json = serde_json::json!({ "message": cap_message(message) }).to_string();
         let mut s = self.lock();
         s.reload_seq += 1;
         let seq = s.reload_seq;
@@ -279,6 +298,32 @@ mod tests {
         assert_eq!(names(&got), ["health"]);
         hub.close();
         assert!(hub.next(&mut seen, Duration::from_secs(5)).is_none());
+    }
+
+    #[test]
+    fn long_messages_are_capped_with_an_ellipsis() {
+        assert_eq!(cap_message("short"), "short");
+        // Multi-byte characters around the cut.
+        let long = "é".repeat(1_000_000);
+        let c = cap_message(&long);
+        assert!(c.len() <= MAX_MESSAGE, "{}", c.len());
+        assert!(c.ends_with("more bytes)"), "{}", &c[c.len() - 40..]);
+        assert!(c.starts_with("éé"));
+        let exact = "x".repeat(MAX_MESSAGE);
+        assert_eq!(cap_message(&exact), exact);
+
+        let hub = Hub::new();
+        hub.set_diagnostics(&[long.clone(), "b.ron:1:1: short".into()]);
+        let st = hub.status();
+        assert!(st.diagnostics[0].len() <= MAX_MESSAGE);
+        assert_eq!(st.diagnostics[1], "b.ron:1:1: short");
+        let mut seen = Seen::default();
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        let diag = got.iter().find(|x| x.0 == event::DIAGNOSTICS).unwrap();
+        assert!(diag.1.len() < 2 * MAX_MESSAGE);
+        hub.push_reload(&long);
+        let got = hub.next(&mut seen, Duration::from_millis(1)).unwrap();
+        assert!(got[0].1.len() < 2 * MAX_MESSAGE);
     }
 
     #[test]

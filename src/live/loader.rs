@@ -1,11 +1,18 @@
-//! The loader thread of a live session: watches the folders of every file the scenario is built
-//! from (a watch on the file itself dies when an editor saves by writing a temporary file and
-//! renaming it over the original), and on a change parses, validates and compiles the new
-//! version, dry-runs it on a copy of the live world, and hands it to the simulation thread — or
-//! rejects it with located diagnostics while the last good version keeps running.
+//! The loader of a live session: watches the folders of every file the scenario is built from
+//! (a watch on the file itself dies when an editor saves by writing a temporary file and
+//! renaming it over the original), and on a change has a worker thread parse, validate and
+//! compile the new version and dry-run it on a copy of the live world; then hands it to the
+//! simulation thread — or rejects it with located diagnostics while the last good version keeps
+//! running.
+//!
+//! Two threads: the coordinator ([`Loader::run_loop`]) only waits on messages, so it always
+//! sees new edits and the stop request; the worker does the work that can hang (a file that
+//! never finishes reading, such as a named pipe; a pathological version). A reload that takes
+//! longer than [`super::LiveOptions::reload_timeout`] is rejected as timed out and the worker
+//! is abandoned for a fresh one: a thread cannot be killed, but it no longer holds anything up.
 
-use super::files::{self, watch_key, Attempt, FileEntry};
-use super::hub::Hub;
+use super::files::{self, watch_key, Attempt, FileEntry, Loaded};
+use super::hub::{cap_message, Hub};
 use super::record::Recorder;
 use super::sim::{Command, Swap};
 use super::{LiveEvent, Rejected};
@@ -25,7 +32,46 @@ const MAX_DIAGNOSTICS: usize = 8;
 /// What the loader thread receives.
 pub(crate) enum LoaderMsg {
     Fs(DebounceEventResult),
+    /// The worker's outcome of job `.0`.
+    Done(u64, Box<Outcome>),
     Stop,
+}
+
+/// One load for the worker.
+pub(crate) struct Job {
+    id: u64,
+    scenario_file: PathBuf,
+    /// Files of the previous attempt (a hint for the first read).
+    known: Vec<PathBuf>,
+    /// Files of the running version.
+    good: Vec<FileEntry>,
+    /// How long the last dry run took.
+    last_dry_run: Duration,
+}
+
+/// What a load came to.
+pub(crate) enum Outcome {
+    /// Rejected: diagnostics and the files to watch.
+    Failed(Vec<String>, Vec<PathBuf>),
+    /// The files are those of the running version.
+    Same,
+    /// The simulation is gone.
+    Stopped,
+    /// Ready to swap in.
+    Ready {
+        loaded: Box<Loaded>,
+        load_duration: Duration,
+        dry_run_duration: Duration,
+    },
+}
+
+/// A load under way.
+pub(crate) struct InFlight {
+    id: u64,
+    started: Instant,
+    changed: Vec<PathBuf>,
+    detected_at: Instant,
+    known: Vec<PathBuf>,
 }
 
 pub(crate) struct Loader {
@@ -45,9 +91,18 @@ pub(crate) struct Loader {
     pub failed: Option<Vec<PathBuf>>,
     pub debouncer: Debouncer<notify::RecommendedWatcher, RecommendedCache>,
     pub watched: BTreeMap<PathBuf, RecursiveMode>,
-    pub pool: rayon::ThreadPool,
+    /// Where the worker sends its outcomes (the loader's own inbox).
+    pub inbox: Sender<LoaderMsg>,
+    /// Longest a load may take before it is rejected as timed out.
+    pub timeout: Duration,
     /// How long the last dry run took (the next one is expected to take about as long).
     pub last_dry_run: Duration,
+    /// The worker's job queue; `None` until the first load (and after a timeout).
+    pub worker: Option<Sender<Job>>,
+    /// The load under way.
+    pub in_flight: Option<InFlight>,
+    /// Number of the last job sent.
+    pub next_job: u64,
 }
 
 /// Whether `p` can be a file of a scenario (not an editor's swap, backup or probe file).
@@ -192,11 +247,17 @@ impl Loader {
         let mut first_seen: Option<Instant> = None;
         let mut last_load: Option<Instant> = None;
         loop {
-            let msg = if pending.is_empty() {
-                rx.recv().map_err(|_| RecvTimeoutError::Disconnected)
-            } else {
-                let ready_at = last_load.map_or_else(Instant::now, |t| t + self.min_interval);
-                rx.recv_timeout(ready_at.saturating_duration_since(Instant::now()))
+            // Wake for the deadline of the load under way, else for the next load due.
+            let wake = match &self.in_flight {
+                Some(f) => Some(f.started + self.timeout),
+                None if !pending.is_empty() => {
+                    Some(last_load.map_or_else(Instant::now, |t| t + self.min_interval))
+                }
+                None => None,
+            };
+            let msg = match wake {
+                None => rx.recv().map_err(|_| RecvTimeoutError::Disconnected),
+                Some(t) => rx.recv_timeout(t.saturating_duration_since(Instant::now())),
             };
             match msg {
                 Ok(LoaderMsg::Stop) | Err(RecvTimeoutError::Disconnected) => return,
@@ -207,21 +268,37 @@ impl Loader {
                     }
                     pending.extend(changed);
                 }
+                Ok(LoaderMsg::Done(id, outcome)) => {
+                    // A late answer from an abandoned worker is ignored.
+                    if self.in_flight.as_ref().is_some_and(|f| f.id == id) {
+                        let f = self.in_flight.take().expect("checked");
+                        self.finish(f, *outcome);
+                    }
+                }
                 Err(RecvTimeoutError::Timeout) => {}
+            }
+            if self
+                .in_flight
+                .as_ref()
+                .is_some_and(|f| f.started.elapsed() >= self.timeout)
+            {
+                let f = self.in_flight.take().expect("checked");
+                self.timed_out(f);
             }
             // Leading edge, then at most one load per `min_interval`: a burst of saves costs a
             // few loads, and the last save is always loaded.
             let ready = last_load.is_none_or(|t| t.elapsed() >= self.min_interval);
-            if !pending.is_empty() && ready {
+            if self.in_flight.is_none() && !pending.is_empty() && ready {
                 last_load = Some(Instant::now());
                 let changed: Vec<PathBuf> = std::mem::take(&mut pending).into_iter().collect();
                 let seen = first_seen.take().unwrap_or_else(Instant::now);
-                self.attempt(changed, seen);
+                self.start(changed, seen);
             }
         }
     }
 
     fn reject(&mut self, changed: Vec<PathBuf>, diagnostics: Vec<String>, watch: Vec<PathBuf>) {
+        let diagnostics: Vec<String> = diagnostics.iter().map(|d| cap_message(d)).collect();
         self.failed = Some(watch);
         self.hub.set_diagnostics(&diagnostics);
         let time = SystemTime::now();
@@ -244,74 +321,182 @@ impl Loader {
         self.update_watches();
     }
 
-    fn fork(&self) -> Option<Run> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.sim.send(Command::Fork(tx, self.last_dry_run)).ok()?;
-        rx.recv_timeout(Duration::from_secs(30)).ok().map(|b| *b)
-    }
-
-    /// Loads the scenario after `changed` changed; swaps it in or rejects it.
-    fn attempt(&mut self, changed: Vec<PathBuf>, detected_at: Instant) {
+    /// Hands the load after `changed` changed to the worker (started if need be).
+    fn start(&mut self, changed: Vec<PathBuf>, detected_at: Instant) {
         let known: Vec<PathBuf> = match &self.failed {
             Some(f) => f.clone(),
             None => self.good.iter().map(|f| f.path.clone()).collect(),
         };
-        let t0 = Instant::now();
-        let loaded = match files::load(&self.scenario_file, &known) {
-            Attempt::Failed { diagnostics, watch } => {
-                let lines = diagnostics
-                    .0
-                    .iter()
-                    .take(MAX_DIAGNOSTICS)
-                    .map(|d| d.to_string())
-                    .collect();
-                self.reject(changed, lines, watch);
-                return;
-            }
-            Attempt::Loaded(l) => *l,
+        self.next_job += 1;
+        let job = Job {
+            id: self.next_job,
+            scenario_file: self.scenario_file.clone(),
+            known: known.clone(),
+            good: self.good.clone(),
+            last_dry_run: self.last_dry_run,
         };
-        let load_duration = t0.elapsed();
-        if files::same_contents(&loaded.files, &self.good) {
-            // Put back as it was (e.g. a broken edit undone): nothing to swap.
-            if self.failed.take().is_some() {
-                self.hub.set_diagnostics(&[]);
-                let _ = self.events.send(LiveEvent::Restored {
-                    time: SystemTime::now(),
-                    version: self.version,
-                });
-                self.update_watches();
+        let sent = match &self.worker {
+            Some(w) => w.send(job),
+            None => Err(std::sync::mpsc::SendError(job)),
+        };
+        // No worker yet, or it died (a panic): start one and try once more.
+        let sent = match sent {
+            Ok(()) => Ok(()),
+            Err(std::sync::mpsc::SendError(job)) => {
+                match spawn_worker(self.sim.clone(), self.inbox.clone()) {
+                    Ok(w) => {
+                        let r = w
+                            .send(job)
+                            .map_err(|_| "the loader worker stopped".to_string());
+                        self.worker = Some(w);
+                        r
+                    }
+                    Err(e) => Err(format!("cannot start the loader worker: {e}")),
+                }
             }
+        };
+        if let Err(e) = sent {
+            let msg = format!("{}: {e}", self.scenario_file.display());
+            self.reject(changed, vec![msg], known);
             return;
         }
-        let Some(fork) = self.fork() else {
-            return;
-        };
-        let scenario = loaded.scenario.clone();
-        let watch: Vec<PathBuf> = loaded.files.iter().map(|f| f.path.clone()).collect();
-        let t1 = Instant::now();
-        if let Err(lines) = self.pool.install(|| dry_run(fork, scenario)) {
-            self.reject(changed, lines, watch);
-            return;
-        }
-        let dry_run_duration = t1.elapsed();
-        self.last_dry_run = dry_run_duration;
-        self.version += 1;
-        self.failed = None;
-        self.behaviors_dir = loaded.scenario.behaviors_dir.clone();
-        self.good = loaded.files.clone();
-        let swap = Swap {
-            version: self.version,
-            scenario: loaded.scenario,
-            files: loaded.files,
-            library: loaded.library,
+        self.in_flight = Some(InFlight {
+            id: self.next_job,
+            started: Instant::now(),
             changed,
             detected_at,
-            load_duration,
-            dry_run_duration,
+            known,
+        });
+    }
+
+    /// The load `f` took too long: reject it and leave its worker behind.
+    fn timed_out(&mut self, f: InFlight) {
+        self.worker = None;
+        let files: Vec<String> = f.changed.iter().map(|p| p.display().to_string()).collect();
+        let what = if files.is_empty() {
+            self.scenario_file.display().to_string()
+        } else {
+            files.join(", ")
         };
-        if self.sim.send(Command::Swap(Box::new(swap))).is_err() {
-            return;
+        let msg = format!(
+            "{what}: the reload did not finish within {:.1} s and was abandoned (a file that never finishes reading, such as a named pipe, or a version that never finishes its dry run?); version {} keeps running and the next edit is loaded afresh",
+            self.timeout.as_secs_f64(),
+            self.version
+        );
+        self.reject(f.changed, vec![msg], f.known);
+    }
+
+    /// Applies the worker's outcome of the load `f`.
+    fn finish(&mut self, f: InFlight, outcome: Outcome) {
+        match outcome {
+            Outcome::Failed(lines, watch) => self.reject(f.changed, lines, watch),
+            Outcome::Stopped => {}
+            Outcome::Same => {
+                // Put back as it was (e.g. a broken edit undone): nothing to swap.
+                if self.failed.take().is_some() {
+                    self.hub.set_diagnostics(&[]);
+                    let _ = self.events.send(LiveEvent::Restored {
+                        time: SystemTime::now(),
+                        version: self.version,
+                    });
+                    self.update_watches();
+                }
+            }
+            Outcome::Ready {
+                loaded,
+                load_duration,
+                dry_run_duration,
+            } => {
+                let loaded = *loaded;
+                self.last_dry_run = dry_run_duration;
+                self.version += 1;
+                self.failed = None;
+                self.behaviors_dir = loaded.scenario.behaviors_dir.clone();
+                self.good = loaded.files.clone();
+                let swap = Swap {
+                    version: self.version,
+                    scenario: loaded.scenario,
+                    files: loaded.files,
+                    library: loaded.library,
+                    changed: f.changed,
+                    detected_at: f.detected_at,
+                    load_duration,
+                    dry_run_duration,
+                };
+                if self.sim.send(Command::Swap(Box::new(swap))).is_err() {
+                    return;
+                }
+                self.update_watches();
+            }
         }
-        self.update_watches();
+    }
+}
+
+/// Starts a worker thread that runs the jobs it is sent and reports each outcome to `out`.
+fn spawn_worker(sim: Sender<Command>, out: Sender<LoaderMsg>) -> std::io::Result<Sender<Job>> {
+    let (tx, rx) = std::sync::mpsc::channel::<Job>();
+    std::thread::Builder::new()
+        .name("shoal-loader-worker".into())
+        .spawn(move || {
+            // Its own pool: a dry run that never ends keeps only this worker's pool busy.
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .thread_name(|_| "shoal-dry-run".into())
+                .build()
+                .ok();
+            for job in rx {
+                let id = job.id;
+                let outcome = prepare(job, &sim, pool.as_ref());
+                if out.send(LoaderMsg::Done(id, Box::new(outcome))).is_err() {
+                    return;
+                }
+            }
+        })?;
+    Ok(tx)
+}
+
+/// A copy of the live run, taken when it costs the simulation least.
+fn fork(sim: &Sender<Command>, expected: Duration) -> Option<Run> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    sim.send(Command::Fork(tx, expected)).ok()?;
+    rx.recv_timeout(Duration::from_secs(30)).ok().map(|b| *b)
+}
+
+/// Loads the scenario of `job`, and dry-runs it if it differs from the running version.
+fn prepare(job: Job, sim: &Sender<Command>, pool: Option<&rayon::ThreadPool>) -> Outcome {
+    let t0 = Instant::now();
+    let loaded = match files::load(&job.scenario_file, &job.known) {
+        Attempt::Failed { diagnostics, watch } => {
+            let lines = diagnostics
+                .0
+                .iter()
+                .take(MAX_DIAGNOSTICS)
+                .map(|d| d.to_string())
+                .collect();
+            return Outcome::Failed(lines, watch);
+        }
+        Attempt::Loaded(l) => l,
+    };
+    let load_duration = t0.elapsed();
+    if files::same_contents(&loaded.files, &job.good) {
+        return Outcome::Same;
+    }
+    let Some(fork) = fork(sim, job.last_dry_run) else {
+        return Outcome::Stopped;
+    };
+    let scenario = loaded.scenario.clone();
+    let watch: Vec<PathBuf> = loaded.files.iter().map(|f| f.path.clone()).collect();
+    let t1 = Instant::now();
+    let checked = match pool {
+        Some(p) => p.install(|| dry_run(fork, scenario)),
+        None => dry_run(fork, scenario),
+    };
+    if let Err(lines) = checked {
+        return Outcome::Failed(lines, watch);
+    }
+    Outcome::Ready {
+        loaded,
+        load_duration,
+        dry_run_duration: t1.elapsed(),
     }
 }

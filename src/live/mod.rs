@@ -3,12 +3,14 @@
 //! simulation thread and swaps new versions of the species and scenario in at tick boundaries
 //! (seed 000 §3's behavior stack and the agents' drives and memory carry over by name).
 //!
-//! Three threads: the simulation ([`sim`]), the loader ([`loader`]: a debounced watcher on the
-//! folders of every file in use; parse, validate, compile and dry-run off the simulation thread)
-//! and, optionally, the viewer's HTTP server ([`server`]). What a viewer is sent lives in a
+//! Three parts: the simulation thread ([`sim`]), the loader ([`loader`]: a debounced watcher on
+//! the folders of every file in use, and a worker thread that parses, validates, compiles and
+//! dry-runs off the simulation thread, replaced if it hangs) and, optionally, the viewer's HTTP
+//! server ([`server`]). What a viewer is sent lives in a
 //! [`Hub`]. Everything the session does is reported as a [`LiveEvent`] for the caller to print.
 
 pub mod files;
+pub mod http;
 pub mod hub;
 pub mod json;
 mod loader;
@@ -32,6 +34,9 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime};
 
+/// Longest [`Session::stop_because`] waits for the session's threads.
+pub const STOP_WAIT: Duration = Duration::from_secs(5);
+
 /// Settings of a live session.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LiveOptions {
@@ -52,6 +57,9 @@ pub struct LiveOptions {
     pub frame_interval: Duration,
     /// Keep the duration of every tick (for benchmarks): [`Session::tick_times`].
     pub tick_times: bool,
+    /// Longest a reload may take (reading, validating, dry run) before it is rejected as timed
+    /// out and the next edit is loaded by a fresh worker.
+    pub reload_timeout: Duration,
 }
 
 impl Default for LiveOptions {
@@ -65,6 +73,7 @@ impl Default for LiveOptions {
             record: None,
             frame_interval: Duration::from_millis(40),
             tick_times: false,
+            reload_timeout: Duration::from_secs(10),
         }
     }
 }
@@ -268,6 +277,8 @@ pub struct Session {
     loader_tx: Sender<LoaderMsg>,
     threads: Vec<JoinHandle<()>>,
     tick_times: Option<Arc<Mutex<Vec<TickTime>>>>,
+    record: Option<Arc<Mutex<record::Recorder>>>,
+    stopped: bool,
     /// The scenario file.
     pub scenario_file: PathBuf,
     /// Species and agents at the start: `(species, agents)`.
@@ -315,11 +326,6 @@ impl Session {
         let (loader_tx, loader_rx) = mpsc::channel();
         let debouncer = loader::debouncer(options.debounce, loader_tx.clone())
             .map_err(|e| bad(format!("cannot watch files: {e}")))?;
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .thread_name(|_| "shoal-dry-run".into())
-            .build()
-            .map_err(|e| bad(format!("cannot start the loader: {e}")))?;
         let tick_times = options.tick_times.then(|| Arc::new(Mutex::new(Vec::new())));
         let mut sim = Sim::new(run, hub.clone(), ev_tx.clone());
         sim.paused = options.paused;
@@ -333,15 +339,19 @@ impl Session {
             sim: sim_tx.clone(),
             hub: hub.clone(),
             events: ev_tx,
-            record,
+            record: record.clone(),
             good: loaded.files,
             version: 0,
             behaviors_dir,
             failed: None,
             debouncer,
             watched: Default::default(),
-            pool,
+            inbox: loader_tx.clone(),
+            timeout: options.reload_timeout,
             last_dry_run: Duration::ZERO,
+            worker: None,
+            in_flight: None,
+            next_job: 0,
         };
         loader.update_watches();
         let spawn = |name: &str, f: Box<dyn FnOnce() + Send>| {
@@ -360,6 +370,8 @@ impl Session {
             loader_tx,
             threads,
             tick_times,
+            record,
+            stopped: false,
             scenario_file,
             started_with,
         })
@@ -383,18 +395,60 @@ impl Session {
             .unwrap_or_default()
     }
 
-    /// Stops the threads and waits for them.
+    /// Stops the threads and waits for them (see [`Session::stop_because`]).
     pub fn stop(mut self) {
-        self.shutdown();
+        self.shutdown("stopped");
     }
 
-    fn shutdown(&mut self) {
+    /// Stops the session for `reason` (such as an interrupt): waits up to [`STOP_WAIT`] for its
+    /// threads, and marks the record, if any, as stopped at the last tick. Returns whether every
+    /// thread ended in time (one that did not is left behind: the process may exit anyway).
+    pub fn stop_because(mut self, reason: &str) -> bool {
+        self.shutdown(reason)
+    }
+
+    fn shutdown(&mut self, reason: &str) -> bool {
+        if self.stopped {
+            return true;
+        }
+        self.stopped = true;
         let _ = self.loader_tx.send(LoaderMsg::Stop);
         let _ = self.handle.sim.send(Command::Stop);
         self.handle.hub.close();
-        for t in self.threads.drain(..) {
-            let _ = t.join();
+        let deadline = Instant::now() + STOP_WAIT;
+        while self.threads.iter().any(|t| !t.is_finished()) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(10));
         }
+        let mut all = true;
+        for t in self.threads.drain(..) {
+            if t.is_finished() {
+                let _ = t.join();
+            } else {
+                all = false;
+            }
+        }
+        if let Some(rec) = &self.record {
+            let tick = self.handle.hub.status().tick;
+            // A thread left behind may hold the record: wait a little, never forever.
+            let until = Instant::now() + Duration::from_secs(1);
+            loop {
+                match rec.try_lock() {
+                    Ok(mut r) => {
+                        let _ = r.stopped(SystemTime::now(), tick, reason);
+                        break;
+                    }
+                    Err(std::sync::TryLockError::Poisoned(p)) => {
+                        let _ = p.into_inner().stopped(SystemTime::now(), tick, reason);
+                        break;
+                    }
+                    Err(std::sync::TryLockError::WouldBlock) if Instant::now() < until => {
+                        std::thread::sleep(Duration::from_millis(10));
+                    }
+                    Err(std::sync::TryLockError::WouldBlock) => break,
+                }
+            }
+        }
+        all
     }
 }
 
@@ -407,6 +461,6 @@ impl std::ops::Deref for Session {
 
 impl Drop for Session {
     fn drop(&mut self) {
-        self.shutdown();
+        self.shutdown("stopped");
     }
 }

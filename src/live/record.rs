@@ -2,10 +2,17 @@
 //! effect at and a copy of its files, and every rejected edit, so that the session can be re-run
 //! exactly ([`rerun`]).
 //!
-//! Folder layout: `live.json` (`{"seed", "dt", "scenario"}`), `reloads.jsonl` (one line per
-//! version or rejected edit: `{"time_ms", "status": "initial"|"accepted"|"rejected", "version",
-//! "tick", "scenario", "files": {path: sha256}, "diagnostics"}`) and `versions/<n>/` (the files of
-//! version `n`, laid out as they were relative to their common folder).
+//! Folder layout: `live.json` (`{"seed", "dt", "scenario", "status"}`), `reloads.jsonl` (one line
+//! per version or rejected edit: `{"time_ms", "status": "initial"|"accepted"|"rejected",
+//! "version", "tick", "scenario", "files": {path: sha256}, "diagnostics"}`, and a last
+//! `{"status": "stopped", "tick", "reason"}` when the session ends) and `versions/<n>/` (the files
+//! of version `n`, laid out as they were relative to their common folder).
+//!
+//! Like a run folder (`crate::record`), a record is marked incomplete from the start: `live.json`
+//! says `"status": "recording"` and an `INCOMPLETE` file is there while the session runs. A
+//! session only ever ends by being stopped, so when it stops (Ctrl-C, SIGTERM) the status
+//! becomes `"incomplete"` with the tick it stopped at and why, and `INCOMPLETE` says the same; a
+//! process killed outright leaves `"recording"`, which reads as incomplete too.
 
 use super::files::{absolute, FileEntry};
 use crate::diag::{Diagnostic, Diagnostics};
@@ -13,6 +20,9 @@ use crate::scenario::{Overrides, Run, Scenario};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
+
+/// The marker file of a record whose session is running or was stopped.
+pub const INCOMPLETE: &str = "INCOMPLETE";
 
 /// Milliseconds since the Unix epoch.
 pub fn unix_ms(t: SystemTime) -> u64 {
@@ -51,8 +61,13 @@ impl Recorder {
     /// Creates the record folder `dir` for a run of `seed` with time step `dt`.
     pub fn create(dir: &Path, seed: u64, dt: f32) -> std::io::Result<Recorder> {
         std::fs::create_dir_all(dir.join("versions"))?;
-        let meta = serde_json::json!({ "seed": seed, "dt": dt, "scenario": null });
+        let meta =
+            serde_json::json!({ "seed": seed, "dt": dt, "scenario": null, "status": "recording" });
         std::fs::write(dir.join("live.json"), format!("{meta}\n"))?;
+        std::fs::write(
+            dir.join(INCOMPLETE),
+            "this live session is being recorded (or its process was killed)\n",
+        )?;
         let log = std::fs::OpenOptions::new()
             .create(true)
             .append(true)
@@ -124,6 +139,30 @@ impl Recorder {
         }))
     }
 
+    /// Records that the session stopped after `tick` ticks, for `reason`, and marks the record
+    /// incomplete with both.
+    pub fn stopped(&mut self, time: SystemTime, tick: u64, reason: &str) -> std::io::Result<()> {
+        self.line(serde_json::json!({
+            "time_ms": unix_ms(time),
+            "status": "stopped",
+            "tick": tick,
+            "reason": reason,
+        }))?;
+        let meta_path = self.dir.join("live.json");
+        let mut meta: serde_json::Value = std::fs::read_to_string(&meta_path)
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .unwrap_or_else(|| serde_json::json!({}));
+        meta["status"] = "incomplete".into();
+        meta["ticks"] = tick.into();
+        meta["stopped"] = reason.into();
+        crate::record::write_atomic(&meta_path, format!("{meta}\n").as_bytes())?;
+        std::fs::write(
+            self.dir.join(INCOMPLETE),
+            format!("this live session stopped at tick {tick}: {reason}\n"),
+        )
+    }
+
     /// Records a rejected edit while `running` ran, at `tick`.
     pub fn rejected(
         &mut self,
@@ -137,7 +176,7 @@ impl Recorder {
             "status": "rejected",
             "version": running,
             "tick": tick,
-            "diagnostics": diagnostics,
+            "diagnostics": diagnostics.iter().map(|d| super::hub::cap_message(d)).collect::<Vec<_>>(),
         }))
     }
 }

@@ -1,85 +1,164 @@
 //! The live viewer's HTTP server: a small HTTP/1.1 handler on a loopback `TcpListener`, one
-//! thread per connection. Routes (protocol in `docs/viewer.md`, live mode):
+//! thread per connection up to a cap. Routes (protocol in `docs/viewer.md`, live mode):
 //!
 //! - `GET /`: the viewer page in live mode (the replay viewer's page, same rendering).
 //! - `GET /stream`: server-sent events `world`, `frame`, `diagnostics`, `reload`.
 //! - `POST /control`: `{"cmd": "pause"|"resume"|"step"|"speed", "value": 2}`.
 //! - `GET /agent/<id>`: one agent's drives, behavior, stack, memory and last decisions.
 //! - `GET /status`: tick, version, paused, speed, agents and current diagnostics.
+//!
+//! Hardening ([`Limits`], requests read in [`super::http`]): bounded request line, headers and
+//! body (414/431/413); a whole request must arrive within a deadline (408, slowloris); at most
+//! [`Limits::connections`] connections, where a new one first displaces the oldest that has not
+//! finished sending its request, else gets 503; at most [`Limits::streams`] event streams; every
+//! request needs a loopback `Host` with this port and every state-changing one a missing or
+//! loopback `Origin` (403), so no other web page can drive a session.
+//!
+//! Why hand-written rather than a crate: the limits above are what matter here and tiny_http 0.12
+//! (the light option, ~11 s to build with tungstenite) has none on header size (tiny-http#56,
+//! open since 2015) nor a connection cap, so it would need the same guards around it;
+//! axum/hyper bring them but cost ~32 s debug / 50 s release with tokio for five routes on a
+//! loopback socket. Neither checks `Host`/`Origin`. The server stays dependency-free, and its
+//! parser is property-tested on arbitrary bytes.
 
+use super::http::{self, DeadlineReader, Limits, Refusal};
 use super::hub::Seen;
 use super::{Control, SessionHandle};
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{Ipv4Addr, SocketAddr, TcpListener, TcpStream};
+use std::collections::BTreeMap;
+use std::io::{BufReader, Write};
+use std::net::{Ipv4Addr, Shutdown, SocketAddr, TcpListener, TcpStream};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
-/// Largest request head accepted.
-const MAX_HEAD: usize = 16 * 1024;
-/// Largest request body accepted.
-const MAX_BODY: usize = 64 * 1024;
 /// A stream with nothing new sends a comment this often, so that dead connections are noticed.
 const KEEPALIVE: Duration = Duration::from_secs(10);
+/// After an error answer, how much of what the client still sends is read and dropped so that
+/// closing does not reset the connection before the answer is read.
+const LINGER_BYTES: usize = 256 * 1024;
+/// How long that may take.
+const LINGER_TIME: Duration = Duration::from_millis(500);
 
 /// The page served at `/`: the viewer in live mode.
 pub fn live_page() -> String {
     crate::view::live_html()
 }
 
-/// A running server. Dropping it stops accepting connections.
+/// A running server. Dropping it stops accepting connections and closes the open ones.
 pub struct Server {
     addr: SocketAddr,
     stop: Arc<AtomicBool>,
     accept: Option<JoinHandle<()>>,
+    conns: Arc<Connections>,
 }
 
-struct Request {
-    method: String,
-    path: String,
-    body: Vec<u8>,
+/// What a connection is doing: only one still sending its request, or one refused and being
+/// drained before it is closed, may be displaced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    Reading,
+    Answering,
+    Streaming,
+    Draining,
 }
 
-fn read_request(stream: &mut TcpStream) -> Option<Request> {
-    let mut reader = BufReader::new(stream.try_clone().ok()?);
-    let mut head = Vec::new();
-    let mut line = String::new();
-    let mut content_length = 0usize;
-    let mut first = None;
-    loop {
-        line.clear();
-        let n = reader.read_line(&mut line).ok()?;
-        if n == 0 {
-            return None;
-        }
-        head.extend_from_slice(line.as_bytes());
-        if head.len() > MAX_HEAD {
-            return None;
-        }
-        let l = line.trim_end();
-        if l.is_empty() {
-            break;
-        }
-        if first.is_none() {
-            first = Some(l.to_string());
-        } else if let Some((k, v)) = l.split_once(':') {
-            if k.trim().eq_ignore_ascii_case("content-length") {
-                content_length = v.trim().parse().ok()?;
+struct Entry {
+    since: Instant,
+    phase: Phase,
+    /// Shut down to make room; its thread is on its way out.
+    evicted: bool,
+    stream: TcpStream,
+}
+
+/// The open connections, so that the cap can be enforced and the oldest idle one closed.
+#[derive(Default)]
+struct Connections {
+    inner: Mutex<(u64, BTreeMap<u64, Entry>)>,
+}
+
+/// A connection's place among the open ones; dropping it frees the place.
+struct Ticket {
+    id: u64,
+    conns: Arc<Connections>,
+}
+
+impl Connections {
+    fn lock(&self) -> MutexGuard<'_, (u64, BTreeMap<u64, Entry>)> {
+        // Every update is a single insert, remove or field assignment: consistent after a panic.
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// A place for `stream` within `max`, closing the oldest connection still reading its
+    /// request if need be; `None` if every place is taken by one being answered or streaming.
+    fn admit(self: &Arc<Self>, stream: &TcpStream, max: usize) -> Option<Ticket> {
+        let clone = stream.try_clone().ok()?;
+        let mut g = self.lock();
+        let (next, conns) = &mut *g;
+        if conns.len() >= max {
+            // Displaced connections still count until their thread ends (slow on a busy
+            // machine); bound how many, so threads stay under twice the cap.
+            let leaving = conns.values().filter(|e| e.evicted).count();
+            if leaving >= max {
+                return None;
             }
+            // Refused ones being drained first, then the oldest unfinished request.
+            let oldest = conns
+                .values_mut()
+                .filter(|e| matches!(e.phase, Phase::Reading | Phase::Draining) && !e.evicted)
+                .min_by_key(|e| (e.phase != Phase::Draining, e.since))?;
+            oldest.evicted = true;
+            let _ = oldest.stream.shutdown(Shutdown::Both);
+        }
+        let id = *next;
+        *next += 1;
+        conns.insert(
+            id,
+            Entry {
+                since: Instant::now(),
+                phase: Phase::Reading,
+                evicted: false,
+                stream: clone,
+            },
+        );
+        Some(Ticket {
+            id,
+            conns: self.clone(),
+        })
+    }
+
+    fn close_all(&self) {
+        for e in self.lock().1.values() {
+            let _ = e.stream.shutdown(Shutdown::Both);
         }
     }
-    let first = first?;
-    let mut parts = first.split_whitespace();
-    let method = parts.next()?.to_string();
-    let target = parts.next()?;
-    let path = target.split(['?', '#']).next().unwrap_or("/").to_string();
-    if content_length > MAX_BODY {
-        return None;
+}
+
+impl Ticket {
+    fn set_phase(&self, phase: Phase) {
+        if let Some(e) = self.conns.lock().1.get_mut(&self.id) {
+            e.phase = phase;
+        }
     }
-    let mut body = vec![0; content_length];
-    reader.read_exact(&mut body).ok()?;
-    Some(Request { method, path, body })
+
+    /// Turns this connection into an event stream if fewer than `max` are open.
+    fn start_stream(&self, max: usize) -> bool {
+        let mut g = self.conns.lock();
+        let open = g.1.values().filter(|e| e.phase == Phase::Streaming).count();
+        match g.1.get_mut(&self.id) {
+            Some(e) if open < max => {
+                e.phase = Phase::Streaming;
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+impl Drop for Ticket {
+    fn drop(&mut self) {
+        self.conns.lock().1.remove(&self.id);
+    }
 }
 
 fn respond(stream: &mut TcpStream, status: &str, content_type: &str, body: &[u8]) {
@@ -95,6 +174,22 @@ fn respond(stream: &mut TcpStream, status: &str, content_type: &str, body: &[u8]
 fn json_error(stream: &mut TcpStream, status: &str, msg: &str) {
     let body = serde_json::json!({ "error": msg }).to_string();
     respond(stream, status, "application/json", body.as_bytes());
+}
+
+/// Ends a connection whose request was refused: the client may still be sending, and closing
+/// with unread data resets the connection, which can drop the answer before it is read.
+fn linger_close(stream: &TcpStream) {
+    let _ = stream.shutdown(Shutdown::Write);
+    let until = Instant::now() + LINGER_TIME;
+    let mut buf = [0u8; 16 * 1024];
+    let mut drained = 0;
+    let mut r = DeadlineReader::new(stream, until);
+    while drained < LINGER_BYTES {
+        match std::io::Read::read(&mut r, &mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => drained += n,
+        }
+    }
 }
 
 /// Parses a `/control` body.
@@ -149,13 +244,44 @@ fn stream_events(mut stream: TcpStream, handle: &SessionHandle) {
     }
 }
 
-fn handle_connection(mut stream: TcpStream, handle: SessionHandle, page: Arc<str>) {
-    let _ = stream.set_read_timeout(Some(Duration::from_secs(10)));
+fn handle_connection(
+    mut stream: TcpStream,
+    ticket: Ticket,
+    handle: SessionHandle,
+    page: Arc<str>,
+    limits: &Limits,
+    port: u16,
+) {
     let _ = stream.set_nodelay(true);
-    let Some(req) = read_request(&mut stream) else {
-        json_error(&mut stream, "400 Bad Request", "malformed request");
-        return;
+    let _ = stream.set_write_timeout(Some(limits.write_timeout));
+    let deadline = Instant::now() + limits.request_timeout;
+    let read = {
+        let mut r = BufReader::new(DeadlineReader::new(&stream, deadline));
+        http::read_request(&mut r, limits)
     };
+    ticket.set_phase(Phase::Answering);
+    let req = match read {
+        Ok(r) => r,
+        Err(refusal @ (Refusal::Closed | Refusal::Timeout)) => {
+            // A client that vanished needs no answer; one that is too slow gets one.
+            if let Some((status, msg)) = refusal.status() {
+                json_error(&mut stream, status, msg);
+            }
+            return;
+        }
+        Err(refusal) => {
+            if let Some((status, msg)) = refusal.status() {
+                json_error(&mut stream, status, msg);
+            }
+            ticket.set_phase(Phase::Draining);
+            linger_close(&stream);
+            return;
+        }
+    };
+    if let Some(why) = http::forbidden(&req, port) {
+        json_error(&mut stream, "403 Forbidden", why);
+        return;
+    }
     match (req.method.as_str(), req.path.as_str()) {
         ("GET", "/") | ("GET", "/index.html") => respond(
             &mut stream,
@@ -163,7 +289,17 @@ fn handle_connection(mut stream: TcpStream, handle: SessionHandle, page: Arc<str
             "text/html; charset=utf-8",
             page.as_bytes(),
         ),
-        ("GET", "/stream") => stream_events(stream, &handle),
+        ("GET", "/stream") => {
+            if ticket.start_stream(limits.streams) {
+                stream_events(stream, &handle);
+            } else {
+                json_error(
+                    &mut stream,
+                    "503 Service Unavailable",
+                    "too many event streams open",
+                );
+            }
+        }
         ("GET", "/status") => {
             let body = serde_json::to_string(&handle.status()).unwrap_or_default();
             respond(&mut stream, "200 OK", "application/json", body.as_bytes());
@@ -192,14 +328,39 @@ fn handle_connection(mut stream: TcpStream, handle: SessionHandle, page: Arc<str
     }
 }
 
+/// Refuses a connection over the cap, from the accept loop: the answer fits the socket's send
+/// buffer, so this does not block.
+fn refuse_busy(mut stream: TcpStream) {
+    let _ = stream.set_write_timeout(Some(Duration::from_millis(100)));
+    json_error(
+        &mut stream,
+        "503 Service Unavailable",
+        "too many connections",
+    );
+    let _ = stream.shutdown(Shutdown::Write);
+}
+
 impl Server {
-    /// Serves `page` and the live protocol of `handle` on `127.0.0.1:port` (0: any free port).
+    /// Serves `page` and the live protocol of `handle` on `127.0.0.1:port` (0: any free port)
+    /// with the default [`Limits`].
     pub fn start(handle: SessionHandle, page: String, port: u16) -> std::io::Result<Server> {
+        Self::start_with(handle, page, port, Limits::default())
+    }
+
+    /// [`Server::start`] with other limits.
+    pub fn start_with(
+        handle: SessionHandle,
+        page: String,
+        port: u16,
+        limits: Limits,
+    ) -> std::io::Result<Server> {
         let listener = TcpListener::bind((Ipv4Addr::LOCALHOST, port))?;
         let addr = listener.local_addr()?;
         let stop = Arc::new(AtomicBool::new(false));
+        let conns = Arc::new(Connections::default());
         let page: Arc<str> = page.into();
-        let stop2 = stop.clone();
+        let limits = Arc::new(limits);
+        let (stop2, conns2) = (stop.clone(), conns.clone());
         let accept = std::thread::Builder::new()
             .name("shoal-http".into())
             .spawn(move || {
@@ -207,17 +368,32 @@ impl Server {
                     if stop2.load(Ordering::Relaxed) {
                         break;
                     }
-                    let Ok(stream) = conn else { continue };
-                    let (handle, page) = (handle.clone(), page.clone());
+                    let stream = match conn {
+                        Ok(s) => s,
+                        Err(_) => {
+                            // Out of file descriptors, say: wait instead of spinning.
+                            std::thread::sleep(Duration::from_millis(50));
+                            continue;
+                        }
+                    };
+                    let Some(ticket) = conns2.admit(&stream, limits.connections) else {
+                        refuse_busy(stream);
+                        continue;
+                    };
+                    let (handle, page, limits) = (handle.clone(), page.clone(), limits.clone());
+                    // If the thread cannot start, the closure and its ticket are dropped.
                     let _ = std::thread::Builder::new()
                         .name("shoal-http-conn".into())
-                        .spawn(move || handle_connection(stream, handle, page));
+                        .spawn(move || {
+                            handle_connection(stream, ticket, handle, page, &limits, addr.port())
+                        });
                 }
             })?;
         Ok(Server {
             addr,
             stop,
             accept: Some(accept),
+            conns,
         })
     }
 
@@ -230,6 +406,11 @@ impl Server {
     pub fn url(&self) -> String {
         format!("http://{}/", self.addr)
     }
+
+    /// Connections open now (for tests and diagnostics).
+    pub fn open_connections(&self) -> usize {
+        self.conns.lock().1.len()
+    }
 }
 
 impl Drop for Server {
@@ -240,6 +421,7 @@ impl Drop for Server {
         if let Some(t) = self.accept.take() {
             let _ = t.join();
         }
+        self.conns.close_all();
     }
 }
 

@@ -4,7 +4,7 @@
 //! versions arrive ready to install.
 
 use super::files::FileEntry;
-use super::hub::Hub;
+use super::hub::{cap_message, Hub};
 use super::json::{self, Decision, DecisionLog, DECISIONS_KEPT};
 use super::record::Recorder;
 use super::{Accepted, AgentInfo, Control, LiveEvent, TickTime};
@@ -369,7 +369,7 @@ impl Sim {
             }
             Err(d) => {
                 // The loader checked this before; the world cannot have made it invalid since.
-                let lines = vec![d.to_string()];
+                let lines = vec![cap_message(&d.to_string())];
                 self.hub.set_diagnostics(&lines);
                 let _ = self.events.send(LiveEvent::Rejected(super::Rejected {
                     time: SystemTime::now(),
@@ -450,7 +450,7 @@ impl Sim {
                     let _ = self.events.send(LiveEvent::ScriptError {
                         time: SystemTime::now(),
                         tick,
-                        message: message.clone(),
+                        message: cap_message(message),
                     });
                 }
                 _ => {}
