@@ -157,6 +157,7 @@ const PROBE: &str = r#"Species(
             steer: Cruise(speed: 0.5),
             cooldown: inf,
             min_time: -1.0,
+            response: Some(NaN),
         ),
     ],
 )
@@ -199,6 +200,10 @@ fn nan_and_inf_in_a_species_are_refused_at_their_keys() {
         (
             "min_time: ",
             "`min_time` must be a finite number ≥ 0, not -1",
+        ),
+        (
+            "response: Some(",
+            "`response` must be a finite number ≥ 0, not NaN",
         ),
     ] {
         let here = at(d, f, needle);

@@ -641,6 +641,9 @@ impl Builder<'_> {
         n.range("max_pitch", l.max_pitch, 0.0, std::f32::consts::FRAC_PI_2);
         n.positive("max_accel", l.max_accel);
         n.non_negative("response", l.response);
+        if let Some(r) = l.speed_response {
+            n.non_negative("speed_response", r);
+        }
         n.non_negative("smoothing", l.smoothing);
         if let crate::locomotion::Mode::RigidBody(r) = &def.body.locomotion {
             n.from = body;
@@ -790,6 +793,9 @@ impl Builder<'_> {
             self.nums.from = self.cursor;
             self.nums.non_negative("min_time", b.min_time);
             self.nums.non_negative("cooldown", b.cooldown);
+            if let Some(r) = b.response {
+                self.nums.non_negative("response", r);
+            }
             match b.contact {
                 Some(Contact::Eat { reach }) | Some(Contact::Mate { reach }) => {
                     self.nums.enter("contact");
