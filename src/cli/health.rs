@@ -105,7 +105,8 @@ pub fn print(h: &Health, cost: Option<f64>) {
             ),
             (
                 pct(s.pitch_limit_share),
-                s.pitch_limit_share > health::MAX_PITCH_LIMIT_SHARE,
+                s.judged(health::Figure::PitchLimit)
+                    && s.pitch_limit_share > health::MAX_PITCH_LIMIT_SHARE,
             ),
             (
                 format!("{:.2}", s.switch_rate),
@@ -113,7 +114,8 @@ pub fn print(h: &Health, cost: Option<f64>) {
             ),
             (
                 pct(s.short_episode_share),
-                s.short_episode_share > health::MAX_SHORT_EPISODE_SHARE,
+                s.judged(health::Figure::ShortEpisodes)
+                    && s.short_episode_share > health::MAX_SHORT_EPISODE_SHARE,
             ),
             (
                 s.turning_waste.map_or("-".into(), |w| format!("{w:.2}×")),

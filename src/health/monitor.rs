@@ -43,6 +43,7 @@ struct SpeciesInfo {
     behaviors: Vec<String>,
     may_stop: Vec<bool>,
     pitch_limit: f32,
+    upright: bool,
 }
 
 /// Counters of one behavior of a species.
@@ -239,6 +240,7 @@ impl Monitor {
                 behaviors: s.behaviors.iter().map(|b| b.name.to_string()).collect(),
                 may_stop: s.behaviors.iter().map(|b| may_stop(&b.steer)).collect(),
                 pitch_limit: s.def.body.limits.pitch_limit(),
+                upright: s.def.body.upright,
             })
             .collect();
         let acc = species
@@ -691,6 +693,7 @@ impl Monitor {
             frozen_agents: acc.frozen_agents,
             frozen_episodes: frozen.len() as u64,
             pitch_limit_share: ratio(acc.pinned as f64, acc.ticks as f64),
+            upright: info.upright,
             pitch_limit_at: acc.longest_pinned.map(|x| x.1),
             transitions: acc.transitions,
             switch_rate: ratio(acc.transitions as f64, seconds),
@@ -926,6 +929,29 @@ mod tests {
     }
 
     #[test]
+    fn a_body_that_goes_nowhere_is_stopped_whatever_its_speed() {
+        let mut r = Rig::new(&["fish"]);
+        // Full speed into a wall of the world for 6 s: it never moves.
+        let pinned = r.add(0, Vec3::new(50.0, 0.0, 0.0));
+        let free = r.add(0, Vec3::new(0.0, 0.0, 0.0));
+        for _ in 1..=120u64 {
+            r.agent(pinned).speed = 2.0;
+            r.agent(free).speed = 2.0;
+            r.agent(free).pos.z += 2.0 * DT;
+            r.tick(&[]);
+        }
+        let h = r.health();
+        let s = &h.species[0];
+        // The first observation has nothing to compare with: 119 of 240 agent-ticks stopped.
+        assert!(
+            close(s.stopped_share, 119.0 / 240.0, 1e-12),
+            "{}",
+            s.stopped_share
+        );
+        assert_eq!(s.frozen_agents, 1);
+    }
+
+    #[test]
     fn stopped_six_seconds_is_frozen_four_is_not() {
         let mut r = Rig::new(&["fish"]);
         r.world.add_obstacle(Shape::Sphere {
@@ -946,6 +972,11 @@ mod tests {
             } else {
                 1.0
             };
+            // Bodies go as far as their speed takes them.
+            for id in [long, short, resting, edge] {
+                let a = r.agent(id);
+                a.pos.x += a.speed * DT;
+            }
             r.tick(&[]);
         }
         let h = r.health();
@@ -1066,11 +1097,23 @@ mod tests {
         assert_eq!((f.a.as_str(), f.b.as_str(), f.count), ("swim", "rest", 2));
         assert_eq!(f.first, Spot { tick: 10, agent: 0 });
         assert_eq!(s.most_switches_at, Some(Spot { tick: 41, agent: 0 }));
+        // Three episodes are too few to call flicker: no warning until there are 20.
         let w = h.warnings();
-        assert!(w.iter().any(|w| w.figure == Figure::ShortEpisodes
-            && w.message
-                .contains("67% of 3 behavior episodes shorter than 0.5 s, 33% a single tick")));
+        assert!(!s.judged(Figure::ShortEpisodes));
+        assert!(
+            !w.iter().any(|w| w.figure == Figure::ShortEpisodes),
+            "{w:?}"
+        );
         assert!(!w.iter().any(|w| w.figure == Figure::SwitchRate), "{w:?}");
+        let mut many = h.clone();
+        many.species[0].episodes = crate::health::MIN_EPISODES;
+        assert!(many
+            .warnings()
+            .iter()
+            .any(|w| w.figure == Figure::ShortEpisodes
+                && w.message.contains(
+                    "67% of 20 behavior episodes shorter than 0.5 s, 33% a single tick"
+                )));
     }
 
     #[test]

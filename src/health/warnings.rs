@@ -216,7 +216,7 @@ fn species_warnings(s: &SpeciesHealth, out: &mut Out) {
             spot,
         );
     }
-    if s.short_episode_share > MAX_SHORT_EPISODE_SHARE {
+    if s.judged(Figure::ShortEpisodes) && s.short_episode_share > MAX_SHORT_EPISODE_SHARE {
         out.push(
             None,
             Figure::ShortEpisodes,
@@ -231,7 +231,7 @@ fn species_warnings(s: &SpeciesHealth, out: &mut Out) {
             s.short_episode_at,
         );
     }
-    if s.pitch_limit_share > MAX_PITCH_LIMIT_SHARE {
+    if s.judged(Figure::PitchLimit) && s.pitch_limit_share > MAX_PITCH_LIMIT_SHARE {
         out.push(
             None,
             Figure::PitchLimit,

@@ -92,6 +92,9 @@ pub struct BodyDef {
     pub anim: AnimParams,
     /// Whether the body walks on the terrain surface (2.5D) instead of swimming in 3D.
     pub on_ground: bool,
+    /// Whether it rests with its axis upright (a jellyfish's bell): being at the pitch limit is
+    /// its posture, not a nose stuck up or down, and run health does not warn of it.
+    pub upright: bool,
     /// How a walking body moves over terrain (slope limit, what blocks and slows it): builds the
     /// species' cost grid for path planning and the cells it may never stand on.
     pub mobility: Mobility,
@@ -105,6 +108,7 @@ impl Default for BodyDef {
             locomotion: Mode::Kinematic,
             anim: AnimParams::default(),
             on_ground: false,
+            upright: false,
             mobility: Mobility::default(),
         }
     }

@@ -16,6 +16,8 @@ struct Column {
     kind: &'static str,
     bound: Option<f64>,
     value: fn(&SpeciesHealth) -> Option<f64>,
+    /// Whether the bound applies to this species (see [`SpeciesHealth::judged`]).
+    judged: fn(&SpeciesHealth) -> bool,
 }
 
 const COLUMNS: [Column; 9] = [
@@ -25,6 +27,7 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_STOPPED_SHARE),
         value: |s| Some(s.stopped_share),
+        judged: |_| true,
     },
     Column {
         key: "frozen_agents",
@@ -32,6 +35,7 @@ const COLUMNS: [Column; 9] = [
         kind: "count",
         bound: Some(health::MAX_FROZEN as f64),
         value: |s| Some(s.frozen_agents as f64),
+        judged: |_| true,
     },
     Column {
         key: "pitch_limit_share",
@@ -39,6 +43,8 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_PITCH_LIMIT_SHARE),
         value: |s| Some(s.pitch_limit_share),
+        // An upright species (a jellyfish's bell) rests at the limit.
+        judged: |s| s.judged(health::Figure::PitchLimit),
     },
     Column {
         key: "switch_rate",
@@ -46,6 +52,7 @@ const COLUMNS: [Column; 9] = [
         kind: "rate",
         bound: Some(health::MAX_SWITCH_RATE),
         value: |s| Some(s.switch_rate),
+        judged: |_| true,
     },
     Column {
         key: "short_episode_share",
@@ -53,6 +60,7 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_SHORT_EPISODE_SHARE),
         value: |s| Some(s.short_episode_share),
+        judged: |s| s.judged(health::Figure::ShortEpisodes),
     },
     Column {
         key: "turning_waste",
@@ -60,6 +68,7 @@ const COLUMNS: [Column; 9] = [
         kind: "ratio",
         bound: Some(health::MAX_TURNING_WASTE),
         value: |s| s.turning_waste,
+        judged: |_| true,
     },
     Column {
         key: "overlap_share",
@@ -67,6 +76,7 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_OVERLAP_SHARE),
         value: |s| Some(s.overlap_share),
+        judged: |_| true,
     },
     Column {
         key: "obstacle_penetration",
@@ -74,6 +84,7 @@ const COLUMNS: [Column; 9] = [
         kind: "count",
         bound: Some(health::MAX_OBSTACLE_PENETRATION as f64),
         value: |s| Some(s.obstacle_penetration() as f64),
+        judged: |_| true,
     },
     Column {
         key: "messages_per_agent_second",
@@ -81,6 +92,7 @@ const COLUMNS: [Column; 9] = [
         kind: "rate",
         bound: None,
         value: |s| Some(s.messages_per_agent_second),
+        judged: |_| true,
     },
 ];
 
@@ -125,7 +137,7 @@ pub(crate) fn to_meta(h: &Health) -> Value {
             let over: Vec<bool> = COLUMNS
                 .iter()
                 .zip(&values)
-                .map(|(c, v)| matches!((v, c.bound), (Some(v), Some(b)) if *v > b))
+                .map(|(c, v)| (c.judged)(s) && matches!((v, c.bound), (Some(v), Some(b)) if *v > b))
                 .collect();
             json!({ "name": s.name, "agents": s.agents, "values": values, "over": over })
         })
