@@ -962,7 +962,7 @@ fn agent_pass(
                         let mut this = Dynamic::from(view);
                         match script.call::<Dynamic>(scope, &mut this, f) {
                             Ok(_) => pending = this.try_cast::<crate::script::AgentView>(),
-                            Err(e) => error = Some(e.diagnostic),
+                            Err(e) => error = Some(*e.diagnostic),
                         }
                     }
                 }

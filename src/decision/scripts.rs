@@ -181,7 +181,7 @@ fn run_slots_of(
         }
         let r: Dynamic = script
             .call(scope, this, &slot.name)
-            .map_err(|e| e.diagnostic)?;
+            .map_err(|e| *e.diagnostic)?;
         // Located only when something is wrong: finding the line costs a text search.
         let bad = |what: String| {
             let (line, col) = script.fn_position(&slot.name);
@@ -240,7 +240,7 @@ fn run_slots_of(
     if all && species.has_on_tick {
         let _: Dynamic = script
             .call(scope, this, "on_tick")
-            .map_err(|e| e.diagnostic)?;
+            .map_err(|e| *e.diagnostic)?;
     }
     Ok(())
 }

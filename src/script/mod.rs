@@ -85,8 +85,9 @@ impl std::fmt::Debug for Script {
 /// A failed call, located in the script.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CallError {
-    /// `file:line:col: message`.
-    pub diagnostic: Diagnostic,
+    /// `file:line:col: message` (boxed: errors are rare, and a small `Result` keeps every
+    /// successful call cheap).
+    pub diagnostic: Box<Diagnostic>,
     /// The wall-time budget the call ran past, when that is why it failed.
     pub time_budget: Option<Exceeded>,
 }
@@ -282,7 +283,7 @@ impl Script {
                     Diagnostic::new(&self.file, line, col, diagnostic.message, Some(&self.text));
             }
             CallError {
-                diagnostic,
+                diagnostic: Box::new(diagnostic),
                 time_budget: over,
             }
         })
