@@ -114,8 +114,11 @@ fn it_stings_food_it_touches() {
         Cause::Interrupted,
         "hunger > 0.2 and food within 1.5",
     );
-    sim.run_until(20, |s| s.behavior(id) != "sting")
+    // One touch, then the bell holds still 0.6 s.
+    let t = sim
+        .run_until(20, |s| s.behavior(id) != "sting")
         .expect("eaten");
+    assert!(t >= 11, "the sting lasted {t} ticks");
     assert!(sim
         .log
         .iter()
@@ -125,7 +128,7 @@ fn it_stings_food_it_touches() {
         "sting",
         "drift",
         Cause::Resumed,
-        "not (food within 1.5)",
+        "0.6 s in behavior and not (food within 1.5)",
     );
     // Food farther than the tentacles reach is ignored, even when sensed.
     sim.world.add_food(v(0.0, 20.0, 2.2));
