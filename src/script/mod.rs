@@ -145,6 +145,8 @@ pub fn new_engine(limits: &Limits) -> Engine {
     e.set_max_expr_depths(64, 32);
     e.set_max_modules(64);
     e.set_strict_variables(true);
+    // `eval` would compile text at run time, past every load-time check (calls, imports).
+    e.disable_symbol("eval");
     // Scripts write nothing to the terminal by themselves.
     e.on_print(|_| {});
     e.on_debug(|_, _, _| {});
@@ -171,8 +173,7 @@ impl Script {
     /// Compiles the script at `file`; imports are resolved relative to `root` (the behaviors
     /// folder), then relative to the script's own folder, with the `.rhai` extension added.
     pub fn load(file: &Path, root: &Path, limits: &Limits) -> Result<Script, Diagnostics> {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| Diagnostic::file(file, format!("cannot read script: {e}")))?;
+        let text = crate::diag::read_text(file, "script")?;
         Self::compile(file, &text, root, limits)
     }
 
@@ -358,7 +359,7 @@ pub fn error_site<'e>(err: &'e EvalAltResult, file: &Path, text: &str) -> ErrorS
     let text = if f == file {
         Some(text.to_string())
     } else {
-        std::fs::read_to_string(&f).ok()
+        crate::diag::read_text(&f, "module").ok()
     };
     ErrorSite {
         error: e,
