@@ -5,7 +5,8 @@
 //!
 //! `--loader` is one of species, script, scenario, asc, pgm, features, http, or `all` (the
 //! default); `--seed` (default 1) makes another deterministic run; inputs that panic, hang (over
-//! 5 s) or abort the process are written to `--crashes` (default `fuzz-crashes/`). Each loader
+//! 5 s) or abort the process are written to `--crashes` (default `fuzz-crashes/`);
+//! `--loader NAME --replay FILE` runs one saved input and prints its outcome and time. Each loader
 //! runs in a child process, so that an abort (a stack overflow, a failed allocation) is reported
 //! and its input recovered by replaying the run up to it, instead of ending the whole run.
 
@@ -23,6 +24,7 @@ struct Args {
     crashes: PathBuf,
     worker: bool,
     dump_from: Option<u64>,
+    replay: Option<PathBuf>,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -33,6 +35,7 @@ fn parse_args() -> Result<Args, String> {
         crashes: PathBuf::from("fuzz-crashes"),
         worker: false,
         dump_from: None,
+        replay: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(k) = it.next() {
@@ -45,6 +48,7 @@ fn parse_args() -> Result<Args, String> {
                 a.dump_from = Some(val()?.parse().map_err(|e| format!("--dump-from: {e}"))?)
             }
             "--worker" => a.worker = true,
+            "--replay" => a.replay = Some(PathBuf::from(val()?)),
             "--loader" => {
                 let v = val()?;
                 a.loaders = if v == "all" {
@@ -109,6 +113,17 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if let Some(file) = &a.replay {
+        // One saved input, on the first loader named: its outcome and time.
+        let input = std::fs::read(file).unwrap();
+        let start = std::time::Instant::now();
+        let outcome = fuzz_support::execute(a.loaders[0], &input);
+        println!(
+            "{outcome:?} in {:.1} ms",
+            start.elapsed().as_secs_f64() * 1e3
+        );
+        return ExitCode::SUCCESS;
+    }
     if a.worker {
         return worker(&a);
     }

@@ -6,7 +6,8 @@
 
 mod fuzz_support;
 
-use fuzz_support::Target;
+use fuzz_support::{execute, Outcome, Target};
+use std::time::{Duration, Instant};
 
 /// Executions per loader: a few seconds in all on two cores. Loaders that load every species
 /// of a scenario cost more per input, so they get fewer.
@@ -69,4 +70,39 @@ fn feature_loader_survives_mutated_files() {
 #[test]
 fn http_parser_survives_mutated_requests() {
     fuzz(Target::Http);
+}
+
+/// Runs `input` on `t` and returns its outcome, failing if it takes a second or more.
+fn quickly(t: Target, input: &str) -> Outcome {
+    let start = Instant::now();
+    let o = execute(t, input.as_bytes());
+    assert!(
+        start.elapsed() < Duration::from_secs(1),
+        "took {:?}",
+        start.elapsed()
+    );
+    o
+}
+
+#[test]
+fn a_scenario_listing_forty_thousand_species_is_refused_at_once() {
+    // Found by the fuzzer: each missing species was located by scanning the whole line, 5 s.
+    let text = |name: &str| {
+        let names = vec![format!("\"{name}\""); 40_000].join(", ");
+        format!(
+            "Scenario(dt: 0.05, duration: 1.0, bounds: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)), species: [{names}])"
+        )
+    };
+    let Outcome::Refused { shape, located } = quickly(Target::Scenario, &text("nowhere")) else {
+        panic!("accepted");
+    };
+    assert!(located && shape.starts_with("species file"), "{shape}");
+    // An existing species repeated is loaded once, then refused as listed twice.
+    let Outcome::Refused { shape, located } = quickly(Target::Scenario, &text("shark")) else {
+        panic!("accepted");
+    };
+    assert!(
+        located && shape.starts_with("species \"\" is listed twice"),
+        "{shape}"
+    );
 }

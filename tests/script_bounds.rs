@@ -209,6 +209,19 @@ fn a_script_using_eval_fails_to_load_with_a_located_error() {
     assert!(e[0].contains("eval"), "{e:#?}");
 }
 
+#[test]
+fn a_function_name_written_with_escapes_is_still_located() {
+    // RON unescapes `\u{6b}`, so the name as parsed is not in the text as written.
+    let ron = species("esc", "o\\u{6b}2");
+    let dir = folder(&[("esc.ron", &ron), ("esc.rhai", "fn ok() { true }\n")]);
+    let e = errors(dir.path(), "esc");
+    assert_eq!(e.len(), 1, "{e:#?}");
+    assert!(
+        e[0].starts_with("esc.ron:7:") && e[0].contains("script function `ok2()` is not defined"),
+        "{e:#?}"
+    );
+}
+
 #[cfg(unix)]
 #[test]
 fn a_named_pipe_as_an_imported_module_is_refused_by_name_not_waited_on() {
