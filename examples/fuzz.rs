@@ -158,8 +158,8 @@ fn main() -> ExitCode {
         );
         let last = err
             .lines()
-            .filter_map(|l| l.split_whitespace().nth(2)?.parse::<u64>().ok())
-            .last()
+            .rev()
+            .find_map(|l| l.split_whitespace().nth(2)?.parse::<u64>().ok())
             .unwrap_or(0);
         let mut cmd = Command::new(&me);
         base(&mut cmd);

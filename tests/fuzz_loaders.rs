@@ -106,3 +106,13 @@ fn a_scenario_listing_forty_thousand_species_is_refused_at_once() {
         "{shape}"
     );
 }
+
+#[test]
+fn a_missing_species_written_with_escapes_is_located_at_the_list() {
+    // Found by the fuzzer: the name as parsed is not in the text, so the error had no line.
+    let text = "Scenario(\n    dt: 0.05,\n    duration: 1.0,\n    bounds: (min: (0.0, 0.0, 0.0), max: (1.0, 1.0, 1.0)),\n    species: [\"nowh\\u{65}re\"],\n)\n";
+    let Outcome::Refused { shape, located } = quickly(Target::Scenario, text) else {
+        panic!("accepted");
+    };
+    assert!(located && shape.starts_with("species file"), "{shape}");
+}

@@ -297,6 +297,12 @@ impl Scenario {
             normalize(&dir.join(def.behaviors.as_deref().unwrap_or("../behaviors")));
         let mut diags = Vec::new();
         let at = |needle: &str, from: usize| locate(text, needle, from).unwrap_or((0, 0, 0));
+        // A species name written with escapes is not in the text as parsed: point at the list.
+        let at_species = |needle: &str, from: usize| {
+            locate(text, needle, from)
+                .or_else(|| locate(text, "species", 0))
+                .unwrap_or((0, 0, 0))
+        };
         if !(def.dt > 0.0 && def.dt.is_finite()) {
             let (l, c, _) = at("dt", 0);
             diags.push(Diagnostic::new(
@@ -339,7 +345,7 @@ impl Scenario {
             if !listed.insert(name.as_str()) {
                 let needle = format!("\"{name}\"");
                 let second = locate(text, &needle, 0).map_or(0, |x| x.2 + 1);
-                let (l, c, _) = at(&needle, second);
+                let (l, c, _) = at_species(&needle, second);
                 diags.push(Diagnostic::new(
                     file,
                     l,
@@ -351,7 +357,7 @@ impl Scenario {
             }
             let path = behaviors_dir.join(format!("{name}.ron"));
             if let Some(problem) = crate::diag::file_problem(&path) {
-                let (l, c, _) = at(&format!("\"{name}\""), 0);
+                let (l, c, _) = at_species(&format!("\"{name}\""), 0);
                 diags.push(Diagnostic::new(
                     file,
                     l,
@@ -364,7 +370,7 @@ impl Scenario {
             match load_species(&path, &behaviors_dir, &script_limits()) {
                 Ok(s) => {
                     if &s.name != name {
-                        let (l, c, _) = at(&format!("\"{name}\""), 0);
+                        let (l, c, _) = at_species(&format!("\"{name}\""), 0);
                         diags.push(Diagnostic::new(
                             file,
                             l,
