@@ -199,6 +199,79 @@ fn a_script_that_calls_timestamp_fails_to_load_with_a_located_error() {
 }
 
 #[test]
+fn a_script_using_eval_fails_to_load_with_a_located_error() {
+    let ron = species("evil", "ok");
+    let rhai = "fn ok() {\n    eval(\"true\")\n}\n";
+    let dir = folder(&[("evil.ron", &ron), ("evil.rhai", rhai)]);
+    let e = errors(dir.path(), "evil");
+    assert_eq!(e.len(), 1, "{e:#?}");
+    assert!(e[0].starts_with("evil.rhai:2:5: "), "{e:#?}");
+    assert!(e[0].contains("eval"), "{e:#?}");
+}
+
+#[test]
+fn a_function_name_written_with_escapes_is_still_located() {
+    // RON unescapes `\u{6b}`, so the name as parsed is not in the text as written.
+    let ron = species("esc", "o\\u{6b}2");
+    let dir = folder(&[("esc.ron", &ron), ("esc.rhai", "fn ok() { true }\n")]);
+    let e = errors(dir.path(), "esc");
+    assert_eq!(e.len(), 1, "{e:#?}");
+    assert!(
+        e[0].starts_with("esc.ron:7:") && e[0].contains("script function `ok2()` is not defined"),
+        "{e:#?}"
+    );
+}
+
+#[cfg(unix)]
+#[test]
+fn a_named_pipe_as_an_imported_module_is_refused_by_name_not_waited_on() {
+    let ron = species("piped", "ok");
+    let rhai = "import \"helpers\" as h;\nfn ok() { true }\n";
+    let dir = folder(&[("piped.ron", &ron), ("piped.rhai", rhai)]);
+    let pipe = dir.path().join("helpers.rhai");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&pipe)
+        .status()
+        .unwrap();
+    assert!(made.success(), "mkfifo");
+    // Opening a pipe with no writer blocks: a load that opened it would never return.
+    let (tx, rx) = std::sync::mpsc::channel();
+    let d = dir.path().to_path_buf();
+    std::thread::spawn(move || tx.send(errors(&d, "piped")).ok());
+    let e = rx
+        .recv_timeout(Duration::from_secs(10))
+        .expect("the load waited on the pipe");
+    assert_eq!(e.len(), 1, "{e:#?}");
+    assert!(
+        e[0].starts_with("piped.rhai:1:1: imported module")
+            && e[0].ends_with("helpers.rhai\" is a named pipe, not a regular file"),
+        "{e:#?}"
+    );
+    // The script itself as a pipe, loaded directly, is refused the same way.
+    let own = dir.path().join("own.rhai");
+    std::process::Command::new("mkfifo")
+        .arg(&own)
+        .status()
+        .unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let d = dir.path().to_path_buf();
+    std::thread::spawn(move || {
+        tx.send(Script::load(&d.join("own.rhai"), &d, &script_limits()).err())
+            .ok()
+    });
+    let err = rx
+        .recv_timeout(Duration::from_secs(10))
+        .expect("the load waited on the pipe")
+        .expect("a pipe is refused");
+    assert!(
+        err.0[0]
+            .message
+            .contains("cannot read script: it is a named pipe"),
+        "{err:?}"
+    );
+}
+
+#[test]
 fn calls_to_functions_that_exist_nowhere_are_located_at_load() {
     let ron = species("typo", "ok");
     let rhai = "import \"lib\" as lib;\n\
@@ -284,6 +357,7 @@ fn agent(id: i64) -> rhai::Dynamic {
 }
 
 #[test]
+#[allow(clippy::result_large_err)] // `Script::call`'s error, as it is
 fn a_call_past_its_time_budget_is_stopped_with_an_error_naming_script_function_and_agent() {
     let (_dir, script) = spinner();
     let clock = Arc::new(TickClock::new(TimeBudget {

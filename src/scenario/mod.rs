@@ -13,6 +13,7 @@ use crate::diag::{Diagnostic, Diagnostics};
 use crate::index::Layout;
 use crate::species::validate::{locate, ron_diag, ron_options};
 use crate::species::{load_species, Draw, Species, SpeciesSet};
+use crate::terrain::dem::MAX_DIAGNOSTICS;
 use crate::tick::Pipeline;
 use crate::world::{Aabb, Rng, Shape, World};
 use glam::Vec3;
@@ -296,6 +297,12 @@ impl Scenario {
             normalize(&dir.join(def.behaviors.as_deref().unwrap_or("../behaviors")));
         let mut diags = Vec::new();
         let at = |needle: &str, from: usize| locate(text, needle, from).unwrap_or((0, 0, 0));
+        // A species name written with escapes is not in the text as parsed: point at the list.
+        let at_species = |needle: &str, from: usize| {
+            locate(text, needle, from)
+                .or_else(|| locate(text, "species", 0))
+                .unwrap_or((0, 0, 0))
+        };
         if !(def.dt > 0.0 && def.dt.is_finite()) {
             let (l, c, _) = at("dt", 0);
             diags.push(Diagnostic::new(
@@ -328,10 +335,29 @@ impl Scenario {
             ));
         }
         let mut loaded: Vec<Arc<Species>> = Vec::new();
+        let mut listed = std::collections::BTreeSet::new();
         for name in &def.species {
+            // Each problem scans the text to locate it: a list of 40,000 bad names took 5 s.
+            if diags.len() >= MAX_DIAGNOSTICS {
+                break;
+            }
+            // Loaded once each: a name repeated 40,000 times would compile its script as often.
+            if !listed.insert(name.as_str()) {
+                let needle = format!("\"{name}\"");
+                let second = locate(text, &needle, 0).map_or(0, |x| x.2 + 1);
+                let (l, c, _) = at_species(&needle, second);
+                diags.push(Diagnostic::new(
+                    file,
+                    l,
+                    c,
+                    format!("species \"{name}\" is listed twice"),
+                    Some(text),
+                ));
+                continue;
+            }
             let path = behaviors_dir.join(format!("{name}.ron"));
             if let Some(problem) = crate::diag::file_problem(&path) {
-                let (l, c, _) = at(&format!("\"{name}\""), 0);
+                let (l, c, _) = at_species(&format!("\"{name}\""), 0);
                 diags.push(Diagnostic::new(
                     file,
                     l,
@@ -344,7 +370,7 @@ impl Scenario {
             match load_species(&path, &behaviors_dir, &script_limits()) {
                 Ok(s) => {
                     if &s.name != name {
-                        let (l, c, _) = at(&format!("\"{name}\""), 0);
+                        let (l, c, _) = at_species(&format!("\"{name}\""), 0);
                         diags.push(Diagnostic::new(
                             file,
                             l,
@@ -418,10 +444,16 @@ impl Scenario {
         };
         let mut from = locate(text, "groups", 0).map_or(0, |x| x.2);
         for g in &def.groups {
+            if diags.len() >= MAX_DIAGNOSTICS {
+                break;
+            }
             from = check_group(g, &mut diags, from);
         }
         let mut from = locate(text, "events", 0).map_or(0, |x| x.2);
         for e in &def.events {
+            if diags.len() >= MAX_DIAGNOSTICS {
+                break;
+            }
             match e.action.clone() {
                 EventAction::Spawn(g) => from = check_group(&g, &mut diags, from),
                 EventAction::RemoveObstacle(id) if id as usize >= def.obstacles.len() => {

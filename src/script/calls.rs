@@ -19,11 +19,10 @@ use std::sync::OnceLock;
 pub const DENIED: [&str; 3] = ["timestamp", "elapsed", "sleep"];
 
 /// Rhai's keyword functions, handled by the evaluator rather than registered.
-const KEYWORDS: [&str; 10] = [
+const KEYWORDS: [&str; 9] = [
     "print",
     "debug",
     "type_of",
-    "eval",
     "Fn",
     "call",
     "curry",

@@ -229,12 +229,20 @@ impl<'a> Loader<'a> {
             self.root.join(&rel),
             from.parent().unwrap_or(Path::new(".")).join(&rel),
         ];
-        let Some(found) = candidates.iter().find(|p| p.is_file()) else {
+        // A named pipe or a folder in the way is reported by name, not as missing.
+        let Some(found) = candidates
+            .iter()
+            .find(|p| p.is_file())
+            .or_else(|| candidates.iter().find(|p| p.exists()))
+        else {
             return Err(format!(
                 "cannot find imported module \"{path}\" (looked for {})",
                 candidates[0].display()
             ));
         };
+        if let Some(problem) = crate::diag::file_problem(found) {
+            return Err(format!("imported module \"{}\" {problem}", found.display()));
+        }
         let canonical = std::fs::canonicalize(found)
             .map_err(|e| format!("cannot resolve imported module \"{path}\": {e}"))?;
         if !self.allowed.iter().any(|d| canonical.starts_with(d)) {
@@ -255,11 +263,10 @@ impl<'a> Loader<'a> {
         if let Some(l) = self.cache.get(canonical) {
             return Some(l.clone());
         }
-        let text = match std::fs::read_to_string(path) {
+        let text = match crate::diag::read_text(path, "module") {
             Ok(t) => t,
-            Err(e) => {
-                self.diags
-                    .push(Diagnostic::file(path, format!("cannot read module: {e}")));
+            Err(d) => {
+                self.diags.push(d);
                 return None;
             }
         };

@@ -146,6 +146,8 @@ pub fn new_engine(limits: &Limits) -> Engine {
     e.set_max_expr_depths(64, 32);
     e.set_max_modules(64);
     e.set_strict_variables(true);
+    // `eval` would compile text at run time, past every load-time check (calls, imports).
+    e.disable_symbol("eval");
     // Scripts write nothing to the terminal by themselves.
     e.on_print(|_| {});
     e.on_debug(|_, _, _| {});
@@ -172,8 +174,7 @@ impl Script {
     /// Compiles the script at `file`; imports are resolved relative to `root` (the behaviors
     /// folder), then relative to the script's own folder, with the `.rhai` extension added.
     pub fn load(file: &Path, root: &Path, limits: &Limits) -> Result<Script, Diagnostics> {
-        let text = std::fs::read_to_string(file)
-            .map_err(|e| Diagnostic::file(file, format!("cannot read script: {e}")))?;
+        let text = crate::diag::read_text(file, "script")?;
         Self::compile(file, &text, root, limits)
     }
 
@@ -240,6 +241,8 @@ impl Script {
     }
 
     /// Calls `name` with `view` bound as `this` and no arguments.
+    // A failed call is rare and reported once; boxing its diagnostic would only add noise.
+    #[allow(clippy::result_large_err)]
     pub fn call<T: Clone + Send + Sync + 'static>(
         &self,
         scope: &mut Scope,
@@ -250,6 +253,7 @@ impl Script {
     }
 
     /// Calls `name` with `this` bound and `args`.
+    #[allow(clippy::result_large_err)]
     pub fn call_args<T: Clone + Send + Sync + 'static>(
         &self,
         scope: &mut Scope,
@@ -359,7 +363,7 @@ pub fn error_site<'e>(err: &'e EvalAltResult, file: &Path, text: &str) -> ErrorS
     let text = if f == file {
         Some(text.to_string())
     } else {
-        std::fs::read_to_string(&f).ok()
+        crate::diag::read_text(&f, "module").ok()
     };
     ErrorSite {
         error: e,

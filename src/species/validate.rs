@@ -221,8 +221,11 @@ struct Builder<'a> {
 
 impl Builder<'_> {
     fn error_at(&mut self, needle: &str, msg: String) {
+        // A value written with escapes (`"a\u{62}"`) is not found as parsed: then the error
+        // points at the behavior being resolved, not at no line at all.
         let (l, c, _) = locate(self.text, needle, self.cursor)
             .or_else(|| locate(self.text, needle, 0))
+            .or_else(|| locate(self.text, "", self.cursor))
             .unwrap_or((0, 0, 0));
         self.diags
             .push(Diagnostic::new(self.file, l, c, msg, Some(self.text)));

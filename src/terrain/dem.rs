@@ -435,9 +435,13 @@ pub fn parse_pgm(
             }
         }
         if pos >= bytes.len() {
-            return Err(Diagnostic::file(
+            // Located where the file ends, so the user sees how far the header got.
+            return Err(Diagnostic::new(
                 file,
+                line,
+                col,
                 "the PGM header ends before width, height and maxval",
+                Some(&header_text),
             )
             .into());
         }
@@ -494,14 +498,14 @@ pub fn parse_pgm(
     let width = if maxval < 256 { 1 } else { 2 };
     let need = cols * rows * width;
     if data.len() < need {
-        return Err(Diagnostic::file(
-            file,
+        // Samples have no lines: point at the width, which with the height sets how many.
+        return Err(at(
+            1,
             format!(
                 "expected {need} bytes of samples for {cols}×{rows} at maxval {maxval}, found {}",
                 data.len()
             ),
-        )
-        .into());
+        ));
     }
     let heights = (0..cols * rows)
         .map(|i| {
@@ -687,5 +691,13 @@ mod tests {
             d.message,
             "expected 4 bytes of samples for 2×2 at maxval 255, found 1"
         );
+        assert_eq!((d.line, d.col), (2, 1));
+        // A header cut short is located where the file ends.
+        let d = parse_pgm(b"P5\n2 ", "h.pgm", 1.0, 1.0)
+            .unwrap_err()
+            .0
+            .remove(0);
+        assert_eq!((d.line, d.col), (2, 3));
+        assert_eq!(d.source_line.as_deref(), Some("2 "));
     }
 }
