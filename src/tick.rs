@@ -740,7 +740,6 @@ impl Pipeline {
 
     /// Calls the species' `on_event(kind)` for agent `i`, if it has one (sequential: events are
     /// rare).
-    #[allow(clippy::result_large_err)] // the script call's error, as `Script::call_args`
     fn on_event(&mut self, world: &mut World, i: usize, kind: &str, tick: u64) {
         let set = self.species.clone();
         let sp = &set.species[world.agents[i].species.0 as usize];

@@ -241,8 +241,6 @@ impl Script {
     }
 
     /// Calls `name` with `view` bound as `this` and no arguments.
-    // A failed call is rare and reported once; boxing its diagnostic would only add noise.
-    #[allow(clippy::result_large_err)]
     pub fn call<T: Clone + Send + Sync + 'static>(
         &self,
         scope: &mut Scope,
@@ -253,7 +251,6 @@ impl Script {
     }
 
     /// Calls `name` with `this` bound and `args`.
-    #[allow(clippy::result_large_err)]
     pub fn call_args<T: Clone + Send + Sync + 'static>(
         &self,
         scope: &mut Scope,
