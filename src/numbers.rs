@@ -53,6 +53,13 @@ fn find_key(text: &str, key: &str, from: usize) -> Option<(usize, usize)> {
                 while j < bytes.len() && bytes[j].is_ascii_whitespace() {
                     j += 1;
                 }
+                // An optional value written `Some(x)`: the problem is `x`, not `Some`.
+                if bytes[j.min(bytes.len())..].starts_with(b"Some(") {
+                    j += "Some(".len();
+                    while j < bytes.len() && bytes[j].is_ascii_whitespace() {
+                        j += 1;
+                    }
+                }
                 return Some((at, j.min(text.len())));
             }
             _ => continue,
