@@ -202,7 +202,7 @@ fn nan_and_inf_in_a_species_are_refused_at_their_keys() {
             "`min_time` must be a finite number ≥ 0, not -1",
         ),
         (
-            "response: ",
+            "response: Some(",
             "`response` must be a finite number ≥ 0, not NaN",
         ),
     ] {
