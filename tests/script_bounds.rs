@@ -357,7 +357,6 @@ fn agent(id: i64) -> rhai::Dynamic {
 }
 
 #[test]
-#[allow(clippy::result_large_err)] // `Script::call`'s error, as it is
 fn a_call_past_its_time_budget_is_stopped_with_an_error_naming_script_function_and_agent() {
     let (_dir, script) = spinner();
     let clock = Arc::new(TickClock::new(TimeBudget {
