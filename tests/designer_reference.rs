@@ -191,3 +191,106 @@ fn every_example_of_the_designers_reference_works() {
         "{checked} blocks"
     );
 }
+
+/// The first number in a table cell (`0.3927 (π/8)` → 0.3927); `None` for `—`.
+fn cell_number(cell: &str) -> Option<f32> {
+    let t = cell.trim();
+    if t == "—" {
+        return None;
+    }
+    let end = t
+        .find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | '-' | 'e')))
+        .unwrap_or(t.len());
+    Some(
+        t[..end]
+            .parse()
+            .unwrap_or_else(|_| panic!("not a number: {cell:?}")),
+    )
+}
+
+fn close(a: f32, b: f32) -> bool {
+    (a - b).abs() <= 1e-4 * a.abs().max(b.abs()).max(1e-3)
+}
+
+/// The dotted path `key` in the serialized default of the species part it names, if it is one.
+fn species_default(key: &str) -> Option<serde_json::Value> {
+    let (part, path) = key.split_once('.')?;
+    let root = match part {
+        "senses" => serde_json::to_value(SenseParams::default()),
+        "avoid" => serde_json::to_value(AvoidParams::default()),
+        "drives" => serde_json::to_value(DrivesDef::default()),
+        "body" => serde_json::to_value(BodyDef::default()),
+        _ => return None,
+    }
+    .unwrap();
+    let mut v = &root;
+    for field in path.split('.') {
+        v = v
+            .get(field)
+            .unwrap_or_else(|| panic!("{key}: no field {field:?} in the species format"));
+    }
+    Some(v.clone())
+}
+
+#[test]
+fn the_seed_constants_table_matches_the_engine() {
+    let readme = std::fs::read_to_string("behaviors/README.md").unwrap();
+    let start = readme
+        .find("\n## Seed constants")
+        .expect("a Seed constants section");
+    let section = &readme[start + 1..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |i| i + 3)];
+    let mut rows = Vec::new();
+    for line in section.lines() {
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        // | `key` | default | paper | seed | meaning |
+        if cells.len() < 6 || !cells[1].starts_with('`') {
+            continue;
+        }
+        let key = cells[1].trim_matches('`').to_string();
+        let default = cell_number(cells[2]).unwrap_or_else(|| panic!("{key}: no default"));
+        rows.push((key, default, cell_number(cells[3]), cells[4].to_string()));
+    }
+    let engine = shoal::species::seeds::seed_constants();
+    for c in &engine {
+        let Some(row) = rows.iter().find(|r| r.0 == c.key) else {
+            panic!("{} is missing from the reference's seed constants", c.key);
+        };
+        assert!(
+            close(row.1, c.default),
+            "{}: the reference says default {}, the engine {}",
+            c.key,
+            row.1,
+            c.default
+        );
+        match (row.2, c.paper) {
+            (None, None) => {}
+            (Some(a), Some(b)) if close(a, b) => {}
+            (a, b) => panic!(
+                "{}: paper value {a:?} in the reference, {b:?} in the engine",
+                c.key
+            ),
+        }
+        assert_eq!(row.3, c.seed, "{}: seed section", c.key);
+        if let Some(v) = species_default(c.key) {
+            let v = v
+                .as_f64()
+                .or_else(|| v.get("Some").and_then(|x| x.as_f64()));
+            let v = v.unwrap_or_else(|| panic!("{}: not a number in the format", c.key)) as f32;
+            assert!(
+                close(v, c.default),
+                "{}: format default {v}, registry {}",
+                c.key,
+                c.default
+            );
+        }
+    }
+    for r in &rows {
+        assert!(
+            engine.iter().any(|c| c.key == r.0),
+            "{} is in the reference but not in the engine's seed constants",
+            r.0
+        );
+    }
+    assert!(rows.len() >= 6);
+}

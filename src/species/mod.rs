@@ -3,6 +3,7 @@
 //! looks up by string what is resolved here.
 
 pub mod def;
+pub mod seeds;
 pub mod validate;
 
 pub use def::*;

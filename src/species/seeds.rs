@@ -1,0 +1,99 @@
+//! Every constant of the five source documents (`../shared/SEEDS.md`) that a species or scenario
+//! file can override: its key, the engine's default, the paper's value and the section it comes
+//! from. The designers' reference lists the same table (`behaviors/README.md`, "Seed
+//! constants"); `tests/designer_reference.rs` keeps the two equal and checks that each species
+//! key exists in the format with that default.
+//!
+//! A default read here comes from the `Default` of the type that holds the key, so the table
+//! cannot drift from the code. A default that differs from the paper's value says why in the
+//! reference.
+
+use crate::drives::DriveParams;
+use crate::perception::SenseParams;
+use crate::species::ChaseDef;
+use crate::steering::avoid::AvoidParams;
+
+/// One overridable seed constant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeedConstant {
+    /// Where it is written: `senses.vision_half_angle` (a species key, dotted path), `Chase(max_turn)`
+    /// (a parameter of a steering primitive or condition), `squads[].…` (a scenario key).
+    pub key: &'static str,
+    /// The engine's default.
+    pub default: f32,
+    /// The paper's value (`None`: the paper names the constant without a number).
+    pub paper: Option<f32>,
+    /// Source document and section: `000 §4.1`.
+    pub seed: &'static str,
+}
+
+fn c(key: &'static str, default: f32, paper: Option<f32>, seed: &'static str) -> SeedConstant {
+    SeedConstant {
+        key,
+        default,
+        paper,
+        seed,
+    }
+}
+
+/// The seed constants, grouped by the part of the engine that uses them.
+pub fn seed_constants() -> Vec<SeedConstant> {
+    use std::f32::consts::{FRAC_PI_4, FRAC_PI_8};
+    let senses = SenseParams::default();
+    let drives = DriveParams::default();
+    let avoid = AvoidParams::default();
+    let chase = ChaseDef::default();
+    let mut out = Vec::new();
+
+    // Perception (000 §1, 001, 002).
+    out.extend([c(
+        "senses.vision_half_angle",
+        senses.vision_half_angle,
+        Some(150f32.to_radians()),
+        "000 §1",
+    )]);
+
+    // Drives (000 §2, 003).
+    out.extend([
+        c("drives.params.p0", drives.p0, Some(0.00067), "000 §2"),
+        c("drives.params.p1", drives.p1, Some(0.0025), "000 §2"),
+        c("drives.params.d0", drives.d0, Some(200.0), "000 §2"),
+    ]);
+
+    // Obstacle avoidance, move to goal and escape (000 §4).
+    out.extend([
+        c("avoid.m0", avoid.m0, None, "000 §4.1"),
+        c("avoid.turn", avoid.turn, Some(FRAC_PI_8), "000 §4.1"),
+        c(
+            "Chase(max_turn)",
+            chase.max_turn,
+            Some(FRAC_PI_4),
+            "000 §4.3",
+        ),
+    ]);
+
+    // Schooling and group rules (001, 003).
+    out.extend([]);
+
+    // Formation planning (004).
+    out.extend([]);
+
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_are_unique() {
+        let all = seed_constants();
+        for (i, a) in all.iter().enumerate() {
+            assert!(
+                all[i + 1..].iter().all(|b| b.key != a.key),
+                "{} listed twice",
+                a.key
+            );
+        }
+    }
+}
