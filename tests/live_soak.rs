@@ -409,7 +409,7 @@ fn soak(secs: u64, seed: u64) -> Report {
                     .lock()
                     .unwrap()
                     .push((Instant::now(), tick, took, paused));
-                if n % 5 == 0 {
+                if n.is_multiple_of(5) {
                     rss.lock()
                         .unwrap()
                         .push((t0.elapsed().as_secs_f64(), rss_kb(pid)));
