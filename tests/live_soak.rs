@@ -107,7 +107,7 @@ fn bad(f: usize, i: u64, pick: u64) -> (&'static str, Vec<u8>) {
             "script: runtime type error",
             base.replace("util::next(n)", "util::next(n) + \"x\" - 1"),
         ),
-        (_, 0) => ("module: syntax", base.replace("{ n +", "{ n + +")),
+        (_, 0) => ("module: syntax", base.replace("{ n +", "{ n * *")),
         (_, 1) => (
             "module: imports itself",
             format!("import \"common/util\" as u;\n{base}"),
