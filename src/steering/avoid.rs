@@ -857,6 +857,18 @@ mod tests {
                 speed: 1.0
             }
         );
+        // A pressure equal to M_max is not above it: d = 1 gives U = D = ½·2/2 = 0.5 (R =
+        // cos(π/3) ≤ 0.5); S_f = 1, Δt = 0.5, one obstacle at speed 1: M_max = 1/((1 + 1)·0.5
+        // + 1) = 0.5 → V_min = 1, not 0.
+        let s = avoid_dynamic(&k, &[head_on(1.0, 1.0)], 10.0, VIEW_150, 1.0, 0.5, &p);
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 1.0
+            }
+        );
         // With only the slow obstacle, M_max = 0.5/((1 + 1)·0.1 + 1) = 0.41667 > 0.37037: the
         // fast one's speed is what made d = 1.7 a stop.
         let s = avoid_dynamic(&k, &[head_on(1.7, 1.0)], 10.0, VIEW_150, 0.5, 0.1, &p);
@@ -957,6 +969,18 @@ mod tests {
         assert_eq!(speed(run(1.0, 1.6, &quarter)), 0.4);
         // d = 2: 1/3 ≤ M_max → Vc.
         assert_eq!(speed(run(2.0, 1.6, &quarter)), 1.6);
+        // A pressure equal to M_max is not above it: d = 1 gives U = D = ½·2/2 = 0.5, and
+        // S_f = 1, V_max = 2, Δt = 0.5 give M_max = 1/(2·0.5 + 1) = 0.5 → Vc.
+        let s = avoid_static(
+            &kin(1.6),
+            pressures([src(1.0, FRAC_PI_3, 0.0, 2.0)], 1.0),
+            10.0,
+            1.0,
+            2.0,
+            0.5,
+            &paper(),
+        );
+        assert_eq!(speed(s), 1.6);
         // d = 10: 1/11 = M_min exactly → done.
         assert_eq!(run(10.0, 1.6, &paper()), Steer::None);
         // d = 9: 0.1 > M_min → turn left and up (U = D), speed Vc.

@@ -454,6 +454,15 @@ mod tests {
         assert!(escape_done(&level, std::f32::consts::PI, offset, d, 10.0));
         // Behind in the vertical plane but beside horizontally (θ = π/2 exactly) → not done.
         assert!(!escape_done(&level, FRAC_PI_2, offset, d, 10.0));
+        // Straight above a level fish (offset·forward = 0): not behind → not done.
+        let above = Vec3::new(0.0, 20.0, 0.0);
+        assert!(!escape_done(
+            &level,
+            std::f32::consts::PI,
+            above,
+            20.0,
+            10.0
+        ));
         // At d = v_r exactly → not done.
         assert!(!escape_done(
             &level,

@@ -394,6 +394,11 @@ mod tests {
             goal_by_vision(-2.0, 0.0, 0.3, 0.5, 2.0, &keep),
             turn(-FRAC_PI_4, 0.0, 0.0)
         );
+        // Exactly at the clamp: turn by it.
+        assert_eq!(
+            goal_by_vision(FRAC_PI_4, -FRAC_PI_4, 3.0, 0.5, 2.0, &keep),
+            turn(FRAC_PI_4, -FRAC_PI_4, 2.0)
+        );
     }
 
     #[test]
