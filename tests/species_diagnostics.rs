@@ -396,3 +396,109 @@ fn a_species_file_that_cannot_be_read_is_a_whole_file_diagnostic() {
         .to_string()
         .starts_with("behaviors/no_such_species.ron: cannot read species file: "));
 }
+
+#[test]
+fn bad_avoid_chase_and_escape_constants_are_located() {
+    // Seed 000 §4 constants made keys: each bad value is refused at its key with what was
+    // expected.
+    let bad = MINNOW
+        .replace(
+            "    initial: \"idle\",",
+            "    avoid: (brake: 1.5, m_min_factor: Some(-0.1)),\n    initial: \"idle\",",
+        )
+        .replace(
+            "steer: Wander(),",
+            "steer: Priority([Chase(turn: -0.1, rear_turn: 4.0, front: 2.0, rear: 1.0), \
+             Escape(turn: NaN, vision_turn: 4.0, front: -1.0, smell_brake: 2.0, far_speed: 1.5), \
+             AvoidDynamic(m_min_factor: Some(2.5), brake: -1.0)]),",
+        );
+    // Line and 1-based column of the end of the `k`-th occurrence of `needle`.
+    let at = |needle: &str, k: usize| {
+        let mut from = 0;
+        let mut i = 0;
+        for _ in 0..=k {
+            i = from + bad[from..].find(needle).unwrap();
+            from = i + needle.len();
+        }
+        let line = bad[..i].matches('\n').count() + 1;
+        let col = bad[..from].rsplit('\n').next().unwrap().chars().count() + 1;
+        (line, col)
+    };
+    let mut want: Vec<(String, usize, usize, String)> = [
+        (
+            "brake: ",
+            0,
+            "`brake` must be a number from 0 to 1, not 1.5",
+        ),
+        (
+            "m_min_factor: Some(",
+            0,
+            "`m_min_factor` must be a number from 0 to 2, not -0.1",
+        ),
+        (
+            "turn: ",
+            0,
+            "`turn` must be a number from 0 to 3.1415927, not -0.1",
+        ),
+        (
+            "rear_turn: ",
+            0,
+            "`rear_turn` must be a number from 0 to 3.1415927, not 4",
+        ),
+        (
+            "front: ",
+            0,
+            "`front` must be a number from 0 to 1.5707964, not 2",
+        ),
+        (
+            "rear: ",
+            0,
+            "`rear` must be a number from 1.5707964 to 3.1415927, not 1",
+        ),
+        // The 2nd and 4th `turn: ` end `rear_turn: ` and `vision_turn: `.
+        (
+            "turn: ",
+            2,
+            "`turn` must be a number from 0 to 3.1415927, not NaN",
+        ),
+        (
+            "vision_turn: ",
+            0,
+            "`vision_turn` must be a number from 0 to 3.1415927, not 4",
+        ),
+        (
+            "front: ",
+            1,
+            "`front` must be a number from 0 to 1.5707964, not -1",
+        ),
+        (
+            "smell_brake: ",
+            0,
+            "`smell_brake` must be a number from 0 to 1, not 2",
+        ),
+        (
+            "far_speed: ",
+            0,
+            "`far_speed` must be a number from 0 to 1, not 1.5",
+        ),
+        // The 2nd `brake: ` ends `smell_brake: `.
+        ("brake: ", 2, "`brake` must be a number from 0 to 1, not -1"),
+        (
+            "m_min_factor: Some(",
+            1,
+            "`m_min_factor` must be a number from 0 to 2, not 2.5",
+        ),
+    ]
+    .into_iter()
+    .map(|(needle, k, msg)| {
+        let (l, c) = at(needle, k);
+        ("minnow.ron".to_string(), l, c, msg.to_string())
+    })
+    .collect();
+    let mut got = diagnostics(&bad, MINNOW_RHAI, &[]);
+    // The minnow has no food or predator relation: those complaints are not the point here.
+    got.retain(|d| d.3.contains(" must be "));
+    want.sort();
+    got.sort();
+    assert_eq!(got, want);
+}

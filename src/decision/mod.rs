@@ -238,6 +238,7 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
                     &ctx.kin(),
                     &v,
                     ctx.species.senses.vision_radius,
+                    ctx.species.senses.vision_half_angle,
                     ctx.agent.diagonal(),
                     ctx.dt,
                     params,

@@ -9,7 +9,8 @@ use crate::locomotion::anim::AnimParams;
 use crate::locomotion::{Limits, Mode};
 use crate::perception::{Category, SenseParams};
 use crate::steering::avoid::AvoidParams;
-use crate::steering::goal::Prediction;
+use crate::steering::escape::EscapeRules;
+use crate::steering::goal::{GoalRules, Prediction, Sectors, VisionTurn};
 use crate::steering::group::Zones;
 use crate::steering::wander::WanderParams;
 use crate::terrain::Mobility;
@@ -407,7 +408,8 @@ pub enum Target {
     Home,
 }
 
-/// Parameters of move-to-goal (seed 000 §4.3).
+/// Parameters of move-to-goal (seed 000 §4.3, seed 003's foraging); the angles default to the
+/// paper's.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ChaseDef {
@@ -417,14 +419,48 @@ pub struct ChaseDef {
     pub d0: f32,
     /// Largest turn per step in vision mode (π/4).
     pub max_turn: f32,
+    /// Smell-mode turn toward a target in a front side sector, and pitch toward one above or
+    /// below (π/8).
+    pub turn: f32,
+    /// Smell-mode turn toward a target in a rear sector (π/4).
+    pub rear_turn: f32,
+    /// Half-width of the front sector (π/6); also the vertical level band.
+    pub front: f32,
+    /// Where the rear sector begins (5π/6).
+    pub rear: f32,
+    /// Vision mode within the clamp: `Bearing` turns by the bearing (seed 003's foraging),
+    /// `KeepHeading` keeps the heading (seed 000 as printed).
+    pub vision: VisionTurn,
 }
 
 impl Default for ChaseDef {
     fn default() -> Self {
+        let r = GoalRules::default();
         ChaseDef {
             target: Category::Food,
             d0: 0.5,
-            max_turn: std::f32::consts::FRAC_PI_4,
+            max_turn: r.max_turn,
+            turn: r.turn,
+            rear_turn: r.rear_turn,
+            front: r.sectors.front,
+            rear: r.sectors.rear,
+            vision: r.vision,
+        }
+    }
+}
+
+impl ChaseDef {
+    /// The angles of move-to-goal.
+    pub fn rules(&self) -> GoalRules {
+        GoalRules {
+            turn: self.turn,
+            rear_turn: self.rear_turn,
+            sectors: Sectors {
+                front: self.front,
+                rear: self.rear,
+            },
+            max_turn: self.max_turn,
+            vision: self.vision,
         }
     }
 }
@@ -444,22 +480,49 @@ pub struct EscapeDef {
     pub max_pitch: f32,
     /// Slowest escape speed, as a fraction of `V_max`.
     pub speed_floor: f32,
+    /// Smell-mode turn and pitch away from the predator (π/8).
+    pub turn: f32,
+    /// Vision-mode turn and pitch away from the predator (π/4).
+    pub vision_turn: f32,
+    /// Half-width of the front sector, and of the level band in smell mode (π/6).
+    pub front: f32,
+    /// Smell mode, predator ahead: speed `smell_brake·Vc` (the paper's `Vc/2`).
+    pub smell_brake: f32,
+    /// Vision mode, predator beyond `v_r`: speed `far_speed·V_max` (the paper's `V_max/2`).
+    pub far_speed: f32,
 }
 
 impl Default for EscapeDef {
     fn default() -> Self {
         let l = crate::steering::escape::Leveling::default();
+        let r = EscapeRules::default();
         EscapeDef {
             from: Category::Predator,
             paper: false,
             level_band: l.level_band,
             max_pitch: l.max_pitch,
             speed_floor: l.speed_floor,
+            turn: r.turn,
+            vision_turn: r.vision_turn,
+            front: r.front,
+            smell_brake: r.smell_brake,
+            far_speed: r.far_speed,
         }
     }
 }
 
 impl EscapeDef {
+    /// The constants of the paper's escape.
+    pub fn rules(&self) -> EscapeRules {
+        EscapeRules {
+            turn: self.turn,
+            vision_turn: self.vision_turn,
+            front: self.front,
+            smell_brake: self.smell_brake,
+            far_speed: self.far_speed,
+        }
+    }
+
     /// The runtime's additions to the paper's escape.
     pub fn leveling(&self) -> crate::steering::escape::Leveling {
         crate::steering::escape::Leveling {

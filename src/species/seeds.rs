@@ -10,8 +10,8 @@
 
 use crate::drives::DriveParams;
 use crate::perception::SenseParams;
-use crate::species::ChaseDef;
-use crate::steering::avoid::AvoidParams;
+use crate::species::{ChaseDef, EscapeDef};
+use crate::steering::avoid::{AvoidParams, PAPER_M_MIN_FACTOR};
 
 /// One overridable seed constant.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,11 +38,12 @@ fn c(key: &'static str, default: f32, paper: Option<f32>, seed: &'static str) ->
 
 /// The seed constants, grouped by the part of the engine that uses them.
 pub fn seed_constants() -> Vec<SeedConstant> {
-    use std::f32::consts::{FRAC_PI_4, FRAC_PI_8};
+    use std::f32::consts::{FRAC_PI_4, FRAC_PI_6, FRAC_PI_8};
     let senses = SenseParams::default();
     let drives = DriveParams::default();
     let avoid = AvoidParams::default();
     let chase = ChaseDef::default();
+    let escape = EscapeDef::default();
     let mut out = Vec::new();
 
     // Perception (000 §1, 001, 002).
@@ -64,12 +65,44 @@ pub fn seed_constants() -> Vec<SeedConstant> {
     out.extend([
         c("avoid.m0", avoid.m0, None, "000 §4.1"),
         c("avoid.turn", avoid.turn, Some(FRAC_PI_8), "000 §4.1"),
+        c("avoid.brake", avoid.brake, Some(0.5), "000 §4.1"),
+        // Derived from the species' view: the number shown is the default view's (150°).
+        c(
+            "AvoidDynamic(m_min_factor)",
+            avoid.dynamic_m_min_factor(senses.vision_half_angle),
+            Some(PAPER_M_MIN_FACTOR),
+            "000 §4.2",
+        ),
         c(
             "Chase(max_turn)",
             chase.max_turn,
             Some(FRAC_PI_4),
             "000 §4.3",
         ),
+        c("Chase(turn)", chase.turn, Some(FRAC_PI_8), "000 §4.3"),
+        c(
+            "Chase(rear_turn)",
+            chase.rear_turn,
+            Some(FRAC_PI_4),
+            "000 §4.3",
+        ),
+        c("Chase(front)", chase.front, Some(FRAC_PI_6), "000 §4.3"),
+        c("Chase(rear)", chase.rear, Some(5.0 * FRAC_PI_6), "000 §4.3"),
+        c("Escape(turn)", escape.turn, Some(FRAC_PI_8), "000 §4.4"),
+        c(
+            "Escape(vision_turn)",
+            escape.vision_turn,
+            Some(FRAC_PI_4),
+            "000 §4.4",
+        ),
+        c("Escape(front)", escape.front, Some(FRAC_PI_6), "000 §4.4"),
+        c(
+            "Escape(smell_brake)",
+            escape.smell_brake,
+            Some(0.5),
+            "000 §4.4",
+        ),
+        c("Escape(far_speed)", escape.far_speed, Some(0.5), "000 §4.4"),
     ]);
 
     // Schooling and group rules (001, 003).

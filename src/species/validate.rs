@@ -483,11 +483,18 @@ impl Builder<'_> {
                 n.non_negative("range", r);
             }
             n.range("brake_floor", p.brake_floor, 0.0, 1.0);
+            avoid_factors(n, p);
         };
         let escape = |n: &mut NumberCheck, e: &EscapeDef| {
-            n.range("level_band", e.level_band, 0.0, std::f32::consts::FRAC_PI_2);
-            n.range("max_pitch", e.max_pitch, 0.0, std::f32::consts::FRAC_PI_2);
+            use std::f32::consts::{FRAC_PI_2, PI};
+            n.range("level_band", e.level_band, 0.0, FRAC_PI_2);
+            n.range("max_pitch", e.max_pitch, 0.0, FRAC_PI_2);
             n.range("speed_floor", e.speed_floor, 0.0, 1.0);
+            n.range("turn", e.turn, 0.0, PI);
+            n.range("vision_turn", e.vision_turn, 0.0, PI);
+            n.range("front", e.front, 0.0, FRAC_PI_2);
+            n.range("smell_brake", e.smell_brake, 0.0, 1.0);
+            n.range("far_speed", e.far_speed, 0.0, 1.0);
         };
         let seek = |n: &mut NumberCheck, s: &SeekDef| {
             n.non_negative("slow_radius", s.slow_radius);
@@ -524,8 +531,14 @@ impl Builder<'_> {
             }
             Recipe::Chase(c) => {
                 n.enter("Chase");
+                use std::f32::consts::{FRAC_PI_2, PI};
                 n.non_negative("d0", c.d0);
                 n.positive("max_turn", c.max_turn);
+                n.range("turn", c.turn, 0.0, PI);
+                n.range("rear_turn", c.rear_turn, 0.0, PI);
+                // Front sector within ±π/2, rear sectors from ±π/2 on.
+                n.range("front", c.front, 0.0, FRAC_PI_2);
+                n.range("rear", c.rear, FRAC_PI_2, PI);
             }
             Recipe::Escape(e) => {
                 n.enter("Escape");
@@ -712,6 +725,7 @@ impl Builder<'_> {
             n.non_negative("range", r);
         }
         n.range("brake_floor", p.brake_floor, 0.0, 1.0);
+        avoid_factors(n, p);
         // Attributes and drives.
         n.from = 0;
         n.enter("attributes");
@@ -961,6 +975,15 @@ impl Builder<'_> {
             has_on_tick,
             has_on_event,
         })
+    }
+}
+
+/// The factors of the pressure fields (seed 000 §4.1–§4.2): the braking factor a fraction,
+/// the dynamic `M_min` factor `1 − cos(half-angle)` of some view, so in [0, 2].
+fn avoid_factors(n: &mut NumberCheck, p: &AvoidParams) {
+    n.range("brake", p.brake, 0.0, 1.0);
+    if let Some(f) = p.m_min_factor {
+        n.range("m_min_factor", f, 0.0, 2.0);
     }
 }
 

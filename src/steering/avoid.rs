@@ -1,6 +1,13 @@
 //! Obstacle avoidance: the artificial potential field of seed 000 §4.1 (static) and §4.2
 //! (dynamic, weighted by −cos α), and seed 001's collision prediction by the path test and
 //! boundary containment.
+//!
+//! Every constant of the two fields is a key of [`AvoidParams`] with the paper's value as its
+//! default: the margin `m0`, the turn π/8, the braking factor (`Vc/2`) and the dynamic threshold's
+//! factor. The paper integrates §4.2's `M_min` over its ±150° view and gets `(1 + √3/2)`, which is
+//! `1 − cos 150°`; the engine takes `1 − cos(half-angle)` of the species' own vision cone by
+//! default (the same number for a 150° view), and `m_min_factor: Some(1.866)` keeps the paper's
+//! fixed constant whatever the view.
 
 use super::{Kin, Steer};
 use crate::world::Aabb;
@@ -160,6 +167,14 @@ pub struct AvoidParams {
     /// Slowest speed braking brings a body to, as a fraction of `V_max` (0: the paper's `Vc/2`
     /// applied every tick, which decays to a standstill next to any obstacle that stays in view).
     pub brake_floor: f32,
+    /// Braking factor of the static field: the speed becomes `brake·Vc` when a pressure exceeds
+    /// `M_max` (the paper's `Vc/2`: 0.5).
+    pub brake: f32,
+    /// Factor of the dynamic field's threshold `M_min = −factor·cos α/(v_r + m0)` (seed 000
+    /// §4.2). `None`: `1 − cos(half-angle)` of the species' vision cone, the paper's integral
+    /// over the whole view; `Some(1.866)`: the paper's `1 + √3/2` (its 150° view) whatever the
+    /// view.
+    pub m_min_factor: Option<f32>,
 }
 
 impl Default for AvoidParams {
@@ -171,6 +186,8 @@ impl Default for AvoidParams {
             kin: false,
             paper_field: false,
             brake_floor: 0.3,
+            brake: 0.5,
+            m_min_factor: None,
         }
     }
 }
@@ -180,6 +197,28 @@ impl AvoidParams {
     pub fn in_range(&self, dist: f32) -> bool {
         self.range.is_none_or(|r| dist <= r)
     }
+
+    /// The factor of the dynamic threshold `M_min` for a vision cone of this half-angle:
+    /// `m_min_factor` when set, else `1 − cos(half_angle)` (seed 000 §4.2 integrates
+    /// `d cos θ` from `−half_angle` to 0; for its ±150° view that is `1 + √3/2`).
+    pub fn dynamic_m_min_factor(&self, vision_half_angle: f32) -> f32 {
+        self.m_min_factor
+            .unwrap_or_else(|| 1.0 - vision_half_angle.cos())
+    }
+}
+
+/// The paper's fixed factor of the dynamic `M_min`, `1 + √3/2 = 1 − cos 150°` (seed 000 §4.2).
+pub const PAPER_M_MIN_FACTOR: f32 = 1.866_025_4;
+
+/// Dynamic `M_min = −factor·cos α/(v_r + m0)`, written with `neg_cos = −cos α` (seed 000 §4.2).
+pub fn dynamic_m_min(factor: f32, neg_cos: f32, vision_radius: f32, m0: f32) -> f32 {
+    factor * neg_cos / (vision_radius + m0)
+}
+
+/// Dynamic `M_max = S_f/((V_max + V_min)·Δt + m0)`, `V_max`/`V_min` the fastest and slowest
+/// obstacle speeds (seed 000 §4.2).
+pub fn dynamic_m_max(fish_size: f32, v_fast: f32, v_slow: f32, dt: f32, m0: f32) -> f32 {
+    fish_size / ((v_fast + v_slow) * dt + m0)
 }
 
 /// `M_min = 1/(v_r + m0)`.
@@ -215,7 +254,8 @@ fn turn_rule(p: &Pressures, m_min: f32, turn: f32) -> (f32, f32) {
 
 /// Avoid static obstacles (seed 000 §4.1) from the field's pressures `p` ([`pressures`] or
 /// [`front_pressures`]). Returns [`Steer::None`] when the behavior is done (all four pressures
-/// `≤ M_min`). Speed: `Vc/2` when any pressure exceeds `M_max`, else `Vc`; never below
+/// `≤ M_min`). Speed: `brake·Vc` (the paper's `Vc/2`) when any pressure exceeds `M_max`, else
+/// `Vc`; never below
 /// `brake_floor·V_max`, so that a body next to an obstacle keeps the speed to leave it (the paper
 /// halves the speed every step, which a field that stays above `M_max` turns into a standstill).
 /// With the front-half field an obstacle level with the heading does not make the body pitch:
@@ -239,7 +279,7 @@ pub fn avoid_static(
         pitch = 0.0;
     }
     let speed = if p.max() > m_max {
-        kin.speed / 2.0
+        kin.speed * params.brake
     } else {
         kin.speed
     };
@@ -265,14 +305,17 @@ pub fn head_on_weight(own: Vec3, other: Vec3) -> f32 {
 }
 
 /// Avoid dynamic obstacles (seed 000 §4.2): every term of §4.1 times `−cos α_i` (head-on is most
-/// dangerous). `M_min = −(1 + √3/2)·cos α/(v_r + m0)` with α of the nearest obstacle,
-/// `M_max = S_f/((V_max + V_min)·Δt + m0)` with `V_max`/`V_min` the fastest/slowest obstacle
-/// speeds (a negative `M_min`, traffic moving away, is raised to 0). Speed: `Vc` when all pressures `≤ M_min` (then the result is [`Steer::None`]), `0` when
-/// any exceeds `M_max`, else `V_min`.
+/// dangerous). `M_min = −factor·cos α/(v_r + m0)` with α of the nearest obstacle and `factor`
+/// from [`AvoidParams::dynamic_m_min_factor`] for a vision cone of `vision_half_angle` (the
+/// paper's `1 + √3/2` for ±150°), `M_max = S_f/((V_max + V_min)·Δt + m0)` with `V_max`/`V_min`
+/// the fastest/slowest obstacle speeds (a negative `M_min`, traffic moving away, is raised to 0).
+/// Speed: `Vc` when all pressures `≤ M_min` (then the result is [`Steer::None`]), `0` when any
+/// exceeds `M_max`, else `V_min`.
 pub fn avoid_dynamic(
     kin: &Kin,
     obstacles: &[MovingObstacle],
     vision_radius: f32,
+    vision_half_angle: f32,
     fish_size: f32,
     dt: f32,
     params: &AvoidParams,
@@ -291,7 +334,8 @@ pub fn avoid_dynamic(
         .min_by(|a, b| a.source.dist.total_cmp(&b.source.dist))
         .expect("non-empty");
     let neg_cos = head_on_weight(own, nearest.velocity);
-    let m_min = (1.0 + 3f32.sqrt() / 2.0) * neg_cos / (vision_radius + params.m0);
+    let factor = params.dynamic_m_min_factor(vision_half_angle);
+    let m_min = dynamic_m_min(factor, neg_cos, vision_radius, params.m0);
     // Sides without obstacles have pressure 0; when the nearest obstacle moves away (M_min < 0)
     // that empty side must not count as danger, so the threshold is never below 0.
     let m_min = m_min.max(0.0);
@@ -304,7 +348,7 @@ pub fn avoid_dynamic(
         v_fast = v_fast.max(s);
         v_slow = v_slow.min(s);
     }
-    let m_max = fish_size / ((v_fast + v_slow) * dt + params.m0);
+    let m_max = dynamic_m_max(fish_size, v_fast, v_slow, dt, params.m0);
     let (yaw, pitch) = turn_rule(&p, m_min, params.turn);
     let speed = if p.max() > m_max { 0.0 } else { v_slow };
     Steer::Turn { yaw, pitch, speed }
@@ -328,20 +372,22 @@ pub fn path_test(pos: Vec3, look_ahead: Vec3, center: Vec3, radius: f32) -> Opti
     (p.length() < look_ahead.length() && b.length() < radius).then_some(b)
 }
 
-/// Collision prediction (seed 001): tests every obstacle's bounding sphere against the path
-/// `speed·horizon` ahead and, for the nearest predicted hit, steers sideways away from it (away
-/// from `b`; straight ahead hits turn to the left). `obstacles` yields `(centre, radius)`.
+/// Collision prediction (seed 001): tests every obstacle's bounding sphere, its radius grown by
+/// `margin`, against the path `speed·horizon` ahead and, for the nearest predicted hit, steers
+/// sideways away from it (away from `b`; straight ahead hits turn to the left). `obstacles`
+/// yields `(centre, radius)`.
 pub fn predict_collision(
     kin: &Kin,
     obstacles: impl IntoIterator<Item = (Vec3, f32)>,
     horizon: f32,
+    margin: f32,
     max_speed: f32,
 ) -> Steer {
     let fwd = kin.forward();
     let look = fwd * kin.speed.max(0.1 * max_speed) * horizon;
     let mut best: Option<(f32, Vec3)> = None;
     for (c, r) in obstacles {
-        if let Some(b) = path_test(kin.pos, look, c, r) {
+        if let Some(b) = path_test(kin.pos, look, c, r + margin) {
             let along = (c - kin.pos).dot(fwd);
             if best.is_none_or(|(d, _)| along < d) {
                 best = Some((along, b));
@@ -399,7 +445,10 @@ pub fn contain_facing(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f32::consts::{FRAC_PI_3, FRAC_PI_4};
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, PI};
+
+    /// The paper's ±150° view.
+    const VIEW_150: f32 = 5.0 * FRAC_PI_6;
 
     fn kin(speed: f32) -> Kin {
         Kin {
@@ -599,7 +648,15 @@ mod tests {
             source: src(1.0, FRAC_PI_3, 0.0, 2.0),
             velocity: -Vec3::Z,
         };
-        let s = avoid_dynamic(&kin(1.0), &[o], 10.0, 0.5, 0.1, &AvoidParams::default());
+        let s = avoid_dynamic(
+            &kin(1.0),
+            &[o],
+            10.0,
+            VIEW_150,
+            0.5,
+            0.1,
+            &AvoidParams::default(),
+        );
         let Steer::Turn { yaw, speed, .. } = s else {
             panic!("{s:?}")
         };
@@ -614,7 +671,15 @@ mod tests {
             source: src(1.0, FRAC_PI_3, 0.0, 2.0),
             velocity: Vec3::Z,
         };
-        let s = avoid_dynamic(&kin(1.0), &[o], 10.0, 0.5, 0.1, &AvoidParams::default());
+        let s = avoid_dynamic(
+            &kin(1.0),
+            &[o],
+            10.0,
+            VIEW_150,
+            0.5,
+            0.1,
+            &AvoidParams::default(),
+        );
         assert_eq!(s, Steer::None);
     }
 
@@ -663,9 +728,342 @@ mod tests {
     #[test]
     fn predicted_collision_steers_away_from_the_side_of_the_obstacle() {
         // Obstacle slightly to the left (+X is left): steer toward −X.
-        let s = predict_collision(&kin(1.0), [(Vec3::new(0.3, 0.0, 3.0), 1.0)], 5.0, 1.0);
+        let s = predict_collision(&kin(1.0), [(Vec3::new(0.3, 0.0, 3.0), 1.0)], 5.0, 0.0, 1.0);
         let Steer::Velocity(v) = s else { panic!() };
         assert!(v.x < 0.0 && v.z > 0.0);
+    }
+
+    #[test]
+    fn static_thresholds_hand_computed() {
+        // M_min = 1/(v_r + m0) = 1/(6 + 2) = 0.125.
+        assert_eq!(static_m_min(6.0, 2.0), 0.125);
+        // M_max = S_f/(V_max·Δt + m0) = 3/(4·0.5 + 1) = 1.
+        assert_eq!(static_m_max(3.0, 4.0, 0.5, 1.0), 1.0);
+        // 2/(3·0.25 + 0.5) = 2/1.25 = 1.6.
+        assert!((static_m_max(2.0, 3.0, 0.25, 0.5) - 1.6).abs() < 1e-6);
+    }
+
+    #[test]
+    fn dynamic_thresholds_hand_computed() {
+        // M_min = factor·(−cos α)/(v_r + m0) = 2·0.5/(3 + 1) = 0.25.
+        assert_eq!(dynamic_m_min(2.0, 0.5, 3.0, 1.0), 0.25);
+        // Paper: (1 + √3/2)·1/(10 + 1) = 0.169638.
+        assert!((dynamic_m_min(PAPER_M_MIN_FACTOR, 1.0, 10.0, 1.0) - 0.169_638_7).abs() < 1e-6);
+        // M_max = S_f/((V_max + V_min)·Δt + m0) = 0.5/((3 + 1)·0.1 + 1) = 0.5/1.4 = 0.357143.
+        assert!((dynamic_m_max(0.5, 3.0, 1.0, 0.1, 1.0) - 0.357_142_87).abs() < 1e-6);
+        // 3/((2 + 0.5)·2 + 1) = 3/6 = 0.5.
+        assert_eq!(dynamic_m_max(3.0, 2.0, 0.5, 2.0, 1.0), 0.5);
+    }
+
+    #[test]
+    fn dynamic_m_min_factor_is_one_minus_cos_of_the_view() {
+        let p = AvoidParams::default();
+        // 1 − cos 150° = 1 + √3/2 = 1.866025.
+        assert!((p.dynamic_m_min_factor(VIEW_150) - PAPER_M_MIN_FACTOR).abs() < 1e-6);
+        assert!((PAPER_M_MIN_FACTOR - (1.0 + 3f32.sqrt() / 2.0)).abs() < 1e-7);
+        // 1 − cos 90° = 1; 1 − cos 180° = 2; 1 − cos 60° = 0.5.
+        assert!((p.dynamic_m_min_factor(FRAC_PI_2) - 1.0).abs() < 1e-6);
+        assert!((p.dynamic_m_min_factor(PI) - 2.0).abs() < 1e-6);
+        assert!((p.dynamic_m_min_factor(FRAC_PI_3) - 0.5).abs() < 1e-6);
+        // The paper's fixed constant whatever the view.
+        let fixed = AvoidParams {
+            m_min_factor: Some(PAPER_M_MIN_FACTOR),
+            ..p
+        };
+        assert_eq!(fixed.dynamic_m_min_factor(FRAC_PI_2), PAPER_M_MIN_FACTOR);
+    }
+
+    /// A head-on obstacle (velocity −Z against the fish's +Z) at θ = +π/3, level, size 2.
+    fn head_on(dist: f32, speed: f32) -> MovingObstacle {
+        MovingObstacle {
+            source: src(dist, FRAC_PI_3, 0.0, 2.0),
+            velocity: -Vec3::Z * speed,
+        }
+    }
+
+    #[test]
+    fn avoid_dynamic_m_min_brackets_the_pressure() {
+        // v_r = 10, m0 = 1, −cos α = 1. With S = 2 at θ = π/3, level: R = 2·cos(π/3)/(d + 1)
+        // = 1/(d + 1), U = D = ½·2·1/(d + 1) = 1/(d + 1); the largest is 1/(d + 1).
+        // 150° view: M_min = 1.866/11 = 0.16964.
+        let p = AvoidParams::default();
+        let k = kin(1.0);
+        // d = 5: 1/6 = 0.16667 ≤ 0.16964 → done.
+        assert_eq!(
+            avoid_dynamic(&k, &[head_on(5.0, 1.0)], 10.0, VIEW_150, 0.5, 0.1, &p),
+            Steer::None
+        );
+        // d = 4.5: 1/5.5 = 0.18182 > M_min → avoid.
+        assert!(!avoid_dynamic(&k, &[head_on(4.5, 1.0)], 10.0, VIEW_150, 0.5, 0.1, &p).is_none());
+        // A 90° view: factor 1 − cos 90° = 1, M_min = 1/11 = 0.0909 < 0.16667 → avoid at d = 5.
+        assert!(!avoid_dynamic(&k, &[head_on(5.0, 1.0)], 10.0, FRAC_PI_2, 0.5, 0.1, &p).is_none());
+        // ... unless the paper's fixed constant is asked for.
+        let fixed = AvoidParams {
+            m_min_factor: Some(PAPER_M_MIN_FACTOR),
+            ..p
+        };
+        assert_eq!(
+            avoid_dynamic(&k, &[head_on(5.0, 1.0)], 10.0, FRAC_PI_2, 0.5, 0.1, &fixed),
+            Steer::None
+        );
+    }
+
+    #[test]
+    fn avoid_dynamic_speed_branches_follow_m_max_and_the_slowest_obstacle() {
+        // Two obstacles: the nearest head-on at speed 1 (V_min), a farther one crossing at speed
+        // 3 (V_max; −cos α = 0, so it adds no pressure). S_f = 0.5, Δt = 0.1, m0 = 1:
+        // M_max = 0.5/((3 + 1)·0.1 + 1) = 0.357143; M_min = 1.866/11 = 0.16964.
+        let cross = MovingObstacle {
+            source: src(8.0, -FRAC_PI_4, 0.0, 2.0),
+            velocity: Vec3::X * 3.0,
+        };
+        let p = AvoidParams::default();
+        let k = kin(1.0);
+        // d = 1.7: pressure 1/2.7 = 0.37037 > M_max → stop (V = 0). L = 0 < R → left; U = D
+        // = 0.37 > M_min, equal → up.
+        let s = avoid_dynamic(
+            &k,
+            &[head_on(1.7, 1.0), cross],
+            10.0,
+            VIEW_150,
+            0.5,
+            0.1,
+            &p,
+        );
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 0.0
+            }
+        );
+        // d = 2: 1/3 = 0.33333, between M_min and M_max → V_min = 1 (the slowest obstacle's
+        // speed, not the fastest's 3 nor the fish's 1.5). U = D = 0.333 > M_min → up.
+        let s = avoid_dynamic(
+            &kin(1.5),
+            &[head_on(2.0, 1.0), cross],
+            10.0,
+            VIEW_150,
+            0.5,
+            0.1,
+            &p,
+        );
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 1.0
+            }
+        );
+        // A pressure equal to M_max is not above it: d = 1 gives U = D = ½·2/2 = 0.5 (R =
+        // cos(π/3) ≤ 0.5); S_f = 1, Δt = 0.5, one obstacle at speed 1: M_max = 1/((1 + 1)·0.5
+        // + 1) = 0.5 → V_min = 1, not 0.
+        let s = avoid_dynamic(&k, &[head_on(1.0, 1.0)], 10.0, VIEW_150, 1.0, 0.5, &p);
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 1.0
+            }
+        );
+        // With only the slow obstacle, M_max = 0.5/((1 + 1)·0.1 + 1) = 0.41667 > 0.37037: the
+        // fast one's speed is what made d = 1.7 a stop.
+        let s = avoid_dynamic(&k, &[head_on(1.7, 1.0)], 10.0, VIEW_150, 0.5, 0.1, &p);
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 1.0
+            }
+        );
+    }
+
+    #[test]
+    fn avoid_dynamic_sums_a_crowd_and_takes_m_min_from_the_nearest() {
+        // Three predators coming head-on (−cos α = 1), S = 2, m0 = 1, v_r = 10:
+        // A at d = 3, θ = −π/3 (left), ω = +π/4 (above): L += 2·0.5/4 = 0.25, U += 2·0.7071/4
+        // = 0.35355; B at d = 7, θ = −π/6 (left), level: L += 2·0.8660/8 = 0.21651, U, D +=
+        // ½·2/8 = 0.125; C at d = 1, θ = +π/2 (right), level: R += 2·cos(π/2)/2 = 0, U, D += ½·2/2
+        // = 0.5. L = 0.46651 > R = 0 → turn right; U = 0.97855 > D = 0.625 → pitch down.
+        let m = |dist, bearing, elevation| MovingObstacle {
+            source: src(dist, bearing, elevation, 2.0),
+            velocity: -Vec3::Z,
+        };
+        let crowd = [
+            m(3.0, -FRAC_PI_3, FRAC_PI_4),
+            m(7.0, -FRAC_PI_6, 0.0),
+            m(1.0, FRAC_PI_2, 0.0),
+        ];
+        let weighted = crowd.iter().map(|o| o.source);
+        let p = pressures(weighted, 1.0);
+        assert!((p.left - 0.466_506_3).abs() < 1e-5, "{p:?}");
+        assert!(p.right.abs() < 1e-6);
+        assert!((p.up - 0.978_553_4).abs() < 1e-5 && (p.down - 0.625).abs() < 1e-6);
+        // Largest 0.9786 > M_max = 0.5/(2·0.1 + 1) = 0.41667 → stop.
+        let s = avoid_dynamic(
+            &kin(1.0),
+            &crowd,
+            10.0,
+            VIEW_150,
+            0.5,
+            0.1,
+            &AvoidParams::default(),
+        );
+        assert_eq!(
+            s,
+            Steer::Turn {
+                yaw: FRAC_PI_8,
+                pitch: -FRAC_PI_8,
+                speed: 0.0
+            }
+        );
+        // The nearest moving away (same direction, −cos α = −1) sets M_min < 0, raised to 0:
+        // every positive pressure counts. Its own term is negative on the right.
+        let mut away = crowd;
+        away[2].velocity = Vec3::Z;
+        let s = avoid_dynamic(
+            &kin(1.0),
+            &away,
+            10.0,
+            VIEW_150,
+            0.5,
+            0.1,
+            &AvoidParams::default(),
+        );
+        let Steer::Turn { yaw, .. } = s else {
+            panic!("{s:?}")
+        };
+        assert_eq!(yaw, FRAC_PI_8);
+    }
+
+    #[test]
+    fn avoid_static_speed_branches() {
+        // Obstacle on the right at θ = π/3, level, S = 2, m0 = 1; v_r = 10 (M_min = 0.0909);
+        // S_f = 0.5, V_max = 2, Δt = 0.1 (M_max = 0.41667). Paper field: R = U = D = 1/(d + 1).
+        let run = |d: f32, vc: f32, p: &AvoidParams| {
+            avoid_static(
+                &kin(vc),
+                pressures([src(d, FRAC_PI_3, 0.0, 2.0)], p.m0),
+                10.0,
+                0.5,
+                2.0,
+                0.1,
+                p,
+            )
+        };
+        let speed = |s: Steer| match s {
+            Steer::Turn { speed, .. } => speed,
+            _ => panic!("{s:?}"),
+        };
+        // d = 1: 0.5 > M_max → brake·Vc = 0.5·1.6 = 0.8.
+        assert_eq!(speed(run(1.0, 1.6, &paper())), 0.8);
+        // A braking factor of 0.25: 0.4.
+        let quarter = AvoidParams {
+            brake: 0.25,
+            ..paper()
+        };
+        assert_eq!(speed(run(1.0, 1.6, &quarter)), 0.4);
+        // d = 2: 1/3 ≤ M_max → Vc.
+        assert_eq!(speed(run(2.0, 1.6, &quarter)), 1.6);
+        // A pressure equal to M_max is not above it: d = 1 gives U = D = ½·2/2 = 0.5, and
+        // S_f = 1, V_max = 2, Δt = 0.5 give M_max = 1/(2·0.5 + 1) = 0.5 → Vc.
+        let s = avoid_static(
+            &kin(1.6),
+            pressures([src(1.0, FRAC_PI_3, 0.0, 2.0)], 1.0),
+            10.0,
+            1.0,
+            2.0,
+            0.5,
+            &paper(),
+        );
+        assert_eq!(speed(s), 1.6);
+        // d = 10: 1/11 = M_min exactly → done.
+        assert_eq!(run(10.0, 1.6, &paper()), Steer::None);
+        // d = 9: 0.1 > M_min → turn left and up (U = D), speed Vc.
+        assert_eq!(
+            run(9.0, 1.6, &paper()),
+            Steer::Turn {
+                yaw: -FRAC_PI_8,
+                pitch: FRAC_PI_8,
+                speed: 1.6
+            }
+        );
+    }
+
+    #[test]
+    fn obstacles_behind_and_straight_above_do_not_make_a_body_avoid() {
+        // Front-half field (the default): a rock straight above (0.3 away), one straight below
+        // and one behind give no pressure, so avoid_static is done at once.
+        let rocks = [
+            front(0.3, Vec3::Y, 4.0),
+            front(0.3, -Vec3::Y, 4.0),
+            front(0.3, -Vec3::Z, 4.0),
+            front(0.3, Vec3::new(0.5, 0.0, -1.0), 4.0),
+        ];
+        let p = front_pressures(rocks, 1.0);
+        assert_eq!(
+            avoid_static(&kin(1.0), p, 10.0, 0.5, 2.0, 0.1, &AvoidParams::default()),
+            Steer::None
+        );
+        // Adding a rock ahead-right (d = 3, S = 2, forward component cos(π/3)) gives only its
+        // own terms: R = 2·0.5/4 = 0.25, U = D = 0.125 (level, half each).
+        let (sn, cs) = FRAC_PI_3.sin_cos();
+        let more = rocks
+            .iter()
+            .copied()
+            .chain([front(3.0, Vec3::new(sn, 0.0, cs), 2.0)]);
+        let p = front_pressures(more, 1.0);
+        assert!((p.right - 0.25).abs() < 1e-6 && p.left == 0.0, "{p:?}");
+        assert!((p.up - 0.125).abs() < 1e-6 && (p.down - 0.125).abs() < 1e-6);
+        // Paper's plane-angle field: a rock behind on the right (θ = 5π/6, level, d = 1, S = 2)
+        // gives R = 2·cos(5π/6)/2 = −0.866 and U = D = ½·2·1/2 = 0.5. L = 0 and R < 0 are both
+        // ≤ M_min → keep the heading; U = D > M_min → up. Straight above (θ = 0, ω = π/2):
+        // L = R = ½·2/2 = 0.5, U = 2·cos(π/2)/2 ≈ 0 → left by the tie rule, no pitch.
+        let p = pressures([src(1.0, 5.0 * FRAC_PI_6, 0.0, 2.0)], 1.0);
+        assert!((p.right + 0.866_025_4).abs() < 1e-6 && (p.up - 0.5).abs() < 1e-6);
+        let s = avoid_static(&kin(1.0), p, 10.0, 0.5, 2.0, 0.1, &paper());
+        let Steer::Turn { yaw, pitch, .. } = s else {
+            panic!("{s:?}")
+        };
+        assert_eq!((yaw, pitch), (0.0, FRAC_PI_8));
+        let p = pressures([src(1.0, 0.0, FRAC_PI_2, 2.0)], 1.0);
+        assert!((p.left - 0.5).abs() < 1e-6 && (p.right - 0.5).abs() < 1e-6);
+        assert!(p.up.abs() < 1e-6 && p.down == 0.0);
+        let s = avoid_static(&kin(1.0), p, 10.0, 0.5, 2.0, 0.1, &paper());
+        let Steer::Turn { yaw, pitch, .. } = s else {
+            panic!("{s:?}")
+        };
+        assert_eq!((yaw, pitch), (-FRAC_PI_8, 0.0));
+    }
+
+    #[test]
+    fn predicted_collision_uses_the_margin() {
+        // Obstacle 3 ahead, 1.5 to the left (+X), radius 1; look-ahead 1·5 = 5: b = (1.5, 0, 0).
+        // |b| = 1.5 > 1 → no hit without a margin; with margin 0.6 the radius is 1.6 > 1.5 → hit,
+        // steer away from b: (fwd + (−1, 0, 0)) normalized at speed 1 = (−0.7071, 0, 0.7071).
+        let o = [(Vec3::new(1.5, 0.0, 3.0), 1.0)];
+        assert_eq!(predict_collision(&kin(1.0), o, 5.0, 0.0, 1.0), Steer::None);
+        assert_eq!(predict_collision(&kin(1.0), o, 5.0, 0.4, 1.0), Steer::None);
+        let Steer::Velocity(v) = predict_collision(&kin(1.0), o, 5.0, 0.6, 1.0) else {
+            panic!()
+        };
+        let h = std::f32::consts::FRAC_1_SQRT_2;
+        assert!((v - Vec3::new(-h, 0.0, h)).length() < 1e-6, "{v}");
+        // Of two predicted hits the nearer one decides: one on the right (−X) at 2 ahead, one on
+        // the left at 4 ahead → steer left (+X), at the body's speed 1 (above the floor
+        // 0.1·V_max = 0.2).
+        let two = [
+            (Vec3::new(1.0, 0.0, 4.0), 1.5),
+            (Vec3::new(-0.5, 0.0, 2.0), 1.0),
+        ];
+        let Steer::Velocity(v) = predict_collision(&kin(1.0), two, 5.0, 0.0, 2.0) else {
+            panic!()
+        };
+        assert!((v - Vec3::new(h, 0.0, h)).length() < 1e-6, "{v}");
     }
 
     #[test]

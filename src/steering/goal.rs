@@ -1,26 +1,124 @@
 //! Moving to a goal: seed 000 §4.3 (smell mode by sectors, vision mode by clamped bearing),
 //! seed 003's foraging variant, and seed 002's pursuit with linear or intercept prediction.
+//!
+//! Every angle of §4.3 is a parameter with the paper's value as its default ([`GoalRules`]): the
+//! smell-mode turns π/8 and π/4, the sector bounds π/6 and 5π/6, the vision-mode clamp π/4. In
+//! vision, seed 000 as printed keeps the heading while the target is within ±π/4 (eq. 15: `θc`
+//! when `|θ_fg| < π/4`); seed 003's foraging turns exactly by the bearing there. The engine's
+//! default is seed 003's form ([`VisionTurn::Bearing`]), which is also how the digest of 000
+//! reads the rule (a target within the clamp is turned to, not passed by);
+//! [`VisionTurn::KeepHeading`] is 000 as printed.
 
 use super::{seek, Kin, Steer};
 use crate::perception::{Level, Sector};
 use glam::Vec3;
-use std::f32::consts::{FRAC_PI_4, FRAC_PI_8};
+use serde::{Deserialize, Serialize};
+use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8};
+
+/// Sector bounds of seed 000 §4.3 / §4.4: front is `(−front, front)`, the sides run to ±π/2, the
+/// rear sectors to `±rear`, and beyond `rear` is the rear. Vertically, a target more than
+/// `front` above or below the heading is above or below.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sectors {
+    /// Half-width of the front sector (π/6).
+    pub front: f32,
+    /// Where the rear sector begins (5π/6).
+    pub rear: f32,
+}
+
+impl Default for Sectors {
+    fn default() -> Self {
+        Sectors {
+            front: FRAC_PI_6,
+            rear: 5.0 * FRAC_PI_6,
+        }
+    }
+}
+
+impl Sectors {
+    /// The horizontal sector of a bearing θ (right positive).
+    pub fn horizontal(&self, theta: f32) -> Sector {
+        if theta > -self.front && theta < self.front {
+            Sector::Front
+        } else if theta <= -self.front && theta > -FRAC_PI_2 {
+            Sector::LeftFront
+        } else if theta >= self.front && theta < FRAC_PI_2 {
+            Sector::RightFront
+        } else if theta <= -FRAC_PI_2 && theta > -self.rear {
+            Sector::LeftRear
+        } else if theta >= FRAC_PI_2 && theta < self.rear {
+            Sector::RightRear
+        } else {
+            Sector::Rear
+        }
+    }
+
+    /// The vertical sector of an elevation ω (up positive).
+    pub fn vertical(&self, omega: f32) -> Level {
+        if omega >= self.front {
+            Level::Above
+        } else if omega <= -self.front {
+            Level::Below
+        } else {
+            Level::Level
+        }
+    }
+}
+
+/// What move-to-goal does in vision with a target within the clamp (`|θ| < max_turn`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum VisionTurn {
+    /// Turn exactly by the bearing (seed 003's foraging; the digest's reading of 000).
+    #[default]
+    Bearing,
+    /// Keep the heading (seed 000 eq. 15–16 as printed); turn by ±`max_turn` beyond it.
+    KeepHeading,
+}
+
+/// The angles of move-to-goal (seed 000 §4.3); the defaults are the paper's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GoalRules {
+    /// Smell-mode turn toward a target in a front side sector, and pitch toward one above or
+    /// below (π/8).
+    pub turn: f32,
+    /// Smell-mode turn toward a target in a rear sector (π/4).
+    pub rear_turn: f32,
+    /// Sector bounds (π/6, 5π/6).
+    pub sectors: Sectors,
+    /// Largest turn per step in vision mode (π/4).
+    pub max_turn: f32,
+    /// Within the clamp in vision mode: turn by the bearing or keep the heading.
+    pub vision: VisionTurn,
+}
+
+impl Default for GoalRules {
+    fn default() -> Self {
+        GoalRules {
+            turn: FRAC_PI_8,
+            rear_turn: FRAC_PI_4,
+            sectors: Sectors::default(),
+            max_turn: FRAC_PI_4,
+            vision: VisionTurn::Bearing,
+        }
+    }
+}
 
 /// Move to goal, smell mode (`v_r < d < O_r`), seed 000 §4.3: by the sector of the target's
-/// bearing θ — front keeps θc; left-front −π/8; right-front +π/8; left-rear or rear −π/4;
-/// right-rear +π/4. Pitch +π/8 toward a target above, −π/8 below, keep when level. `V = V_max`.
-pub fn goal_by_smell(bearing: f32, elevation: f32, v_max: f32) -> Steer {
-    let yaw = match Sector::of(bearing) {
+/// bearing θ — front keeps θc; left-front −`turn` (π/8); right-front +`turn`; left-rear or rear
+/// −`rear_turn` (π/4); right-rear +`rear_turn`. Pitch +`turn` toward a target above, −`turn`
+/// below, keep when level. `V = V_max`.
+pub fn goal_by_smell(bearing: f32, elevation: f32, v_max: f32, r: &GoalRules) -> Steer {
+    let yaw = match r.sectors.horizontal(bearing) {
         Sector::Front => 0.0,
-        Sector::LeftFront => -FRAC_PI_8,
-        Sector::RightFront => FRAC_PI_8,
-        Sector::LeftRear | Sector::Rear => -FRAC_PI_4,
-        Sector::RightRear => FRAC_PI_4,
+        Sector::LeftFront => -r.turn,
+        Sector::RightFront => r.turn,
+        Sector::LeftRear | Sector::Rear => -r.rear_turn,
+        Sector::RightRear => r.rear_turn,
     };
-    let pitch = match Level::of(elevation) {
-        Level::Above => FRAC_PI_8,
+    let pitch = match r.sectors.vertical(elevation) {
+        Level::Above => r.turn,
         Level::Level => 0.0,
-        Level::Below => -FRAC_PI_8,
+        Level::Below => -r.turn,
     };
     Steer::Turn {
         yaw,
@@ -29,20 +127,30 @@ pub fn goal_by_smell(bearing: f32, elevation: f32, v_max: f32) -> Steer {
     }
 }
 
+/// One plane of the vision-mode turn: the angle clamped to ±`max_turn`, or (keeping the
+/// heading) 0 within the clamp.
+fn vision_turn(angle: f32, max_turn: f32, mode: VisionTurn) -> f32 {
+    match mode {
+        VisionTurn::KeepHeading if angle.abs() < max_turn => 0.0,
+        _ => angle.clamp(-max_turn, max_turn),
+    }
+}
+
 /// Move to goal, vision mode (`d < v_r`), seed 000 §4.3 and seed 003: turn toward the target by
-/// its bearing clamped to ±`max_turn` (π/4: exactly by the bearing when |θ| < π/4), pitch
-/// likewise; `V = V_max` while `d > d0`, `0` once `d ≤ d0` (caught).
+/// its bearing clamped to ±`max_turn` (π/4: exactly by the bearing when |θ| < π/4, or keeping
+/// the heading there with [`VisionTurn::KeepHeading`]), pitch likewise; `V = V_max` while
+/// `d > d0`, `0` once `d ≤ d0` (caught).
 pub fn goal_by_vision(
     bearing: f32,
     elevation: f32,
     dist: f32,
     d0: f32,
     v_max: f32,
-    max_turn: f32,
+    r: &GoalRules,
 ) -> Steer {
     Steer::Turn {
-        yaw: bearing.clamp(-max_turn, max_turn),
-        pitch: elevation.clamp(-max_turn, max_turn),
+        yaw: vision_turn(bearing, r.max_turn, r.vision),
+        pitch: vision_turn(elevation, r.max_turn, r.vision),
         speed: if dist > d0 { v_max } else { 0.0 },
     }
 }
@@ -136,56 +244,184 @@ pub fn pursue(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, PI};
+    use std::f32::consts::{FRAC_PI_3, PI};
 
     fn turn(yaw: f32, pitch: f32, speed: f32) -> Steer {
         Steer::Turn { yaw, pitch, speed }
     }
 
+    fn smell(bearing: f32, elevation: f32, v_max: f32) -> Steer {
+        goal_by_smell(bearing, elevation, v_max, &GoalRules::default())
+    }
+
+    fn vision(
+        bearing: f32,
+        elevation: f32,
+        dist: f32,
+        d0: f32,
+        v_max: f32,
+        max_turn: f32,
+    ) -> Steer {
+        let r = GoalRules {
+            max_turn,
+            ..GoalRules::default()
+        };
+        goal_by_vision(bearing, elevation, dist, d0, v_max, &r)
+    }
+
     #[test]
     fn smell_mode_sectors_follow_seed_000() {
         // Front keeps heading; level keeps pitch.
-        assert_eq!(goal_by_smell(0.1, 0.0, 3.0), turn(0.0, 0.0, 3.0));
-        assert_eq!(
-            goal_by_smell(-FRAC_PI_3, 0.0, 3.0),
-            turn(-FRAC_PI_8, 0.0, 3.0)
-        );
-        assert_eq!(
-            goal_by_smell(FRAC_PI_3, 0.0, 3.0),
-            turn(FRAC_PI_8, 0.0, 3.0)
-        );
-        assert_eq!(goal_by_smell(-2.0, 0.0, 3.0), turn(-FRAC_PI_4, 0.0, 3.0));
-        assert_eq!(goal_by_smell(2.0, 0.0, 3.0), turn(FRAC_PI_4, 0.0, 3.0));
+        assert_eq!(smell(0.1, 0.0, 3.0), turn(0.0, 0.0, 3.0));
+        assert_eq!(smell(-FRAC_PI_3, 0.0, 3.0), turn(-FRAC_PI_8, 0.0, 3.0));
+        assert_eq!(smell(FRAC_PI_3, 0.0, 3.0), turn(FRAC_PI_8, 0.0, 3.0));
+        assert_eq!(smell(-2.0, 0.0, 3.0), turn(-FRAC_PI_4, 0.0, 3.0));
+        assert_eq!(smell(2.0, 0.0, 3.0), turn(FRAC_PI_4, 0.0, 3.0));
         // Rear (|θ| > 5π/6) turns left by π/4 whichever side.
-        assert_eq!(
-            goal_by_smell(PI - 0.1, 0.0, 3.0),
-            turn(-FRAC_PI_4, 0.0, 3.0)
-        );
-        assert_eq!(
-            goal_by_smell(-PI + 0.1, 0.0, 3.0),
-            turn(-FRAC_PI_4, 0.0, 3.0)
-        );
+        assert_eq!(smell(PI - 0.1, 0.0, 3.0), turn(-FRAC_PI_4, 0.0, 3.0));
+        assert_eq!(smell(-PI + 0.1, 0.0, 3.0), turn(-FRAC_PI_4, 0.0, 3.0));
         // Above / below.
-        assert_eq!(goal_by_smell(0.0, 0.8, 3.0), turn(0.0, FRAC_PI_8, 3.0));
-        assert_eq!(goal_by_smell(0.0, -0.8, 3.0), turn(0.0, -FRAC_PI_8, 3.0));
+        assert_eq!(smell(0.0, 0.8, 3.0), turn(0.0, FRAC_PI_8, 3.0));
+        assert_eq!(smell(0.0, -0.8, 3.0), turn(0.0, -FRAC_PI_8, 3.0));
     }
 
     #[test]
     fn vision_mode_clamps_bearing_and_stops_on_catch() {
         assert_eq!(
-            goal_by_vision(0.3, -0.1, 5.0, 0.5, 2.0, FRAC_PI_4),
+            vision(0.3, -0.1, 5.0, 0.5, 2.0, FRAC_PI_4),
             turn(0.3, -0.1, 2.0)
         );
         assert_eq!(
-            goal_by_vision(1.2, 1.0, 5.0, 0.5, 2.0, FRAC_PI_4),
+            vision(1.2, 1.0, 5.0, 0.5, 2.0, FRAC_PI_4),
             turn(FRAC_PI_4, FRAC_PI_4, 2.0)
         );
         assert_eq!(
-            goal_by_vision(-FRAC_PI_2, 0.0, 0.4, 0.5, 2.0, FRAC_PI_4),
+            vision(-FRAC_PI_2, 0.0, 0.4, 0.5, 2.0, FRAC_PI_4),
             turn(-FRAC_PI_4, 0.0, 0.0)
         );
         assert!(goal_reached(0.5, 0.5));
         assert!(!goal_reached(0.51, 0.5));
+    }
+
+    #[test]
+    fn default_sectors_are_perceptions() {
+        // The bounds π/6 and 5π/6 give perception's own classification, boundaries included.
+        let s = Sectors::default();
+        let edges = [FRAC_PI_6, FRAC_PI_2, 5.0 * FRAC_PI_6, PI];
+        for e in edges {
+            for a in [e, -e, e - 1e-3, -e + 1e-3, e + 1e-3, -e - 1e-3, 0.0] {
+                assert_eq!(s.horizontal(a), Sector::of(a), "{a}");
+                assert_eq!(s.vertical(a), Level::of(a), "{a}");
+            }
+        }
+    }
+
+    #[test]
+    fn sector_bounds_and_turns_are_parameters() {
+        // front 0.3, rear 2.0, turn 0.2, rear turn 0.6, V_max 3.
+        let r = GoalRules {
+            turn: 0.2,
+            rear_turn: 0.6,
+            sectors: Sectors {
+                front: 0.3,
+                rear: 2.0,
+            },
+            ..GoalRules::default()
+        };
+        let yaw = |b: f32| match goal_by_smell(b, 0.0, 3.0, &r) {
+            Steer::Turn { yaw, .. } => yaw,
+            s => panic!("{s:?}"),
+        };
+        // (−0.3, 0.3) front: keep.
+        assert_eq!(yaw(0.29), 0.0);
+        assert_eq!(yaw(-0.29), 0.0);
+        // [0.3, π/2) right-front: +0.2; (−π/2, −0.3] left-front: −0.2.
+        assert_eq!(yaw(0.3), 0.2);
+        assert_eq!(yaw(-0.3), -0.2);
+        assert_eq!(yaw(1.5), 0.2);
+        assert_eq!(yaw(-1.5), -0.2);
+        // [π/2, 2.0) right-rear: +0.6; (−2.0, −π/2] left-rear: −0.6.
+        assert_eq!(yaw(FRAC_PI_2), 0.6);
+        assert_eq!(yaw(1.99), 0.6);
+        assert_eq!(yaw(-FRAC_PI_2), -0.6);
+        assert_eq!(yaw(-1.99), -0.6);
+        // Beyond ±2.0: rear, −0.6 whichever side.
+        assert_eq!(yaw(2.0), -0.6);
+        assert_eq!(yaw(-2.0), -0.6);
+        assert_eq!(yaw(3.1), -0.6);
+        // Vertically ±0.3 bounds the level band; pitch ±0.2 toward the target; V = V_max.
+        assert_eq!(goal_by_smell(0.0, 0.3, 3.0, &r), turn(0.0, 0.2, 3.0));
+        assert_eq!(goal_by_smell(0.0, -0.3, 3.0, &r), turn(0.0, -0.2, 3.0));
+        assert_eq!(goal_by_smell(0.0, 0.29, 3.0, &r), turn(0.0, 0.0, 3.0));
+        assert_eq!(goal_by_smell(0.0, -0.29, 3.0, &r), turn(0.0, 0.0, 3.0));
+    }
+
+    #[test]
+    fn vision_mode_catch_distance_and_foraging_turn() {
+        let r = GoalRules::default();
+        // d ≤ d0 → V = 0 (caught), d > d0 → V_max.
+        assert_eq!(
+            goal_by_vision(0.2, 0.0, 0.5, 0.5, 2.0, &r),
+            turn(0.2, 0.0, 0.0)
+        );
+        assert_eq!(
+            goal_by_vision(0.2, 0.0, 0.500_1, 0.5, 2.0, &r),
+            turn(0.2, 0.0, 2.0)
+        );
+        // Seed 003's foraging: within ±π/4 exactly by the bearing, beyond it by ±π/4.
+        assert_eq!(
+            goal_by_vision(-0.7, 0.7, 3.0, 0.5, 2.0, &r),
+            turn(-0.7, 0.7, 2.0)
+        );
+        assert_eq!(
+            goal_by_vision(-0.8, 0.8, 3.0, 0.5, 2.0, &r),
+            turn(-FRAC_PI_4, FRAC_PI_4, 2.0)
+        );
+        // Seed 000 as printed: keep the heading within ±π/4, ±π/4 beyond.
+        let keep = GoalRules {
+            vision: VisionTurn::KeepHeading,
+            ..r
+        };
+        assert_eq!(
+            goal_by_vision(-0.7, 0.7, 3.0, 0.5, 2.0, &keep),
+            turn(0.0, 0.0, 2.0)
+        );
+        assert_eq!(
+            goal_by_vision(0.8, -0.8, 3.0, 0.5, 2.0, &keep),
+            turn(FRAC_PI_4, -FRAC_PI_4, 2.0)
+        );
+        assert_eq!(
+            goal_by_vision(-2.0, 0.0, 0.3, 0.5, 2.0, &keep),
+            turn(-FRAC_PI_4, 0.0, 0.0)
+        );
+        // Exactly at the clamp: turn by it.
+        assert_eq!(
+            goal_by_vision(FRAC_PI_4, -FRAC_PI_4, 3.0, 0.5, 2.0, &keep),
+            turn(FRAC_PI_4, -FRAC_PI_4, 2.0)
+        );
+    }
+
+    #[test]
+    fn chase_reads_its_angles_from_data() {
+        let c: crate::species::ChaseDef = crate::species::validate::ron_options()
+            .from_str("(turn: 0.2, rear_turn: 0.6, front: 0.3, rear: 2.0, max_turn: 0.5, vision: KeepHeading)")
+            .unwrap();
+        let r = c.rules();
+        assert_eq!((r.turn, r.rear_turn, r.max_turn), (0.2, 0.6, 0.5));
+        assert_eq!(
+            r.sectors,
+            Sectors {
+                front: 0.3,
+                rear: 2.0
+            }
+        );
+        assert_eq!(r.vision, VisionTurn::KeepHeading);
+        // The default is the paper's, with seed 003's foraging turn in vision.
+        let d: crate::species::ChaseDef = crate::species::validate::ron_options()
+            .from_str("()")
+            .unwrap();
+        assert_eq!(d.rules(), GoalRules::default());
+        assert_eq!(d.rules().vision, VisionTurn::Bearing);
     }
 
     #[test]

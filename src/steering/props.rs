@@ -52,10 +52,12 @@ proptest! {
         prop_assert!(finite(flee(&k, k.pos, vmax)));
         prop_assert!(finite(arrive(&k, t, vmax, 2.0)));
         prop_assert!(finite(arrive(&k, k.pos, vmax, 0.0)));
-        prop_assert!(finite(goal::goal_by_smell(b, e, vmax)));
-        prop_assert!(finite(goal::goal_by_vision(b, e, d, 0.5, vmax, 0.785)));
-        prop_assert!(finite(escape::escape_by_smell(b, e, k.speed, vmax)));
-        prop_assert!(finite(escape::escape_by_vision(b, e, d, 10.0, vmax)));
+        let g = goal::GoalRules::default();
+        let r = escape::EscapeRules::default();
+        prop_assert!(finite(goal::goal_by_smell(b, e, vmax, &g)));
+        prop_assert!(finite(goal::goal_by_vision(b, e, d, 0.5, vmax, &g)));
+        prop_assert!(finite(escape::escape_by_smell(b, e, k.speed, vmax, &r)));
+        prop_assert!(finite(escape::escape_by_vision(b, e, d, 10.0, vmax, &r)));
         prop_assert!(finite(escape::escape_mirror(&k, t, vmax)));
         prop_assert!(finite(escape::escape_mirror(&k, k.pos, vmax)));
         for p in [goal::Prediction::None, goal::Prediction::Linear, goal::Prediction::Intercept] {
@@ -72,9 +74,9 @@ proptest! {
         let statics: Vec<PressureSource> = srcs.iter().map(|s| PressureSource { dist: s.0, bearing: s.1, elevation: s.2, size: s.3, weight: 1.0 }).collect();
         prop_assert!(finite(avoid::avoid_static(&k, avoid::pressures(statics.iter().copied(), p.m0), 10.0, 1.0, 2.0, 0.05, &p)));
         let moving: Vec<MovingObstacle> = srcs.iter().map(|s| MovingObstacle { source: PressureSource { dist: s.0, bearing: s.1, elevation: s.2, size: s.3, weight: 1.0 }, velocity: s.4 }).collect();
-        prop_assert!(finite(avoid::avoid_dynamic(&k, &moving, 10.0, 1.0, 0.05, &p)));
+        prop_assert!(finite(avoid::avoid_dynamic(&k, &moving, 10.0, 2.618, 1.0, 0.05, &p)));
         let spheres = srcs.iter().map(|s| (s.4, s.3));
-        prop_assert!(finite(avoid::predict_collision(&k, spheres, 1.5, 2.0)));
+        prop_assert!(finite(avoid::predict_collision(&k, spheres, 1.5, 0.5, 2.0)));
         let b = Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0));
         prop_assert!(finite(avoid::contain(&k, &b, 2.0, 1.0, 2.0)));
         prop_assert!(finite(avoid::contain(&k, &b, 50.0, 1.0, 2.0)));

@@ -120,7 +120,9 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
         Recipe::AvoidDynamic(p) => {
             let mut v = std::mem::take(&mut scratch.moving);
             ctx.moving_obstacles(p, &mut v);
-            let s = avoid::avoid_dynamic(&kin, &v, vr, ctx.agent.diagonal(), ctx.dt, p);
+            let half_angle = ctx.species.senses.vision_half_angle;
+            let size = ctx.agent.diagonal();
+            let s = avoid::avoid_dynamic(&kin, &v, vr, half_angle, size, ctx.dt, p);
             scratch.moving = v;
             s
         }
@@ -135,7 +137,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
                 }
                 _ => None,
             });
-            avoid::predict_collision(&kin, obstacles, l.horizon, vmax)
+            avoid::predict_collision(&kin, obstacles, l.horizon, l.margin, vmax)
         }
         Recipe::Contain(l) => {
             // The agent's cached forward vector is its kin's (same heading).
@@ -145,16 +147,18 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
         Recipe::Chase(c) => match ctx.nearest(c.target) {
             None => Steer::None,
             Some(p) if p.sense == Sense::Vision => {
-                goal::goal_by_vision(p.bearing, p.elevation, p.dist, c.d0, vmax, c.max_turn)
+                goal::goal_by_vision(p.bearing, p.elevation, p.dist, c.d0, vmax, &c.rules())
             }
-            Some(p) => goal::goal_by_smell(p.bearing, p.elevation, vmax),
+            Some(p) => goal::goal_by_smell(p.bearing, p.elevation, vmax, &c.rules()),
         },
         Recipe::Escape(e) => match ctx.nearest(e.from) {
             None => Steer::None,
             Some(p) if e.paper && p.sense == Sense::Vision => {
-                escape::escape_by_vision(p.bearing, p.elevation, p.dist, vr, vmax)
+                escape::escape_by_vision(p.bearing, p.elevation, p.dist, vr, vmax, &e.rules())
             }
-            Some(p) if e.paper => escape::escape_by_smell(p.bearing, p.elevation, kin.speed, vmax),
+            Some(p) if e.paper => {
+                escape::escape_by_smell(p.bearing, p.elevation, kin.speed, vmax, &e.rules())
+            }
             Some(p) => escape::escape_leveled(
                 p.sense == Sense::Vision,
                 p.bearing,
@@ -164,6 +168,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
                 vr,
                 kin.speed,
                 vmax,
+                &e.rules(),
                 &e.leveling(),
             ),
         },
