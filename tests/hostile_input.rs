@@ -446,11 +446,31 @@ fn bad_squad_planning_constants_are_refused_at_their_keys() {
     let d = w.path();
     let rel = "scenarios/squad_march.ron";
     let cases = [
-        ("relax_step: 0.0", "relax_step: ", "`relax_step` must be a number in (0, 1], not 0"),
-        ("relax_step: 1.5", "relax_step: ", "`relax_step` must be a number in (0, 1], not 1.5"),
-        ("relax_step: NaN", "relax_step: ", "`relax_step` must be a number in (0, 1], not NaN"),
-        ("fm_broken: 0.5", "fm_broken: ", "`fm_broken` must be a finite number ≥ 1, not 0.5"),
-        ("fm_broken: inf", "fm_broken: ", "`fm_broken` must be a finite number ≥ 1, not inf"),
+        (
+            "relax_step: 0.0",
+            "relax_step: ",
+            "`relax_step` must be a number in (0, 1], not 0",
+        ),
+        (
+            "relax_step: 1.5",
+            "relax_step: ",
+            "`relax_step` must be a number in (0, 1], not 1.5",
+        ),
+        (
+            "relax_step: NaN",
+            "relax_step: ",
+            "`relax_step` must be a number in (0, 1], not NaN",
+        ),
+        (
+            "fm_broken: 0.5",
+            "fm_broken: ",
+            "`fm_broken` must be a finite number ≥ 1, not 0.5",
+        ),
+        (
+            "fm_broken: inf",
+            "fm_broken: ",
+            "`fm_broken` must be a finite number ≥ 1, not inf",
+        ),
         (
             "may_change_rarely: (k1: 0.1, k2: 1.5)",
             "k2: ",
@@ -506,7 +526,10 @@ fn bad_squad_leaders_are_refused_at_their_key() {
         let (code, out) = shoal(d, &["check", rel]);
         refused(code, &out);
         let here = at(d, rel, "leader: ");
-        assert!(out.contains(&format!("{here}: {msg}")), "{here}: {msg}\n{out}");
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
         edit(d, rel, &with, "spacing: 4.0,");
     }
     let with = "spacing: 4.0,\n            roles: [\"a\", \"b\"],";
@@ -541,29 +564,52 @@ fn a_pgm_terrain_needs_its_cell_size_and_height_scale() {
     let here = at(d, rel, "dem: ");
     assert!(
         out.contains(&format!("{here}: terrain file"))
-            && out.contains("a PGM height map needs `cell_size` (metres per pixel) and `height_scale`"),
+            && out.contains(
+                "a PGM height map needs `cell_size` (metres per pixel) and `height_scale`"
+            ),
         "{out}"
     );
     let pgm = "dem: \"../assets/terrain/flat.pgm\",";
     for (value, key, msg) in [
-        ("cell_size: -4.0, height_scale: 0.1", "cell_size: ", "`cell_size` must be a finite number > 0, not -4"),
-        ("cell_size: 4.0, height_scale: NaN", "height_scale: ", "`height_scale` must be a finite number > 0, not NaN"),
+        (
+            "cell_size: -4.0, height_scale: 0.1",
+            "cell_size: ",
+            "`cell_size` must be a finite number > 0, not -4",
+        ),
+        (
+            "cell_size: 4.0, height_scale: NaN",
+            "height_scale: ",
+            "`height_scale` must be a finite number > 0, not NaN",
+        ),
     ] {
         let with = format!("{pgm} {value},");
         edit(d, rel, pgm, &with);
         let (code, out) = shoal(d, &["check", rel]);
         refused(code, &out);
         let here = at(d, rel, key);
-        assert!(out.contains(&format!("{here}: {msg}")), "{here}: {msg}\n{out}");
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
         edit(d, rel, &with, pgm);
     }
     // 128 pixels of 4 m: the 512 m square of the scenario, flat at 10 × 0.1 = 1 m.
-    edit(d, rel, pgm, &format!("{pgm} cell_size: 4.0, height_scale: 0.1,"));
+    edit(
+        d,
+        rel,
+        pgm,
+        &format!("{pgm} cell_size: 4.0, height_scale: 0.1,"),
+    );
     let (code, out) = shoal(d, &["check", rel]);
     assert_eq!(code, 0, "{out}");
     // An ESRI grid gives its own cell size.
     let asc = "dem: \"../assets/terrain/valley.asc\", cell_size: 2.0,";
-    edit(d, rel, "dem: \"../assets/terrain/flat.pgm\", cell_size: 4.0, height_scale: 0.1,", asc);
+    edit(
+        d,
+        rel,
+        "dem: \"../assets/terrain/flat.pgm\", cell_size: 4.0, height_scale: 0.1,",
+        asc,
+    );
     let (code, out) = shoal(d, &["check", rel]);
     refused(code, &out);
     let here = at(d, rel, "cell_size: ");

@@ -137,11 +137,13 @@ fn the_relaxed_squad_marches_through_the_pass_on_five_seeds() {
 
 #[test]
 fn the_wide_formation_is_restored_only_after_the_canyon() {
-    let sc = Scenario::load(Path::new("scenarios/squad_march.ron")).unwrap_or_else(|e| panic!("{e}"));
+    let sc =
+        Scenario::load(Path::new("scenarios/squad_march.ron")).unwrap_or_else(|e| panic!("{e}"));
     let mut run = Run::new(sc, Overrides::default());
     let (grid, keys, formations, leader, entrance, exit) = {
         let sq = &run.squads.squads[0];
-        let formations: Vec<Formation> = sq.order.iter().map(|&i| sq.formations[i].clone()).collect();
+        let formations: Vec<Formation> =
+            sq.order.iter().map(|&i| sq.formations[i].clone()).collect();
         let t = &sq.plan.transitions;
         assert_eq!(
             t.iter().map(|t| (t.from, t.to)).collect::<Vec<_>>(),
@@ -162,14 +164,20 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
     // after the exit.
     assert!(held[entrance..=exit].iter().all(|&f| f == 1), "{held:?}");
     assert_eq!(held[exit + 1], 0);
-    let free = |p: Vec2| grid.cell_of(p).is_some_and(|c| !grid.blocked[grid.index(c)]);
+    let free = |p: Vec2| {
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
+    };
     // The source's form starts the triangle on the leg into the exit, inside the canyon: some
     // slot of that leg lies in a wall.
     let plain = member_paths(&keys, &formations, leader);
-    let walled = plain.iter().any(|p| {
-        (0..=20).any(|s| !free(p.position_at(exit - 1, s as f32 / 20.0)))
-    });
-    assert!(walled, "the source's interpolation would cross the canyon walls");
+    let walled = plain
+        .iter()
+        .any(|p| (0..=20).any(|s| !free(p.position_at(exit - 1, s as f32 / 20.0))));
+    assert!(
+        walled,
+        "the source's interpolation would cross the canyon walls"
+    );
 
     // At the exit the members still stand in the column; the leg after it takes them to the
     // triangle.
@@ -217,7 +225,8 @@ fn the_leader_is_chosen_by_slot_role_or_at_random_from_the_seed() {
         let t = text
             .replace("seed: 1,", &format!("seed: {seed},"))
             .replace("spacing: 4.0,", &format!("spacing: 4.0, {leader}"));
-        let sc = Scenario::load_str(&dir.join("squad_march.ron"), &t).unwrap_or_else(|e| panic!("{e}"));
+        let sc =
+            Scenario::load_str(&dir.join("squad_march.ron"), &t).unwrap_or_else(|e| panic!("{e}"));
         let run = Run::new(sc, Overrides::default());
         let sq = &run.squads.squads[0];
         assert_eq!(sq.plan.leader, sq.leader);

@@ -141,7 +141,13 @@ pub fn held_formations(
             let from = keys[j - 1].formation;
             let defer = from != to
                 && keys[j + 1].formation == to
-                && !fits(grid, &formations[to], leader, keys[j - 1].pos, headings[j - 1]);
+                && !fits(
+                    grid,
+                    &formations[to],
+                    leader,
+                    keys[j - 1].pos,
+                    headings[j - 1],
+                );
             if defer {
                 from
             } else {
@@ -162,7 +168,8 @@ pub fn fits(
 ) -> bool {
     (0..formation.len()).filter(|&m| m != leader).all(|m| {
         let p = formation.world_slot(m, leader, pos, heading);
-        grid.cell_of(p).is_some_and(|c| !grid.blocked[grid.index(c)])
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
     })
 }
 
@@ -170,7 +177,10 @@ pub fn fits(
 /// before the first blocked cell, sampled every quarter cell (the leader's point when the first
 /// sample is already blocked).
 pub fn draw_in(grid: &CostGrid, leader: Vec2, slot: Vec2) -> Vec2 {
-    let free = |p: Vec2| grid.cell_of(p).is_some_and(|c| !grid.blocked[grid.index(c)]);
+    let free = |p: Vec2| {
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
+    };
     if free(slot) {
         return slot;
     }
@@ -344,10 +354,16 @@ mod tests {
         }
         let leader = Vec2::new(2.5, 5.5);
         // Free slot: kept.
-        assert_eq!(draw_in(&g, leader, Vec2::new(4.5, 6.5)), Vec2::new(4.5, 6.5));
+        assert_eq!(
+            draw_in(&g, leader, Vec2::new(4.5, 6.5)),
+            Vec2::new(4.5, 6.5)
+        );
         // (8.5, 5.5) is in the wall: 6 m in 24 quarter-cell samples; x = 2.5 + 0.25·s reaches
         // column 7 at s = 18 (x = 7.0), so the last free sample is s = 17, x = 6.75.
-        assert_eq!(draw_in(&g, leader, Vec2::new(8.5, 5.5)), Vec2::new(6.75, 5.5));
+        assert_eq!(
+            draw_in(&g, leader, Vec2::new(8.5, 5.5)),
+            Vec2::new(6.75, 5.5)
+        );
         // Off the grid to the west: from x = 2.6, 6 m in 24 samples; x = 2.6 − 0.25·s is 0.1 at
         // s = 10 (column 0) and off the grid at s = 11.
         let p = draw_in(&g, Vec2::new(2.6, 5.5), Vec2::new(-3.4, 5.5));
@@ -362,9 +378,23 @@ mod tests {
         let paths = member_paths_on(&g, &keys, &f, 0);
         assert_eq!(paths[1].waypoints[0], Vec2::new(6.75, 5.5));
         assert_eq!(paths[2].waypoints[0], Vec2::new(5.5, 5.5));
-        assert!(paths.iter().all(|p| p.waypoints.iter().all(|&w| free(&g, w))));
-        assert!(fits(&g, &f[0], 0, Vec2::new(4.5, 5.5), Vec2::new(0.0, -1.0)));
-        assert!(!fits(&g, &f[0], 0, Vec2::new(6.5, 5.5), Vec2::new(0.0, -1.0)));
+        assert!(paths
+            .iter()
+            .all(|p| p.waypoints.iter().all(|&w| free(&g, w))));
+        assert!(fits(
+            &g,
+            &f[0],
+            0,
+            Vec2::new(4.5, 5.5),
+            Vec2::new(0.0, -1.0)
+        ));
+        assert!(!fits(
+            &g,
+            &f[0],
+            0,
+            Vec2::new(6.5, 5.5),
+            Vec2::new(0.0, -1.0)
+        ));
     }
 
     #[test]

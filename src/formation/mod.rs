@@ -39,7 +39,7 @@ pub mod shape;
 pub mod smooth;
 
 pub use astar::{
-    ClassFactors, GridFormations, LeaderSearch, PlanningParams, Planner, SlotOffsets, TaskClass,
+    ClassFactors, GridFormations, LeaderSearch, Planner, PlanningParams, SlotOffsets, TaskClass,
     Weights, FM_BROKEN, RELAX_STEP,
 };
 pub use follow::{member_paths, MemberPath};
@@ -203,8 +203,7 @@ impl Planner {
         let along = smooth::formation_along(grid, &found.cells, &team, w.may_change);
         let (key_points, transitions) =
             smooth::smooth(grid, &found.cells, &along, &team, w.may_change);
-        let member_paths =
-            follow::member_paths_on(grid, &key_points, req.formations, req.leader);
+        let member_paths = follow::member_paths_on(grid, &key_points, req.formations, req.leader);
         Ok(Plan {
             leader: req.leader,
             leader_path: found.cells.iter().map(|&c| grid.center_of(c)).collect(),
@@ -544,7 +543,10 @@ mod tests {
         for m in &p.member_paths {
             for (j, k) in p.key_points.iter().enumerate() {
                 let slot = f[held[j]].world_slot(m.member, 0, k.pos, headings[j]);
-                let on_free = |p: Vec2| grid.cell_of(p).is_some_and(|c| !grid.blocked[grid.index(c)]);
+                let on_free = |p: Vec2| {
+                    grid.cell_of(p)
+                        .is_some_and(|c| !grid.blocked[grid.index(c)])
+                };
                 if on_free(slot) {
                     assert_eq!(m.waypoints[j], slot);
                 }
