@@ -97,7 +97,7 @@ fn leader_search_only(bencher: Bencher, n: usize) {
                 k1: 0.1,
                 k2: 0.9,
                 may_change: true,
-                step: 0.1,
+                ..Weights::default()
             },
         )
     });

@@ -439,3 +439,182 @@ fn a_huge_line_is_not_echoed_whole() {
     assert!(out.len() < 4_000, "{} bytes of output", out.len());
     assert!(out.contains('…'), "{out}");
 }
+
+#[test]
+fn bad_squad_planning_constants_are_refused_at_their_keys() {
+    let w = world();
+    let d = w.path();
+    let rel = "scenarios/squad_march.ron";
+    let cases = [
+        (
+            "relax_step: 0.0",
+            "relax_step: ",
+            "`relax_step` must be a number in (0, 1], not 0",
+        ),
+        (
+            "relax_step: 1.5",
+            "relax_step: ",
+            "`relax_step` must be a number in (0, 1], not 1.5",
+        ),
+        (
+            "relax_step: NaN",
+            "relax_step: ",
+            "`relax_step` must be a number in (0, 1], not NaN",
+        ),
+        (
+            "fm_broken: 0.5",
+            "fm_broken: ",
+            "`fm_broken` must be a finite number ≥ 1, not 0.5",
+        ),
+        (
+            "fm_broken: inf",
+            "fm_broken: ",
+            "`fm_broken` must be a finite number ≥ 1, not inf",
+        ),
+        (
+            "may_change_rarely: (k1: 0.1, k2: 1.5)",
+            "k2: ",
+            "`k2` must be a number from 0 to 1, not 1.5",
+        ),
+        (
+            "shortest_first: (k1: 0.0, k2: 0.1)",
+            "k1: ",
+            "`k1` must be a number in (0, 1], not 0",
+        ),
+    ];
+    for (value, key, msg) in cases {
+        let planning = format!("spacing: 4.0,\n            planning: ({value}),");
+        edit(d, rel, "spacing: 4.0,", &planning);
+        let (code, out) = shoal(d, &["check", rel]);
+        refused(code, &out);
+        let here = at(d, rel, key);
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{value}: {here}: {msg}\n{out}"
+        );
+        edit(d, rel, &planning, "spacing: 4.0,");
+    }
+    // The defaults written out are accepted.
+    let planning = "spacing: 4.0,\n            planning: (relax_step: 0.1, fm_broken: 2.0, keep_share: true, must_keep: (k1: 0.05, k2: 0.95)),";
+    edit(d, rel, "spacing: 4.0,", planning);
+    let (code, out) = shoal(d, &["check", rel]);
+    assert_eq!(code, 0, "{out}");
+}
+
+#[test]
+fn bad_squad_leaders_are_refused_at_their_key() {
+    let w = world();
+    let d = w.path();
+    let rel = "scenarios/squad_march.ron";
+    let cases = [
+        (
+            "leader: Slot(5),",
+            "leader slot 5 is out of range: the squad has 5 members (slots 0 to 4)",
+        ),
+        (
+            "leader: Role(\"scout\"),",
+            "leader role \"scout\" needs `roles: [...]`, one per member",
+        ),
+        (
+            "leader: Role(\"scout\"), roles: [\"a\", \"b\", \"c\", \"d\", \"e\"],",
+            "no member has the role \"scout\"; the roles are a, b, c, d, e",
+        ),
+    ];
+    for (value, msg) in cases {
+        let with = format!("spacing: 4.0,\n            {value}");
+        edit(d, rel, "spacing: 4.0,", &with);
+        let (code, out) = shoal(d, &["check", rel]);
+        refused(code, &out);
+        let here = at(d, rel, "leader: ");
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
+        edit(d, rel, &with, "spacing: 4.0,");
+    }
+    let with = "spacing: 4.0,\n            roles: [\"a\", \"b\"],";
+    edit(d, rel, "spacing: 4.0,", with);
+    let (code, out) = shoal(d, &["check", rel]);
+    refused(code, &out);
+    let here = at(d, rel, "roles: ");
+    assert!(
+        out.contains(&format!(
+            "{here}: `roles` names 2 members but the squad has 5: give one role per member"
+        )),
+        "{out}"
+    );
+}
+
+#[test]
+fn a_pgm_terrain_needs_its_cell_size_and_height_scale() {
+    let w = world();
+    let d = w.path();
+    let rel = "scenarios/squad_march.ron";
+    let mut bytes = b"P5\n128 128\n255\n".to_vec();
+    bytes.extend(std::iter::repeat_n(10u8, 128 * 128));
+    std::fs::write(d.join("assets/terrain/flat.pgm"), &bytes).unwrap();
+    edit(
+        d,
+        rel,
+        "dem: \"../assets/terrain/valley.asc\",\n        features: Some(\"../assets/terrain/valley_features.ron\"),",
+        "dem: \"../assets/terrain/flat.pgm\",",
+    );
+    let (code, out) = shoal(d, &["check", rel]);
+    refused(code, &out);
+    let here = at(d, rel, "dem: ");
+    assert!(
+        out.contains(&format!("{here}: terrain file"))
+            && out.contains(
+                "a PGM height map needs `cell_size` (metres per pixel) and `height_scale`"
+            ),
+        "{out}"
+    );
+    let pgm = "dem: \"../assets/terrain/flat.pgm\",";
+    for (value, key, msg) in [
+        (
+            "cell_size: -4.0, height_scale: 0.1",
+            "cell_size: ",
+            "`cell_size` must be a finite number > 0, not -4",
+        ),
+        (
+            "cell_size: 4.0, height_scale: NaN",
+            "height_scale: ",
+            "`height_scale` must be a finite number > 0, not NaN",
+        ),
+    ] {
+        let with = format!("{pgm} {value},");
+        edit(d, rel, pgm, &with);
+        let (code, out) = shoal(d, &["check", rel]);
+        refused(code, &out);
+        let here = at(d, rel, key);
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
+        edit(d, rel, &with, pgm);
+    }
+    // 128 pixels of 4 m: the 512 m square of the scenario, flat at 10 × 0.1 = 1 m.
+    edit(
+        d,
+        rel,
+        pgm,
+        &format!("{pgm} cell_size: 4.0, height_scale: 0.1,"),
+    );
+    let (code, out) = shoal(d, &["check", rel]);
+    assert_eq!(code, 0, "{out}");
+    // An ESRI grid gives its own cell size.
+    let asc = "dem: \"../assets/terrain/valley.asc\", cell_size: 2.0,";
+    edit(
+        d,
+        rel,
+        "dem: \"../assets/terrain/flat.pgm\", cell_size: 4.0, height_scale: 0.1,",
+        asc,
+    );
+    let (code, out) = shoal(d, &["check", rel]);
+    refused(code, &out);
+    let here = at(d, rel, "cell_size: ");
+    assert!(
+        out.contains(&format!("{here}: `cell_size` is for a PGM height map")),
+        "{out}"
+    );
+}

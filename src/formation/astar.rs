@@ -13,12 +13,25 @@
 //! be outvoted by a few cells of path length). The heuristic is the octile distance times the
 //! cheapest possible step, `K1·min cost + K2·FM_min`, so it is admissible and consistent.
 //!
+//! **When a search "finds no path"** (the source relaxes `K2 −= step, K1 += step` and searches
+//! again). Read literally, a node is refused only where `1/Σ aᵢ` is infinite (no follower fits),
+//! and that does not depend on the weights while `K2 > 0`: every relaxed search then fails exactly
+//! like the first, and only the last step, `K2 = 0`, can ever succeed. The engine therefore reads
+//! K2 also as the share of the followers that must stand in a free slot: with the leader at `n`,
+//! the formation the team takes there (the primary, or when the formation may change any other of
+//! the list) must place at least `⌈K2·N⌉` of the `N` followers, and at least one while `K2 > 0`
+//! ([`required_free`]). So `K2 = 0.9` keeps the whole formation (for fewer than 10 followers),
+//! each relaxation tolerates a tenth more followers out of their slots, and an intermediate step
+//! succeeds where the team fits that well. `keep_share: false` (a squad's `planning`) is the
+//! literal form: one follower in a free slot is enough at any `K2 > 0`.
+//!
 //! The all-blocked case (`Σ aᵢ = 0`, where `1/Σ aᵢ` is infinite): when the formation may change
-//! and another formation of the list can place at least one follower there, the step costs the
-//! finite penalty [`FM_BROKEN`]; otherwise the node is infeasible while `K2 > 0` (the source's
-//! infinite `f`) and free of formation cost when `K2 = 0`. When the formation may not change
-//! (`may_change = false`), a node is feasible only where every follower's slot is free: the
-//! formation is kept everywhere or the plan fails. The start cell is exempt: the team is where it is.
+//! and another formation of the list places enough followers there, the step costs the finite
+//! penalty `fm_broken` ([`FM_BROKEN`] by default); otherwise the node is infeasible while `K2 > 0`
+//! (the source's infinite `f`) and free of formation cost when `K2 = 0`. When the formation may
+//! not change (`may_change = false`), a node is feasible only where every follower's slot is
+//! free: the formation is kept everywhere or the plan fails. The start cell is exempt: the team is
+//! where it is.
 
 use super::shape::{to_world, Formation, FormationError};
 use crate::terrain::{Cell, CostGrid};
@@ -26,8 +39,56 @@ use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
 /// Formation cost of a step where no follower fits its primary slot but another formation of the
-/// list still places someone: twice that of a step where a single follower fits.
+/// list still places enough of them: twice that of a step where a single follower fits. The
+/// source leaves `1/Σ aᵢ` infinite there; a squad's `planning.fm_broken` overrides it.
 pub const FM_BROKEN: f32 = 2.0;
+
+/// The source's relaxation step: `K2 −= 0.1, K1 += 0.1` after a failed search.
+pub const RELAX_STEP: f32 = 0.1;
+
+/// Planning constants of seed 004 a scenario's squad may override (`planning: (…)`), with the
+/// source's values as defaults.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PlanningParams {
+    /// How much K2 drops and K1 rises per relaxation (source: 0.1).
+    pub relax_step: f32,
+    /// Formation cost of a step where no follower fits the primary formation but another of the
+    /// list places enough of them (the source's `1/Σ aᵢ` is infinite there).
+    pub fm_broken: f32,
+    /// Whether K2 is also the share of followers that must fit (see the module notes); `false` is
+    /// the literal reading, under which only `K2 = 0` can rescue a failed search.
+    pub keep_share: bool,
+    /// `(K1, K2)` of the task class "must not change" (source: 0.05, 0.95).
+    pub must_keep: ClassFactors,
+    /// `(K1, K2)` of the task class "may change rarely" (source: 0.1, 0.9).
+    pub may_change_rarely: ClassFactors,
+    /// `(K1, K2)` of the task class "shortest path first" (source: 0.9, 0.1).
+    pub shortest_first: ClassFactors,
+}
+
+/// The path factor K1 and formation factor K2 of a task class.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClassFactors {
+    /// Path factor K1, in (0, 1].
+    pub k1: f32,
+    /// Formation factor K2, in [0, 1].
+    pub k2: f32,
+}
+
+impl Default for PlanningParams {
+    fn default() -> Self {
+        PlanningParams {
+            relax_step: RELAX_STEP,
+            fm_broken: FM_BROKEN,
+            keep_share: true,
+            must_keep: ClassFactors { k1: 0.05, k2: 0.95 },
+            may_change_rarely: ClassFactors { k1: 0.1, k2: 0.9 },
+            shortest_first: ClassFactors { k1: 0.9, k2: 0.1 },
+        }
+    }
+}
 
 /// The 8 move directions `(dcol, drow)`, clockwise from east; a heading index is an index here.
 pub const DIRS: [(i32, i32); 8] = [
@@ -64,19 +125,26 @@ pub enum TaskClass {
 }
 
 impl TaskClass {
-    /// The weights this class starts from, with the source's relaxation step of 0.1.
+    /// The weights this class starts from with the source's constants (relaxation step 0.1).
     pub fn weights(&self) -> Weights {
+        self.weights_with(&PlanningParams::default())
+    }
+
+    /// The weights this class starts from with the constants of `p`.
+    pub fn weights_with(&self, p: &PlanningParams) -> Weights {
         let (k1, k2, may_change) = match *self {
-            TaskClass::MustKeep => (0.05, 0.95, false),
-            TaskClass::MayChangeRarely => (0.1, 0.9, true),
-            TaskClass::ShortestFirst => (0.9, 0.1, true),
+            TaskClass::MustKeep => (p.must_keep.k1, p.must_keep.k2, false),
+            TaskClass::MayChangeRarely => (p.may_change_rarely.k1, p.may_change_rarely.k2, true),
+            TaskClass::ShortestFirst => (p.shortest_first.k1, p.shortest_first.k2, true),
             TaskClass::Custom { k1, k2, may_change } => (k1, k2, may_change),
         };
         Weights {
             k1,
             k2,
             may_change,
-            step: 0.1,
+            step: p.relax_step,
+            fm_broken: p.fm_broken,
+            keep_share: p.keep_share,
         }
     }
 }
@@ -92,16 +160,29 @@ pub struct Weights {
     pub may_change: bool,
     /// How much K2 drops and K1 rises per relaxation.
     pub step: f32,
+    /// Formation cost of a step where no follower fits the primary formation ([`FM_BROKEN`]).
+    pub fm_broken: f32,
+    /// Whether K2 is also the share of followers that must fit ([`required_free`]).
+    pub keep_share: bool,
+}
+
+impl Default for Weights {
+    /// The source's "may change rarely" class.
+    fn default() -> Self {
+        TaskClass::MayChangeRarely.weights()
+    }
 }
 
 impl Weights {
-    /// Checks the ranges: `0 < K1 ≤ 1`, `0 ≤ K2 ≤ 1`, `0 < step ≤ 1`.
+    /// Checks the ranges: `0 < K1 ≤ 1`, `0 ≤ K2 ≤ 1`, `0 < step ≤ 1`, `1 ≤ fm_broken` finite.
     pub fn validate(self) -> Result<Weights, FormationError> {
         let ok = self.k1 > 0.0
             && self.k1 <= 1.0
             && (0.0..=1.0).contains(&self.k2)
             && self.step > 0.0
-            && self.step <= 1.0;
+            && self.step <= 1.0
+            && self.fm_broken.is_finite()
+            && self.fm_broken >= 1.0;
         if ok {
             Ok(self)
         } else {
@@ -109,6 +190,7 @@ impl Weights {
                 k1: self.k1,
                 k2: self.k2,
                 step: self.step,
+                fm_broken: self.fm_broken,
             })
         }
     }
@@ -127,6 +209,51 @@ impl Weights {
             ..*self
         })
     }
+}
+
+/// `FM(n) = 1 / Σ aᵢ` for `free = Σ aᵢ` followers in a free slot; `None` (infinite) when none is.
+#[inline]
+pub fn formation_measure(free: usize) -> Option<f32> {
+    (free > 0).then(|| 1.0 / free as f32)
+}
+
+/// How many of `followers` must stand in a free slot of the formation taken at a node for the
+/// node to be feasible under formation factor `k2`: none when `k2 ≤ 0`; otherwise `⌈k2·N⌉` and
+/// at least one when `share` (the engine's reading, see the module notes), one when not.
+pub fn required_free(k2: f32, followers: usize, share: bool) -> usize {
+    if k2 <= 0.0 || followers == 0 {
+        return 0;
+    }
+    if !share {
+        return 1;
+    }
+    // The tolerance keeps 0.7·10 (6.9999…) or 0.6·5 (3.0000001) in f32 at 7 and 3.
+    let need = (f64::from(k2) * followers as f64 - 1e-4).ceil().max(1.0);
+    (need as usize).min(followers)
+}
+
+/// The path part of one step's score, `len · K1 · cost` (`K1·g` summed step by step).
+#[inline]
+pub fn path_term(len: f32, k1: f32, cost: f32) -> f32 {
+    len * k1 * cost
+}
+
+/// The formation part of one step's score, `len · K2 · FM`.
+#[inline]
+pub fn formation_term(len: f32, k2: f32, fm: f32) -> f32 {
+    len * k2 * fm
+}
+
+/// The FM a step into a node costs, from the free slots of the primary formation (`primary`) and
+/// the most any other allowed formation places (`best_other`), with `need` from
+/// [`required_free`]; `None` when the node is infeasible. A node where the primary places no
+/// follower but another formation places enough costs `fm_broken`.
+#[inline]
+pub fn step_fm(primary: usize, best_other: usize, need: usize, fm_broken: f32) -> Option<f32> {
+    if primary >= need {
+        return Some(formation_measure(primary).unwrap_or(fm_broken));
+    }
+    (best_other >= need).then(|| formation_measure(primary).unwrap_or(fm_broken))
 }
 
 /// Cell offsets `(dcol, drow)` of each follower's slot for each of the 8 headings.
@@ -467,6 +594,8 @@ impl Planner {
             0.0
         };
         let h_rate = k1 * grid.min_cost() + k2 * fm_min;
+        let need = required_free(k2, followers, w.keep_share);
+        let fm_broken = w.fm_broken;
         let (gc, gr) = (goal.col as i32, goal.row as i32);
         let octile = |c: i32, r: i32| {
             let (dx, dz) = ((c - gc).abs() as f32, (r - gr).abs() as f32);
@@ -481,16 +610,20 @@ impl Planner {
             if strict {
                 return (free == followers).then_some(fm_min);
             }
-            if free > 0 {
-                return Some(1.0 / free as f32);
-            }
             if k2 <= 0.0 {
                 return Some(0.0);
             }
-            slots[1..]
-                .iter()
-                .any(|s| s[d].free(grid, j, col, row) > 0)
-                .then_some(FM_BROKEN)
+            if free >= need {
+                return step_fm(free, 0, need, fm_broken);
+            }
+            let mut other = 0;
+            for s in &slots[1..] {
+                other = other.max(s[d].free(grid, j, col, row));
+                if other >= need {
+                    break;
+                }
+            }
+            step_fm(free, other, need, fm_broken)
         };
 
         let tag = gen << GEN_SHIFT;
@@ -540,13 +673,13 @@ impl Planner {
                 } else {
                     1.0
                 };
-                let base = gcur + len * k1 * grid.cost[j];
-                if seen && base + len * k2 * fm_min >= node.g {
+                let base = gcur + path_term(len, k1, grid.cost[j]);
+                if seen && base + formation_term(len, k2, fm_min) >= node.g {
                     continue;
                 }
                 let term = if need_fm {
                     match fm(j, nc as usize, nr as usize, d) {
-                        Some(v) => len * k2 * v,
+                        Some(v) => formation_term(len, k2, v),
                         None => continue,
                     }
                 } else {
@@ -706,7 +839,7 @@ mod tests {
             let f = [Formation::new(&Shape::Wedge, members, 1.0).unwrap()];
             let team = GridFormations::new(&f, 0, 1.0);
             let mut p = Planner::new();
-            let found = p.search(&grid, start, goal, &team, Weights { k1: 1.0, k2: 0.0, may_change: true, step: 0.1 });
+            let found = p.search(&grid, start, goal, &team, Weights { k1: 1.0, k2: 0.0, ..Weights::default() });
             let reference = dijkstra(&grid, start, goal);
             match (found, reference) {
                 (None, None) => {}
@@ -719,7 +852,7 @@ mod tests {
                         prop_assert!(grid.clear_line(w[0], w[1]));
                     }
                     // Reusing the buffers gives the same answer.
-                    let again = p.search(&grid, start, goal, &team, Weights { k1: 0.5, k2: 0.0, may_change: true, step: 0.1 }).unwrap();
+                    let again = p.search(&grid, start, goal, &team, Weights { k1: 0.5, k2: 0.0, ..Weights::default() }).unwrap();
                     prop_assert!((again.cost - s.cost).abs() <= 1e-3 * s.cost.max(1.0));
                 }
                 (a, b) => prop_assert!(false, "A* {:?} vs Dijkstra {:?}", a.map(|s| s.cost), b),
@@ -761,6 +894,197 @@ mod tests {
         .weights()
         .validate()
         .is_err());
+    }
+
+    #[test]
+    fn formation_measure_is_one_over_the_free_slots() {
+        assert_eq!(formation_measure(0), None);
+        assert_eq!(formation_measure(1), Some(1.0));
+        assert_eq!(formation_measure(4), Some(0.25));
+        assert_eq!(formation_measure(5), Some(0.2));
+    }
+
+    #[test]
+    fn the_share_that_must_fit_follows_k2() {
+        // ⌈K2·N⌉, at least 1 while K2 > 0: 0.9·4 = 3.6 → 4, 0.8·4 = 3.2 → 4, 0.7·4 = 2.8 → 3,
+        // 0.6·4 = 2.4 → 3, 0.5·4 = 2, 0.3·4 = 1.2 → 2, 0.1·4 = 0.4 → 1, 0.05·4 = 0.2 → 1.
+        let need = |k2: f32| required_free(k2, 4, true);
+        let seq: Vec<usize> = [0.9, 0.8, 0.7, 0.6, 0.5, 0.3, 0.1, 0.05, 0.0]
+            .map(need)
+            .to_vec();
+        assert_eq!(seq, vec![4, 4, 3, 3, 2, 2, 1, 1, 0]);
+        // f32 products just above or below a whole number: 0.7·10 = 6.9999… → 7, 0.6·5 → 3.
+        assert_eq!(required_free(0.7, 10, true), 7);
+        assert_eq!(required_free(0.6, 5, true), 3);
+        assert_eq!(required_free(1.0, 4, true), 4);
+        assert_eq!(required_free(0.95, 4, true), 4);
+        // The literal reading: one follower at any K2 > 0; none without followers.
+        assert_eq!(required_free(0.9, 4, false), 1);
+        assert_eq!(required_free(0.0, 4, false), 0);
+        assert_eq!(required_free(0.9, 0, true), 0);
+        assert_eq!(required_free(-0.1, 4, true), 0);
+    }
+
+    #[test]
+    fn step_scores_are_length_times_the_weighted_terms() {
+        // √2 · 0.1 · 3 = 0.42426407; 2 · 0.9 · 0.25 = 0.45.
+        assert!((path_term(std::f32::consts::SQRT_2, 0.1, 3.0) - 0.424_264_07).abs() < 1e-6);
+        assert!((formation_term(2.0, 0.9, 0.25) - 0.45).abs() < 1e-6);
+        assert_eq!(path_term(1.0, 1.0, 5.0), 5.0);
+        assert_eq!(formation_term(1.0, 0.5, 3.0), 1.5);
+    }
+
+    #[test]
+    fn step_fm_follows_the_primary_and_falls_back_on_other_formations() {
+        // Primary places enough: 1/Σaᵢ.
+        assert_eq!(step_fm(4, 0, 4, 2.0), Some(0.25));
+        assert_eq!(step_fm(2, 0, 2, 2.0), Some(0.5));
+        // Primary too few (1 < 2) but another formation places 4: still 1/1 for the primary.
+        assert_eq!(step_fm(1, 4, 2, 2.0), Some(1.0));
+        // Primary none, another enough: fm_broken.
+        assert_eq!(step_fm(0, 4, 2, 2.0), Some(2.0));
+        assert_eq!(step_fm(0, 2, 2, 3.5), Some(3.5));
+        // Nobody places enough: infeasible.
+        assert_eq!(step_fm(1, 1, 2, 2.0), None);
+        assert_eq!(step_fm(0, 0, 1, 2.0), None);
+        assert_eq!(step_fm(3, 3, 4, 2.0), None);
+        // Nothing needed (K2 = 0): any node.
+        assert_eq!(step_fm(0, 0, 0, 2.0), Some(2.0));
+    }
+
+    #[test]
+    fn the_search_minimises_the_sum_of_weighted_step_scores() {
+        // Open 7×5 grid, a line of 3 (spacing 1) from (0, 2) east to (4, 2): 4 steps, both
+        // followers free (rows 1 and 3), FM = 1/2: 4 · (0.1·1 + 0.9·0.5) = 4 · 0.55 = 2.2.
+        let grid = CostGrid::open(7, 5, 1.0, Vec2::ZERO);
+        let line = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let team = GridFormations::new(&line, 0, 1.0);
+        let w = TaskClass::MayChangeRarely.weights();
+        let s = Planner::new()
+            .search(&grid, Cell::new(0, 2), Cell::new(4, 2), &team, w)
+            .unwrap();
+        assert_eq!(s.cells.len(), 5);
+        assert!((s.score - 2.2).abs() < 1e-5, "{}", s.score);
+        assert!((s.cost - 4.0).abs() < 1e-6);
+        // A 5×1 strip with a line and a column: heading east the line's followers are off the
+        // grid (0 free), the column's behind; with one follower enough (literal reading) every
+        // step costs fm_broken: 4 · (0.1·1 + 0.9·2) = 7.6, and with fm_broken = 3,
+        // 4 · (0.1 + 0.9·3) = 11.2.
+        let strip = CostGrid::open(5, 1, 1.0, Vec2::ZERO);
+        let two = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let team = GridFormations::new(&two, 0, 1.0);
+        let literal = Weights {
+            keep_share: false,
+            ..w
+        };
+        let s = Planner::new()
+            .search(&strip, Cell::new(0, 0), Cell::new(4, 0), &team, literal)
+            .unwrap();
+        assert!((s.score - 7.6).abs() < 1e-5, "{}", s.score);
+        let s = Planner::new()
+            .search(
+                &strip,
+                Cell::new(0, 0),
+                Cell::new(4, 0),
+                &team,
+                Weights {
+                    fm_broken: 3.0,
+                    ..literal
+                },
+            )
+            .unwrap();
+        assert!((s.score - 11.2).abs() < 1e-5, "{}", s.score);
+        // With the share rule (⌈0.9·2⌉ = 2 must fit), the cell next to the start holds one
+        // column follower only: no path at K2 = 0.9; at K2 = 0.5 one is enough again.
+        assert!(Planner::new()
+            .search(&strip, Cell::new(0, 0), Cell::new(4, 0), &team, w)
+            .is_none());
+        let half = Weights {
+            k1: 0.5,
+            k2: 0.5,
+            ..w
+        };
+        let s = Planner::new()
+            .search(&strip, Cell::new(0, 0), Cell::new(4, 0), &team, half)
+            .unwrap();
+        // 4 · (0.5·1 + 0.5·2) = 6.
+        assert!((s.score - 6.0).abs() < 1e-5, "{}", s.score);
+    }
+
+    #[test]
+    fn relaxation_clamps_at_the_bounds_and_uses_its_step() {
+        let w = Weights {
+            k1: 0.8,
+            k2: 0.2,
+            step: 0.25,
+            ..Weights::default()
+        };
+        let r = w.relaxed().unwrap();
+        // 0.8 + 0.25 = 1.05 → 1; 0.2 − 0.25 = −0.05 → 0.
+        assert_eq!((r.k1, r.k2), (1.0, 0.0));
+        assert_eq!(r.relaxed(), None);
+        let w = Weights {
+            k1: 0.3,
+            k2: 0.6,
+            step: 0.25,
+            ..Weights::default()
+        };
+        let r = w.relaxed().unwrap();
+        assert_eq!((r.k1, r.k2), (0.55, 0.35));
+        assert_eq!(
+            Weights {
+                may_change: false,
+                ..w
+            }
+            .relaxed(),
+            None
+        );
+        // K2 just above zero still relaxes once.
+        let tiny = Weights {
+            k1: 0.99,
+            k2: 0.01,
+            ..Weights::default()
+        };
+        assert_eq!(tiny.relaxed().map(|r| (r.k1, r.k2)), Some((1.0, 0.0)));
+    }
+
+    #[test]
+    fn weights_come_from_the_planning_constants() {
+        let p = PlanningParams {
+            relax_step: 0.2,
+            fm_broken: 4.0,
+            keep_share: false,
+            must_keep: ClassFactors { k1: 0.01, k2: 0.99 },
+            may_change_rarely: ClassFactors { k1: 0.3, k2: 0.7 },
+            shortest_first: ClassFactors { k1: 0.8, k2: 0.2 },
+        };
+        let w = TaskClass::MayChangeRarely.weights_with(&p);
+        assert_eq!((w.k1, w.k2, w.step, w.fm_broken), (0.3, 0.7, 0.2, 4.0));
+        assert!(!w.keep_share && w.may_change);
+        let w = TaskClass::MustKeep.weights_with(&p);
+        assert_eq!((w.k1, w.k2, w.may_change), (0.01, 0.99, false));
+        let w = TaskClass::ShortestFirst.weights_with(&p);
+        assert_eq!((w.k1, w.k2, w.may_change), (0.8, 0.2, true));
+        let d = TaskClass::MustKeep.weights();
+        assert_eq!((d.k1, d.k2, d.step, d.fm_broken), (0.05, 0.95, 0.1, 2.0));
+        assert!(d.keep_share);
+        assert!(Weights {
+            fm_broken: 0.5,
+            ..d
+        }
+        .validate()
+        .is_err());
+        assert!(Weights {
+            fm_broken: f32::INFINITY,
+            ..d
+        }
+        .validate()
+        .is_err());
+        assert!(Weights { step: 0.0, ..d }.validate().is_err());
+        assert!(Weights { step: 1.0, ..d }.validate().is_ok());
     }
 
     #[test]

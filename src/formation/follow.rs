@@ -10,9 +10,25 @@
 //! straight along it is the linear interpolation between the two, evaluated at the leader's
 //! position. Each leg carries a speed factor, the member's distance over the leader's, so that
 //! members moving at `factor × leader speed` arrive together and wait little.
+//!
+//! On a grid ([`member_paths_on`]) two rules keep the slots out of walls, both engine readings
+//! the source leaves open:
+//! - **A transition starts where the new formation fits.** The leg into a transition is where
+//!   the source interpolates; that is right going into a narrow pass (the narrow formation fits
+//!   where the leg starts), but coming out of one the leg into the transition runs inside the pass,
+//!   and the wide formation would start spreading between its walls. So when the new formation
+//!   does not fit at the key point before the transition (leader there, facing along the leg), the
+//!   members hold the old formation up to the transition and interpolate over the leg after it:
+//!   the wide formation is restored only after the pass.
+//! - **A slot inside a wall is drawn in toward the leader.** Where a low K2 let the plan keep a
+//!   formation that does not fit (some `aᵢ = 0`), a waypoint on a blocked cell moves along the line
+//!   from the leader to the slot to the farthest point before the first blocked cell.
+//!
+//! [`member_paths`] is the source's form, the formation function alone.
 
 use super::shape::Formation;
 use super::smooth::KeyPoint;
+use crate::terrain::CostGrid;
 use glam::Vec2;
 use serde::{Deserialize, Serialize};
 
@@ -59,22 +75,137 @@ pub fn member_paths(keys: &[KeyPoint], formations: &[Formation], leader: usize) 
                 .zip(&headings)
                 .map(|(k, &h)| formations[k.formation].world_slot(m, leader, k.pos, h))
                 .collect();
-            let speed_factors = keys
-                .windows(2)
-                .zip(waypoints.windows(2))
-                .map(|(l, w)| {
-                    let lead = l[0].pos.distance(l[1].pos);
-                    if lead > 0.0 {
-                        w[0].distance(w[1]) / lead
-                    } else {
-                        1.0
-                    }
-                })
-                .collect();
+            let speed_factors = speed_factors(keys, &waypoints);
             MemberPath {
                 member: m,
                 waypoints,
                 speed_factors,
+            }
+        })
+        .collect()
+}
+
+/// Every member's path on `grid`: [`member_paths`] with the two rules of the module notes (a
+/// widening transition interpolated over the leg after it, slots in walls drawn in).
+pub fn member_paths_on(
+    grid: &CostGrid,
+    keys: &[KeyPoint],
+    formations: &[Formation],
+    leader: usize,
+) -> Vec<MemberPath> {
+    let headings = key_headings(keys);
+    let held = held_formations(grid, keys, formations, leader, &headings);
+    let members = formations.first().map_or(0, Formation::len);
+    (0..members)
+        .map(|m| {
+            let waypoints: Vec<Vec2> = keys
+                .iter()
+                .zip(&headings)
+                .zip(&held)
+                .map(|((k, &h), &f)| {
+                    let slot = formations[f].world_slot(m, leader, k.pos, h);
+                    if m == leader {
+                        slot
+                    } else {
+                        draw_in(grid, k.pos, slot)
+                    }
+                })
+                .collect();
+            let speed_factors = speed_factors(keys, &waypoints);
+            MemberPath {
+                member: m,
+                waypoints,
+                speed_factors,
+            }
+        })
+        .collect()
+}
+
+/// Per key point, the formation the members' slots take there: the key point's own, except at a
+/// transition whose new formation does not fit at the key point before it (leader there, facing
+/// along the leg) and is held over the next leg: there the old one, so that the members change
+/// over the leg after the transition.
+pub fn held_formations(
+    grid: &CostGrid,
+    keys: &[KeyPoint],
+    formations: &[Formation],
+    leader: usize,
+    headings: &[Vec2],
+) -> Vec<usize> {
+    (0..keys.len())
+        .map(|j| {
+            let to = keys[j].formation;
+            if j == 0 || j + 1 >= keys.len() {
+                return to;
+            }
+            let from = keys[j - 1].formation;
+            let defer = from != to
+                && keys[j + 1].formation == to
+                && !fits(
+                    grid,
+                    &formations[to],
+                    leader,
+                    keys[j - 1].pos,
+                    headings[j - 1],
+                );
+            if defer {
+                from
+            } else {
+                to
+            }
+        })
+        .collect()
+}
+
+/// Whether every slot of `formation` but the leader's is on a free cell of `grid`, the leader
+/// at `pos` facing `heading`.
+pub fn fits(
+    grid: &CostGrid,
+    formation: &Formation,
+    leader: usize,
+    pos: Vec2,
+    heading: Vec2,
+) -> bool {
+    (0..formation.len()).filter(|&m| m != leader).all(|m| {
+        let p = formation.world_slot(m, leader, pos, heading);
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
+    })
+}
+
+/// `slot` when it is on a free cell; otherwise the farthest point from `leader` toward `slot`
+/// before the first blocked cell, sampled every quarter cell (the leader's point when the first
+/// sample is already blocked).
+pub fn draw_in(grid: &CostGrid, leader: Vec2, slot: Vec2) -> Vec2 {
+    let free = |p: Vec2| {
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
+    };
+    if free(slot) {
+        return slot;
+    }
+    let steps = (leader.distance(slot) / (0.25 * grid.cell_size)).ceil() as usize;
+    let mut last = leader;
+    for s in 1..=steps {
+        let p = leader.lerp(slot, s as f32 / steps as f32);
+        if !free(p) {
+            break;
+        }
+        last = p;
+    }
+    last
+}
+
+/// Per leg: the member's leg length over the leader's (1 where the leader does not move).
+fn speed_factors(keys: &[KeyPoint], waypoints: &[Vec2]) -> Vec<f32> {
+    keys.windows(2)
+        .zip(waypoints.windows(2))
+        .map(|(l, w)| {
+            let lead = l[0].pos.distance(l[1].pos);
+            if lead > 0.0 {
+                w[0].distance(w[1]) / lead
+            } else {
+                1.0
             }
         })
         .collect()
@@ -149,6 +280,121 @@ mod tests {
                 assert!((s * lead - own).abs() < 1e-4);
             }
         }
+    }
+
+    /// 30 × 11 open cells with a pass one row high (row 5) through walls from column 10 to 19.
+    fn pass_grid() -> CostGrid {
+        let mut g = CostGrid::open(30, 11, 1.0, Vec2::ZERO);
+        for c in 10..20 {
+            for r in (0..11).filter(|&r| r != 5) {
+                let i = g.index(Cell::new(c, r));
+                g.blocked[i] = true;
+            }
+        }
+        g
+    }
+
+    fn free(g: &CostGrid, p: Vec2) -> bool {
+        g.cell_of(p).is_some_and(|c| !g.blocked[g.index(c)])
+    }
+
+    #[test]
+    fn the_wide_formation_is_restored_only_after_the_pass() {
+        let g = pass_grid();
+        let f = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        // Line → column at the entrance (10, 5), column → line at the exit (20, 5).
+        let keys = [
+            kp(2.5, 5.5, 0, 0),
+            kp(10.5, 5.5, 1, 8),
+            kp(20.5, 5.5, 0, 18),
+            kp(27.5, 5.5, 0, 25),
+        ];
+        let h = key_headings(&keys);
+        // Entrance: the column fits at (2.5, 5.5) (slots (1.5, 5.5), (0.5, 5.5)): changed on the
+        // leg into it. Exit: the line does not fit at the entrance (slots on rows 4 and 6 of
+        // column 10): the column is held up to the exit and the line taken on the leg after.
+        assert_eq!(held_formations(&g, &keys, &f, 0, &h), vec![0, 1, 1, 0]);
+        let paths = member_paths_on(&g, &keys, &f, 0);
+        for p in &paths[1..] {
+            let m = p.member;
+            assert_eq!(p.waypoints[2], f[1].world_slot(m, 0, keys[2].pos, h[2]));
+            assert_eq!(p.waypoints[3], f[0].world_slot(m, 0, keys[3].pos, h[3]));
+            // Inside the pass every member stays on row 5.
+            for s in 0..=20 {
+                let t = s as f32 / 20.0;
+                assert!(free(&g, p.position_at(1, t)), "member {m} at t = {t}");
+            }
+        }
+        // Member 1 (the line's right slot) on leg 2 goes from (19.5, 5.5) to (27.5, 6.5).
+        assert_eq!(paths[1].waypoints[2], Vec2::new(19.5, 5.5));
+        assert_eq!(paths[1].waypoints[3], Vec2::new(27.5, 6.5));
+        // Speed factor of that leg: √(8² + 1²) / 7 = 8.0623 / 7 = 1.15175.
+        assert!((paths[1].speed_factors[2] - 1.151_75).abs() < 1e-4);
+        // The source's form interpolates inside the pass: halfway along leg 1 member 1 is at the
+        // mean of (9.5, 5.5) and (20.5, 6.5), (15, 6), a wall cell.
+        let plain = member_paths(&keys, &f, 0);
+        assert_eq!(plain[1].position_at(1, 0.5), Vec2::new(15.0, 6.0));
+        assert!(!free(&g, Vec2::new(15.0, 6.0)));
+        // With nothing in the way, the two forms agree.
+        let open = CostGrid::open(30, 11, 1.0, Vec2::ZERO);
+        assert_eq!(member_paths_on(&open, &keys, &f, 0), plain);
+    }
+
+    #[test]
+    fn a_slot_inside_a_wall_is_drawn_in_toward_the_leader() {
+        let mut g = CostGrid::open(10, 10, 1.0, Vec2::ZERO);
+        for r in 0..10 {
+            for c in 7..10 {
+                let i = g.index(Cell::new(c, r));
+                g.blocked[i] = true;
+            }
+        }
+        let leader = Vec2::new(2.5, 5.5);
+        // Free slot: kept.
+        assert_eq!(
+            draw_in(&g, leader, Vec2::new(4.5, 6.5)),
+            Vec2::new(4.5, 6.5)
+        );
+        // (8.5, 5.5) is in the wall: 6 m in 24 quarter-cell samples; x = 2.5 + 0.25·s reaches
+        // column 7 at s = 18 (x = 7.0), so the last free sample is s = 17, x = 6.75.
+        assert_eq!(
+            draw_in(&g, leader, Vec2::new(8.5, 5.5)),
+            Vec2::new(6.75, 5.5)
+        );
+        // Off the grid to the west: from x = 2.6, 6 m in 24 samples; x = 2.6 − 0.25·s is 0.1 at
+        // s = 10 (column 0) and off the grid at s = 11.
+        let p = draw_in(&g, Vec2::new(2.6, 5.5), Vec2::new(-3.4, 5.5));
+        assert!((p - Vec2::new(0.1, 5.5)).length() < 1e-5, "{p}");
+        // The first sample already blocked: the leader's point.
+        let by_wall = Vec2::new(6.9, 5.5);
+        assert_eq!(draw_in(&g, by_wall, Vec2::new(9.5, 5.5)), by_wall);
+        // In member paths: a line of 3 facing north at (6.5, 5.5) has its right slot at
+        // (7.5, 5.5), in the wall: 1 m in 4 samples, 6.75 free, 7.0 not.
+        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let keys = [kp(6.5, 5.5, 0, 0), kp(6.5, 1.5, 0, 4)];
+        let paths = member_paths_on(&g, &keys, &f, 0);
+        assert_eq!(paths[1].waypoints[0], Vec2::new(6.75, 5.5));
+        assert_eq!(paths[2].waypoints[0], Vec2::new(5.5, 5.5));
+        assert!(paths
+            .iter()
+            .all(|p| p.waypoints.iter().all(|&w| free(&g, w))));
+        assert!(fits(
+            &g,
+            &f[0],
+            0,
+            Vec2::new(4.5, 5.5),
+            Vec2::new(0.0, -1.0)
+        ));
+        assert!(!fits(
+            &g,
+            &f[0],
+            0,
+            Vec2::new(6.5, 5.5),
+            Vec2::new(0.0, -1.0)
+        ));
     }
 
     #[test]

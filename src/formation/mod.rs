@@ -39,7 +39,8 @@ pub mod shape;
 pub mod smooth;
 
 pub use astar::{
-    GridFormations, LeaderSearch, Planner, SlotOffsets, TaskClass, Weights, FM_BROKEN,
+    ClassFactors, GridFormations, LeaderSearch, Planner, PlanningParams, SlotOffsets, TaskClass,
+    Weights, FM_BROKEN, RELAX_STEP,
 };
 pub use follow::{member_paths, MemberPath};
 pub use shape::{Formation, FormationDef, FormationError, LeaderChoice, Shape};
@@ -202,7 +203,7 @@ impl Planner {
         let along = smooth::formation_along(grid, &found.cells, &team, w.may_change);
         let (key_points, transitions) =
             smooth::smooth(grid, &found.cells, &along, &team, w.may_change);
-        let member_paths = member_paths(&key_points, req.formations, req.leader);
+        let member_paths = follow::member_paths_on(grid, &key_points, req.formations, req.leader);
         Ok(Plan {
             leader: req.leader,
             leader_path: found.cells.iter().map(|&c| grid.center_of(c)).collect(),
@@ -446,6 +447,46 @@ mod tests {
     }
 
     #[test]
+    fn an_intermediate_relaxation_step_succeeds_where_the_team_fits_that_well() {
+        // The only way is a corridor one row high. A T of 5 (two followers behind the leader, one
+        // on each side) has 2 of its 4 followers on free cells there. ⌈K2·4⌉ must fit:
+        // K2 = 0.9 → 4, 0.8 → ⌈3.2⌉ = 4, 0.7 → ⌈2.8⌉ = 3, 0.6 → ⌈2.4⌉ = 3, 0.5 → 2: the fifth
+        // search succeeds.
+        let grid = corridor_map(1, false);
+        let t = Shape::Custom(vec![
+            (0.0, 0.0),
+            (-1.0, 0.0),
+            (-2.0, 0.0),
+            (0.0, 1.0),
+            (0.0, -1.0),
+        ]);
+        let f = vec![Formation::new(&t, 5, 1.0).unwrap()];
+        let p = plan(&request(&grid, &f, TaskClass::MayChangeRarely.weights())).unwrap();
+        assert_eq!(
+            p.tried,
+            vec![(0.1, 0.9), (0.2, 0.8), (0.3, 0.7), (0.4, 0.6), (0.5, 0.5)]
+        );
+        assert!(through(&p, 30, 10..11));
+        // Shortest first starts at K2 = 0.1 (⌈0.4⌉ = 1 must fit): found at once.
+        let s = plan(&request(&grid, &f, TaskClass::ShortestFirst.weights())).unwrap();
+        assert_eq!(s.tried, vec![(0.9, 0.1)]);
+        // A step of 0.25: 0.9 → 0.65 (⌈2.6⌉ = 3) → 0.4 (⌈1.6⌉ = 2) succeeds.
+        let quarter = Weights {
+            step: 0.25,
+            ..TaskClass::MayChangeRarely.weights()
+        };
+        let q = plan(&request(&grid, &f, quarter)).unwrap();
+        assert_eq!(q.tried, vec![(0.1, 0.9), (0.35, 0.65), (0.6, 0.4)]);
+        // The literal reading (one follower is enough at any K2 > 0) takes it at once too.
+        let literal = Weights {
+            keep_share: false,
+            ..TaskClass::MayChangeRarely.weights()
+        };
+        let l = plan(&request(&grid, &f, literal)).unwrap();
+        assert_eq!(l.tried, vec![(0.1, 0.9)]);
+    }
+
+    #[test]
     fn no_path_at_all_tries_every_factor_then_fails() {
         let grid = corridor_map(0, false);
         let f = line3();
@@ -494,13 +535,23 @@ mod tests {
         for w in p.key_points.windows(2) {
             assert!(grid.clear_line(w[0].cell, w[1].cell));
         }
+        // The column is held up to the exit and the line taken on the leg after it.
         let headings = follow::key_headings(&p.key_points);
+        let held = follow::held_formations(&grid, &p.key_points, &f, 0, &headings);
+        let exit = p.transitions[1].key_index;
+        assert_eq!(held[exit], 1);
         for m in &p.member_paths {
             for (j, k) in p.key_points.iter().enumerate() {
-                assert_eq!(
-                    m.waypoints[j],
-                    f[k.formation].world_slot(m.member, 0, k.pos, headings[j])
-                );
+                let slot = f[held[j]].world_slot(m.member, 0, k.pos, headings[j]);
+                let on_free = |p: Vec2| {
+                    grid.cell_of(p)
+                        .is_some_and(|c| !grid.blocked[grid.index(c)])
+                };
+                if on_free(slot) {
+                    assert_eq!(m.waypoints[j], slot);
+                }
+                let c = grid.cell_of(m.waypoints[j]).unwrap();
+                assert!(!grid.blocked[grid.index(c)], "member {} at {c:?}", m.member);
             }
         }
         // In the corridor the column's followers stand on free cells behind the leader.

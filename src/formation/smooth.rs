@@ -183,7 +183,7 @@ mod tests {
                 Formation::new(&Shape::Column, 5, 1.0).unwrap(),
             ];
             let team = GridFormations::new(&f, 0, 1.0);
-            let Some(found) = Planner::new().search(&grid, start, goal, &team, Weights { k1: 1.0 - k2, k2, may_change, step: 0.1 }) else {
+            let Some(found) = Planner::new().search(&grid, start, goal, &team, Weights { k1: 1.0 - k2, k2, may_change, ..Weights::default() }) else {
                 return Ok(());
             };
             let along = formation_along(&grid, &found.cells, &team, may_change);

@@ -259,11 +259,18 @@ pub enum Expectation {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TerrainDef {
-    /// ESRI ASCII grid, relative to the scenario file.
+    /// Elevation file, relative to the scenario file: an ESRI ASCII grid (`.asc`) or a binary
+    /// PGM height map (`.pgm`, which also needs `cell_size` and `height_scale`).
     pub dem: String,
     /// Feature file (RON), relative to the scenario file.
     #[serde(default)]
     pub features: Option<String>,
+    /// PGM only: metres per pixel (an ESRI grid gives its own `cellsize`).
+    #[serde(default)]
+    pub cell_size: Option<f32>,
+    /// PGM only: metres of height per sample unit (height = sample × `height_scale`).
+    #[serde(default)]
+    pub height_scale: Option<f32>,
 }
 
 /// A squad: members of one species that plan a formation-keeping path to a goal.
@@ -285,7 +292,73 @@ pub struct SquadDef {
     /// Slot spacing (world units).
     #[serde(default = "default_spacing")]
     pub spacing: f32,
+    /// Seed 004's planning constants: relaxation step, `fm_broken`, whether K2 is the share of
+    /// followers that must fit, and the task classes' `(k1, k2)`; the source's values by default.
+    #[serde(default)]
+    pub planning: crate::formation::PlanningParams,
+    /// How the leader is chosen, once (seed 004: by slot, by role, or at random); slot 0 by
+    /// default.
+    #[serde(default)]
+    pub leader: SquadLeader,
+    /// One role name per member, for `leader: Role("…")` (empty: no roles).
+    #[serde(default)]
+    pub roles: Vec<String>,
 }
+
+/// How a squad's leader is chosen (seed 004); the choice is kept for the whole run.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SquadLeader {
+    /// The member in this slot (0-based): `Slot(2)`.
+    Slot(usize),
+    /// The first member with this role in `roles`: `Role("scout")`.
+    Role(String),
+    /// A member drawn from the scenario's seed (the squad's own stream): the same scenario and
+    /// seed always give the same leader.
+    Random,
+}
+
+impl Default for SquadLeader {
+    fn default() -> Self {
+        SquadLeader::Slot(0)
+    }
+}
+
+impl SquadLeader {
+    /// The leader's member index among `count` members with `roles` (empty or one per member);
+    /// `seed` and `squad` select the random stream. `Err` says what is wrong.
+    pub fn resolve(
+        &self,
+        count: usize,
+        roles: &[String],
+        seed: u64,
+        squad: usize,
+    ) -> Result<usize, String> {
+        match self {
+            SquadLeader::Slot(s) if *s < count => Ok(*s),
+            SquadLeader::Slot(s) => Err(format!(
+                "leader slot {s} is out of range: the squad has {count} members (slots 0 to {})",
+                count.saturating_sub(1)
+            )),
+            SquadLeader::Role(r) => roles.iter().position(|x| x == r).ok_or_else(|| {
+                if roles.is_empty() {
+                    format!("leader role \"{r}\" needs `roles: [...]`, one per member")
+                } else {
+                    format!(
+                        "no member has the role \"{r}\"; the roles are {}",
+                        roles.join(", ")
+                    )
+                }
+            }),
+            SquadLeader::Random => {
+                let mut rng = crate::world::Rng::new(seed, LEADER_STREAM + squad as u64);
+                Ok((rng.next_f32() * count as f32) as usize % count.max(1))
+            }
+        }
+    }
+}
+
+/// Base of the random streams squads draw a leader from (one stream per squad).
+pub const LEADER_STREAM: u64 = 0x1EAD_E700_0000;
 
 fn default_spacing() -> f32 {
     4.0

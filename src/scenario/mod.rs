@@ -254,8 +254,35 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
         }
         n.point("start", &[q.start.0, q.start.1]);
         n.point("goal", &[q.goal.0, q.goal.1]);
+        check_planning(&mut n, &q.planning);
     }
     n.diags
+}
+
+/// A squad's `planning` constants (seed 004): `relax_step` and each class's `k1` in (0, 1], each
+/// `k2` in [0, 1], `fm_broken` finite and ≥ 1 (one follower fitting costs 1).
+fn check_planning(n: &mut crate::numbers::NumberCheck<'_>, p: &crate::formation::PlanningParams) {
+    let here = n.from;
+    n.enter("planning");
+    let unit = |n: &mut crate::numbers::NumberCheck<'_>, key: &str, v: f32| {
+        if !(v > 0.0 && v <= 1.0) {
+            n.error(key, format!("`{key}` must be a number in (0, 1], not {v}"));
+        }
+    };
+    unit(n, "relax_step", p.relax_step);
+    n.range("fm_broken", p.fm_broken, 1.0, f32::MAX);
+    let inside = n.from;
+    for (class, f) in [
+        ("must_keep", p.must_keep),
+        ("may_change_rarely", p.may_change_rarely),
+        ("shortest_first", p.shortest_first),
+    ] {
+        n.from = inside;
+        n.enter(class);
+        unit(n, "k1", f.k1);
+        n.range("k2", f.k2, 0.0, 1.0);
+    }
+    n.from = here;
 }
 
 /// Whether no point of a 9×9×9 lattice over `region` lies outside every obstacle: a region

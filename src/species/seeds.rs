@@ -109,7 +109,52 @@ pub fn seed_constants() -> Vec<SeedConstant> {
     out.extend([]);
 
     // Formation planning (004).
-    out.extend([]);
+    let plan = crate::formation::PlanningParams::default();
+    out.extend([
+        c(
+            "squads[].planning.relax_step",
+            plan.relax_step,
+            Some(0.1),
+            "004",
+        ),
+        c("squads[].planning.fm_broken", plan.fm_broken, None, "004"),
+        c(
+            "squads[].planning.must_keep.k1",
+            plan.must_keep.k1,
+            Some(0.05),
+            "004",
+        ),
+        c(
+            "squads[].planning.must_keep.k2",
+            plan.must_keep.k2,
+            Some(0.95),
+            "004",
+        ),
+        c(
+            "squads[].planning.may_change_rarely.k1",
+            plan.may_change_rarely.k1,
+            Some(0.1),
+            "004",
+        ),
+        c(
+            "squads[].planning.may_change_rarely.k2",
+            plan.may_change_rarely.k2,
+            Some(0.9),
+            "004",
+        ),
+        c(
+            "squads[].planning.shortest_first.k1",
+            plan.shortest_first.k1,
+            Some(0.9),
+            "004",
+        ),
+        c(
+            "squads[].planning.shortest_first.k2",
+            plan.shortest_first.k2,
+            Some(0.1),
+            "004",
+        ),
+    ]);
 
     out
 }

@@ -8,7 +8,8 @@
 //!   `body.mobility`, and each squad is checked and planned (formation-aware A*, smoothing into
 //!   the key-point and transition tables, follower paths: [`crate::formation`]).
 //! - At the start ([`Squads::start`]): the members are spawned at their formation slots around
-//!   the start, on the ground, facing the first leg. Member 0 leads.
+//!   the start, on the ground, facing the first leg. The leader is the one the scenario chose
+//!   (`leader: Slot(n)`, `Role("…")` or `Random`; slot 0 by default), kept for the run.
 //! - Before every tick ([`Squads::before_tick`]): the leader's progress along the smoothed path
 //!   (the key points) is its projection on the current leg. The leader is given a point
 //!   [`LOOKAHEAD`] metres further along the path, shortened to nothing while a follower lags more
@@ -36,7 +37,7 @@ pub mod setup;
 pub use setup::{shape_named, task_named, SquadSetup, SHAPE_NAMES};
 
 use crate::formation::follow::key_headings;
-use crate::formation::{Formation, Plan, PlanRequest, Planner, TaskClass};
+use crate::formation::{Formation, Plan, PlanRequest, Planner, PlanningParams, TaskClass};
 use crate::species::SpeciesSet;
 use crate::terrain::{CostGrid, Terrain};
 use crate::tick::Pipeline;
@@ -125,6 +126,8 @@ pub struct SquadShared {
     pub leader: usize,
     /// Task class of the current plan.
     pub task: TaskClass,
+    /// Seed 004's planning constants of the squad.
+    pub planning: PlanningParams,
     /// Goal, on the ground.
     pub goal: Vec3,
     /// The key-point table, on the ground.
@@ -250,6 +253,8 @@ pub struct Squad {
     pub order: Vec<usize>,
     /// Task class of the current plan.
     pub task: TaskClass,
+    /// Seed 004's planning constants of the squad (relaxation step, task-class factors, …).
+    pub planning: PlanningParams,
     /// Goal, world `(x, z)`.
     pub goal: Vec2,
     /// The current plan.
@@ -303,6 +308,7 @@ impl Squad {
             order: (0..setup.formations.len()).collect(),
             formations: setup.formations.clone(),
             task: setup.task,
+            planning: setup.planning,
             goal: setup.goal,
             plan: setup.plan.clone(),
             grid,
@@ -318,6 +324,7 @@ impl Squad {
                 order: Vec::new(),
                 leader: 0,
                 task: setup.task,
+                planning: setup.planning,
                 goal: Vec3::ZERO,
                 key_points: Vec::new(),
                 key_formations: Vec::new(),
@@ -346,6 +353,7 @@ impl Squad {
             order: self.order.clone(),
             leader: self.leader,
             task: self.task,
+            planning: self.planning,
             goal: on_ground(t, self.goal),
             key_points: self
                 .plan
@@ -521,7 +529,7 @@ impl Squad {
             goal: self.goal,
             formations: &formations,
             leader: self.leader,
-            weights: self.task.weights(),
+            weights: self.task.weights_with(&self.planning),
         }) {
             Ok(p) => {
                 let (order, task, goal) = (self.order.clone(), self.task, self.goal);
@@ -849,6 +857,7 @@ mod tests {
             formations,
             leader: 0,
             task: TaskClass::MayChangeRarely,
+            planning: Default::default(),
             start: Vec2::new(5.5, 5.5),
             goal: Vec2::new(30.5, 30.5),
             plan,

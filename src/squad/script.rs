@@ -225,7 +225,7 @@ fn plan_path(
         goal,
         formations: &formations,
         leader: sh.leader,
-        weights: task.weights(),
+        weights: task.weights_with(&sh.planning),
     }) {
         Ok(plan) => {
             s.error.clear();

@@ -7,12 +7,12 @@ use super::Ground;
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::formation::Plan;
 use crate::formation::{
-    Formation, FormationDef, PlanError, PlanRequest, Planner, Shape, TaskClass,
+    Formation, FormationDef, PlanError, PlanRequest, Planner, PlanningParams, Shape, TaskClass,
 };
 use crate::scenario::{normalize, ScenarioDef};
 use crate::species::validate::locate;
 use crate::species::SpeciesSet;
-use crate::terrain::{load_asc, Features};
+use crate::terrain::{load_asc, load_pgm, Features};
 use glam::Vec2;
 use std::path::Path;
 use std::sync::Arc;
@@ -24,10 +24,12 @@ pub struct SquadSetup {
     pub species: usize,
     /// Formations in the order the scenario lists them (preferred first), one slot per member.
     pub formations: Vec<Formation>,
-    /// The leader's member index (slot 0).
+    /// The leader's member index (the squad's `leader`, slot 0 by default).
     pub leader: usize,
     /// Task class.
     pub task: TaskClass,
+    /// Seed 004's planning constants (relaxation step, task-class factors, …).
+    pub planning: PlanningParams,
     /// Leader start, world `(x, z)`.
     pub start: Vec2,
     /// Goal, world `(x, z)`.
@@ -84,17 +86,61 @@ pub fn load(
                 .into());
             }
             let ext = dem.extension().and_then(|e| e.to_str()).unwrap_or("");
-            if !ext.eq_ignore_ascii_case("asc") {
+            let key_at = |key: &str| crate::numbers::locate_key(text, key, 0).unwrap_or(at(key, 0));
+            let mut terrain = if ext.eq_ignore_ascii_case("asc") {
+                for (key, given) in [("cell_size", t.cell_size), ("height_scale", t.height_scale)] {
+                    if given.is_some() {
+                        return Err(diag(
+                            key_at(key),
+                            format!("`{key}` is for a PGM height map: an ESRI ASCII grid gives its own cell size and heights"),
+                        )
+                        .into());
+                    }
+                }
+                load_asc(&dem)?
+            } else if ext.eq_ignore_ascii_case("pgm") {
+                let (Some(cell), Some(scale)) = (t.cell_size, t.height_scale) else {
+                    return Err(diag(
+                        at(&format!("\"{}\"", t.dem), 0),
+                        format!(
+                            "terrain file \"{}\": a PGM height map needs `cell_size` (metres per pixel) and `height_scale` (metres per sample unit) beside `dem`",
+                            dem.display()
+                        ),
+                    )
+                    .into());
+                };
+                for (key, v) in [("cell_size", cell), ("height_scale", scale)] {
+                    if !(v.is_finite() && v > 0.0) {
+                        return Err(diag(
+                            key_at(key),
+                            format!("`{key}` must be a finite number > 0, not {v}"),
+                        )
+                        .into());
+                    }
+                }
+                let terrain = load_pgm(&dem, cell, scale)?;
+                let side = terrain.cols.max(terrain.rows) as f32 * cell;
+                if side > crate::numbers::MAX_COORD {
+                    return Err(diag(
+                        key_at("cell_size"),
+                        format!(
+                            "`cell_size` {cell} makes the terrain {side:e} units wide; it may be at most {:e}",
+                            crate::numbers::MAX_COORD
+                        ),
+                    )
+                    .into());
+                }
+                terrain
+            } else {
                 return Err(diag(
                     at(&format!("\"{}\"", t.dem), 0),
                     format!(
-                        "terrain file \"{}\": expected an ESRI ASCII grid (.asc)",
+                        "terrain file \"{}\": expected an ESRI ASCII grid (.asc) or a binary PGM height map (.pgm)",
                         dem.display()
                     ),
                 )
                 .into());
-            }
-            let mut terrain = load_asc(&dem)?;
+            };
             if let Some(f) = &t.features {
                 let path = normalize(&dir.join(f));
                 if let Some(problem) = crate::diag::file_problem(&path) {
@@ -143,7 +189,7 @@ pub fn load(
     let mut setups = Vec::new();
     let mut from = locate(text, "squads", 0).map_or(0, |x| x.2);
     let mut planner = Planner::new();
-    for sq in &def.squads {
+    for (index, sq) in def.squads.iter().enumerate() {
         let here = locate(text, &format!("\"{}\"", sq.species), from).map_or(from, |x| x.2);
         from = here + 1;
         let Some(g) = &ground else {
@@ -238,9 +284,32 @@ pub fn load(
             ));
             ok = false;
         }
+        if !sq.roles.is_empty() && sq.roles.len() != members {
+            diags.push(diag(
+                crate::numbers::locate_key(text, "roles", here).unwrap_or(at("roles", here)),
+                format!(
+                    "`roles` names {} members but the squad has {members}: give one role per member",
+                    sq.roles.len()
+                ),
+            ));
+            ok = false;
+        }
+        let leader = match sq.leader.resolve(members, &sq.roles, def.seed, index) {
+            Ok(l) => Some(l),
+            Err(msg) => {
+                diags.push(diag(
+                    crate::numbers::locate_key(text, "leader", here).unwrap_or(at("leader", here)),
+                    msg,
+                ));
+                None
+            }
+        };
         if !ok {
             continue;
         }
+        let Some(leader) = leader else {
+            continue;
+        };
         let task = task.expect("checked");
         let (start, goal) = (
             Vec2::new(sq.start.0, sq.start.1),
@@ -251,14 +320,15 @@ pub fn load(
             start,
             goal,
             formations: &formations,
-            leader: 0,
-            weights: task.weights(),
+            leader,
+            weights: task.weights_with(&sq.planning),
         }) {
             Ok(plan) => setups.push(SquadSetup {
                 species: s,
                 formations,
-                leader: 0,
+                leader,
                 task,
+                planning: sq.planning,
                 start,
                 goal,
                 plan,

@@ -320,6 +320,7 @@ impl TestWorld {
             formations: shapes,
             leader: 0,
             task,
+            planning: Default::default(),
             start,
             goal,
             plan,
