@@ -345,8 +345,10 @@ impl Pipeline {
             since_meal: draw(d.drives.since_meal, &mut rng),
             ..Drives::default()
         };
-        // Start digestion where the initial hunger says: n_e·r(Δt)/n_a = 1 − H.
-        drives.eaten = (1.0 - drives.hunger).max(0.0) * d.drives.params.appetite;
+        // Start the meal clock where the initial hunger says (digestion: n_e·r(Δt)/n_a = 1 − H;
+        // exponential: the Δt_H whose hunger is H).
+        (drives.eaten, drives.since_meal) =
+            drives::meal_clock_for(drives.hunger, drives.since_meal, &d.drives.params);
         // Likewise the mating clock: l(Δt_L)·(1 − H) = L.
         drives.since_mating =
             drives::since_mating_for(drives.libido, drives.hunger, &d.drives.params);
@@ -842,12 +844,7 @@ fn agent_pass(
     let me = agent;
     if def.drives.native {
         let stim = |c: Category| {
-            let d = summaries[c as usize].nearest_dist;
-            if d.is_finite() && sp.senses.smell_radius > 0.0 {
-                (1.0 - d / sp.senses.smell_radius).clamp(0.0, 1.0)
-            } else {
-                0.0
-            }
+            drives::stimulus(summaries[c as usize].nearest_dist, sp.senses.smell_radius)
         };
         let stimuli = Stimuli {
             food: stim(Category::Food),
@@ -864,6 +861,8 @@ fn agent_pass(
     } else {
         me.drives.since_meal += dt;
         me.drives.since_mating += dt;
+        let q = &def.drives.params;
+        me.drives.state = drives::internal_state(me.drives.since_meal, q.s_max, q.delta);
     }
     let mut error = None;
     let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];

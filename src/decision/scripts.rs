@@ -75,6 +75,7 @@ pub fn fill_view(
     v.libido = a.drives.libido;
     v.fear = a.drives.fear;
     v.fatigue = a.drives.fatigue;
+    v.state = a.drives.state;
     if !v.behavior.ptr_eq(behavior) {
         v.behavior = behavior.clone();
     }

@@ -73,6 +73,8 @@ pub struct AgentView {
     pub fear: FLOAT,
     /// Fatigue.
     pub fatigue: FLOAT,
+    /// Seed 003 internal state S(t) (read-only).
+    pub state: FLOAT,
     /// Current behavior name.
     pub behavior: ImmutableString,
     /// Seconds in the current behavior.
@@ -257,6 +259,7 @@ fn register_agent(e: &mut Engine) {
     read_only(e, "fwd", |v| v.fwd);
     read_only(e, "speed", |v| v.speed);
     read_only(e, "max_speed", |v| v.max_speed);
+    read_only(e, "state", |v| v.state);
     read_only(e, "behavior", |v| v.behavior.clone());
     read_only(e, "time_in_behavior", |v| v.time_in_behavior);
     read_only(e, "stack_depth", |v| v.stack_depth);

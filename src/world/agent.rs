@@ -60,6 +60,8 @@ pub struct Drives {
     pub fear: f32,
     /// Fatigue ∈ [0, 1] (seed 003 internal state; scripts may drive it).
     pub fatigue: f32,
+    /// Seed 003 internal state `S(t) = S_max·exp(−t²/δ²)`, t the time since the last meal.
+    pub state: f32,
     /// Time since the last meal Δt_H (s).
     pub since_meal: f32,
     /// Time since the last mating Δt_L (s).
