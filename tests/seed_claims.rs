@@ -355,3 +355,34 @@ fn seed_003_hunger_and_internal_state_from_data() {
         assert_eq!(sim.behavior(id), "low", "{when}: S(7.0) < 0.5");
     }
 }
+
+/// Seed 003's group escape trades a fish's own best food position for the school's best: the
+/// best food position a perceived school member knows, not a guess. A sardine that perceives
+/// food remembers it; one that only smells that sardine (the food is beyond its smell) reads it
+/// as the school's best; with no food in the water nobody has a foraging target.
+#[test]
+fn the_schools_best_food_is_food_a_member_perceived() {
+    for food in [true, false] {
+        let mut sim = Sim::shipped(&["sardine"]);
+        let finder = sim.spawn("sardine", Vec3::new(0.0, 10.0, 0.0), 0.0);
+        // 12 from the finder (smell 15), 16 from the food.
+        let other = sim.spawn("sardine", Vec3::new(0.0, 10.0, -12.0), 0.0);
+        let at = Vec3::new(0.0, 10.0, 4.0);
+        if food {
+            sim.world.add_food(at);
+        }
+        sim.run(2);
+        let (f, o) = (&sim.agent(finder).mind, &sim.agent(other).mind);
+        if food {
+            let own = f.best_food.expect("the finder remembers the food");
+            assert!(own.distance(at) < 1e-4, "{own}");
+            assert_eq!(o.best_food, None, "the other never perceived it");
+            let school = o.school_best.expect("the other reads the finder's");
+            assert!(school.distance(at) < 1e-4, "{school}");
+        } else {
+            for m in [f, o] {
+                assert_eq!((m.best_food, m.school_best), (None, None));
+            }
+        }
+    }
+}

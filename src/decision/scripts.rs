@@ -76,6 +76,9 @@ pub fn fill_view(
     v.fear = a.drives.fear;
     v.fatigue = a.drives.fatigue;
     v.state = a.drives.state;
+    let point = |p: Option<glam::Vec3>| p.map_or(Dynamic::UNIT, Dynamic::from);
+    v.best_food = point(mind.best_food);
+    v.school_best = point(mind.school_best);
     if !v.behavior.ptr_eq(behavior) {
         v.behavior = behavior.clone();
     }
