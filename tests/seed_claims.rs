@@ -113,7 +113,7 @@ fn school(species: &str, scenario: &str, seed: u64) -> Shape {
     while !run.finished() {
         run.step();
         let t = run.world.tick;
-        if t + 100 >= last && (last - t) % 20 == 0 {
+        if t + 100 >= last && (last - t).is_multiple_of(20) {
             let s = shape_now(&run.world);
             sum.polarization += s.polarization;
             sum.nearest += s.nearest;

@@ -251,6 +251,9 @@ mod tests {
         // None perceived (the summary's nearest is ∞), or no smell.
         assert_eq!(stimulus(f32::INFINITY, 15.0), 0.0);
         assert_eq!(stimulus(3.0, 0.0), 0.0);
+        // 0/0 must not leak a NaN; a negative radius is no smell, not 1 − 3/(−15) = 1.2.
+        assert_eq!(stimulus(0.0, 0.0), 0.0);
+        assert_eq!(stimulus(3.0, -15.0), 0.0);
         // Into hunger: a_h = 0.5, S_h = 1 − 6/15 = 0.6 → 0.67 + 0.3 = 0.97 (seed 000 §2).
         let p = DriveParams {
             a_h: 0.5,
@@ -414,6 +417,9 @@ mod update_tests {
         // No solution without a positive u: the clock starts at since_meal.
         let flat = DriveParams { u: 0.0, ..exp };
         assert_eq!(meal_clock_for(0.5, 3.0, &flat), (0.0, 3.0));
+        // u < 0 gives a finite but meaningless (1 + ln 0.5)/0.01 = 30.7 s: refused too.
+        let falling = DriveParams { u: -1.0, ..exp };
+        assert_eq!(meal_clock_for(0.5, 3.0, &falling), (0.0, 3.0));
     }
 
     #[test]
