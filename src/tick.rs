@@ -163,6 +163,9 @@ pub struct Pipeline {
     pub stats: Stats,
     /// Per-agent targets of planned paths (set by the planning layer), by agent index.
     pub plan_targets: Vec<Option<Vec3>>,
+    /// Every agent's own best food position at the start of the tick, by agent index (what
+    /// its kin read as the school's best, seed 003).
+    known_food: Vec<Option<Vec3>>,
     /// Percepts fed to agents instead of what they perceive (script tests), by agent id.
     pub injected: std::collections::BTreeMap<AgentId, Vec<crate::perception::Percept>>,
     /// Run every agent's scripts every tick, whatever the species' decision interval (a dry
@@ -219,6 +222,7 @@ impl Pipeline {
             events: Vec::new(),
             stats: Stats::default(),
             plan_targets: Vec::new(),
+            known_food: Vec::new(),
             injected: Default::default(),
             scripts_every_tick: false,
             reads: Vec::new(),
@@ -345,8 +349,10 @@ impl Pipeline {
             since_meal: draw(d.drives.since_meal, &mut rng),
             ..Drives::default()
         };
-        // Start digestion where the initial hunger says: n_e·r(Δt)/n_a = 1 − H.
-        drives.eaten = (1.0 - drives.hunger).max(0.0) * d.drives.params.appetite;
+        // Start the meal clock where the initial hunger says (digestion: n_e·r(Δt)/n_a = 1 − H;
+        // exponential: the Δt_H whose hunger is H).
+        (drives.eaten, drives.since_meal) =
+            drives::meal_clock_for(drives.hunger, drives.since_meal, &d.drives.params);
         // Likewise the mating clock: l(Δt_L)·(1 − H) = L.
         drives.since_mating =
             drives::since_mating_for(drives.libido, drives.hunger, &d.drives.params);
@@ -475,6 +481,10 @@ impl Pipeline {
         // then rewrites its own record; the records are out of the world meanwhile, and what
         // an agent reads of another is perception's copy from the start of the tick.
         self.outcomes.resize_with(n, Outcome::default);
+        self.known_food.clear();
+        self.known_food
+            .extend(world.agents.iter().map(|a| a.mind.best_food));
+        let known_food = &self.known_food[..];
         let mut agents = std::mem::take(&mut world.agents);
         let world_ref: &World = world;
         let perception = &self.perception;
@@ -529,6 +539,7 @@ impl Pipeline {
                             &mut w.view,
                             every_tick,
                             reads,
+                            known_food,
                         );
                     },
                 );
@@ -805,6 +816,43 @@ impl Pipeline {
     }
 }
 
+/// Seed 003's foraging memory, particle-swarm style. The own best food position is where the
+/// agent last perceived food (the nearest item or prey), forgotten once the place is within
+/// its vision radius and no food is perceived (eaten or gone). The school's best is the own
+/// best of a perceived kin nearest to it (their values from the start of the tick); none when
+/// no perceived kin knows food, so a school without food has no foraging target.
+fn remember_food(
+    mind: &mut Mind,
+    pos: Vec3,
+    percepts: &[crate::perception::Percept],
+    vision_radius: f32,
+    known_food: &[Option<Vec3>],
+) {
+    let food = percepts
+        .iter()
+        .filter(|p| p.category == Category::Food)
+        .min_by(|a, b| a.dist.total_cmp(&b.dist));
+    match food {
+        Some(f) => mind.best_food = Some(pos + f.offset),
+        None => {
+            if mind
+                .best_food
+                .is_some_and(|b| b.distance_squared(pos) <= vision_radius * vision_radius)
+            {
+                mind.best_food = None;
+            }
+        }
+    }
+    mind.school_best = percepts
+        .iter()
+        .filter(|p| p.category == Category::Kin)
+        .filter_map(|p| match p.source {
+            Source::Agent(j) => known_food.get(j as usize).copied().flatten(),
+            _ => None,
+        })
+        .min_by(|a, b| a.distance_squared(pos).total_cmp(&b.distance_squared(pos)));
+}
+
 /// Stages 3–6 for agent `i`.
 #[allow(clippy::too_many_arguments)]
 fn agent_pass(
@@ -820,6 +868,7 @@ fn agent_pass(
     view: &mut Dynamic,
     scripts_every_tick: bool,
     reads: &[Reads],
+    known_food: &[Option<Vec3>],
 ) {
     // The mind is out of the record until the end of the pass (the record is read through
     // `Ctx` meanwhile); the random stream is the pass's own copy.
@@ -842,12 +891,7 @@ fn agent_pass(
     let me = agent;
     if def.drives.native {
         let stim = |c: Category| {
-            let d = summaries[c as usize].nearest_dist;
-            if d.is_finite() && sp.senses.smell_radius > 0.0 {
-                (1.0 - d / sp.senses.smell_radius).clamp(0.0, 1.0)
-            } else {
-                0.0
-            }
+            drives::stimulus(summaries[c as usize].nearest_dist, sp.senses.smell_radius)
         };
         let stimuli = Stimuli {
             food: stim(Category::Food),
@@ -864,7 +908,10 @@ fn agent_pass(
     } else {
         me.drives.since_meal += dt;
         me.drives.since_mating += dt;
+        let q = &def.drives.params;
+        me.drives.state = drives::internal_state(me.drives.since_meal, q.s_max, q.delta);
     }
+    remember_food(mind, me.pos, percepts, sp.senses.vision_radius, known_food);
     let mut error = None;
     let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];
 

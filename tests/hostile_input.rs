@@ -618,3 +618,96 @@ fn a_pgm_terrain_needs_its_cell_size_and_height_scale() {
         "{out}"
     );
 }
+
+const DRIVES_PROBE: &str = r#"Species(
+    name: "probe",
+    drives: (
+        params: (hunger_model: Exponential, p0: -0.1, appetite: 0.0, d0: NaN, u: -1.0, c: inf),
+        meal_size: -1.0,
+    ),
+    initial: "school",
+    behaviors: [
+        (
+            name: "school",
+            priority: 1,
+            steer: Blend([
+                (w: 1.0, steer: Zones(repulsion: 6.0, matching: 2.5, attraction: 1.0, soft: 1.5)),
+                (w: 1.0, steer: Vicsek(radius: -4.0, noise: NaN, speed: inf)),
+                (w: 1.0, steer: Disperse(below: -0.3)),
+                (w: 1.0, steer: Separation(k: NaN, radius: -2.0)),
+            ]),
+        ),
+    ],
+    recipes: {
+        "equal": Zones(repulsion: 2.0, matching: 2.0, attraction: 6.0),
+    },
+)
+"#;
+
+/// Seed 000 §2 drive constants and seed 003 group rules that would reach the tick loop as
+/// NaN, infinite or out of order.
+#[test]
+fn drive_and_group_numbers_are_refused_at_their_keys() {
+    let w = world();
+    let d = w.path();
+    write(d, "behaviors/probe.ron", DRIVES_PROBE);
+    let (code, out) = shoal(d, &["check", "behaviors/probe.ron"]);
+    refused(code, &out);
+    let f = "behaviors/probe.ron";
+    for (needle, msg) in [
+        ("p0: ", "`p0` must be a finite number ≥ 0, not -0.1"),
+        ("appetite: ", "`appetite` must be a finite number > 0, not 0"),
+        ("d0: ", "`d0` must be a finite number ≥ 0, not NaN"),
+        ("u: ", "`u` must be a finite number > 0, not -1"),
+        ("c: ", "`c` must be a finite number > 0, not inf"),
+        ("meal_size: ", "`meal_size` must be a finite number ≥ 0, not -1"),
+        (
+            "repulsion: ",
+            "`repulsion` (6) must be below `matching` (2.5): seed 003's zones need repulsion < matching < attraction",
+        ),
+        (
+            "Zones(repulsion: 6.0, matching: ",
+            "`matching` (2.5) must be below `attraction` (1)",
+        ),
+        (
+            "soft: ",
+            "`soft` must be a number from 0 up to (not including) 1, not 1.5",
+        ),
+        ("Vicsek(radius: ", "`radius` must be a finite number ≥ 0, not -4"),
+        ("noise: ", "`noise` must be a finite number ≥ 0, not NaN"),
+        ("speed: ", "`speed` must be a finite number ≥ 0, not inf"),
+        ("below: ", "`below` must be a finite number ≥ 0, not -0.3"),
+        ("Separation(k: ", "`k` must be a finite number, not NaN"),
+        (
+            "\"equal\": Zones(repulsion: ",
+            "`repulsion` (2) must be below `matching` (2)",
+        ),
+    ] {
+        let here = at(d, f, needle);
+        assert!(
+            out.contains(&format!("{here}: {msg}")),
+            "{here}: {msg}\n{out}"
+        );
+    }
+    // Equal to the shipped sardine's zones, in order: accepted.
+    let ok = DRIVES_PROBE
+        .replace(
+            "p0: -0.1, appetite: 0.0, d0: NaN, u: -1.0, c: inf",
+            "p0: 0.1",
+        )
+        .replace("meal_size: -1.0", "meal_size: 1.0")
+        .replace(
+            "repulsion: 6.0, matching: 2.5, attraction: 1.0, soft: 1.5",
+            "repulsion: 0.6, matching: 2.5, attraction: 6.0, soft: 0.0",
+        )
+        .replace(
+            "radius: -4.0, noise: NaN, speed: inf",
+            "radius: 4.0, noise: 0.1",
+        )
+        .replace("below: -0.3", "below: 0.3")
+        .replace("k: NaN, radius: -2.0", "k: 1.0")
+        .replace("matching: 2.0, attraction", "matching: 2.5, attraction");
+    write(d, "behaviors/probe.ron", &ok);
+    let (code, out) = shoal(d, &["check", "behaviors/probe.ron"]);
+    assert_eq!(code, 0, "{out}");
+}

@@ -269,31 +269,39 @@ fn a_sluggish_sardine_disperses_and_trades_its_food_memory_for_the_schools() {
 
 #[test]
 fn dispersing_in_a_school_adopts_the_schools_best_food_position() {
-    let mut sim = sim();
-    let ids: Vec<_> = (0..4)
-        .map(|k| sardine(&mut sim, v(k as f32, 20.0, 0.0), 0.0))
-        .collect();
-    sim.run(60);
-    let id = ids[0];
-    let now = sim.world.time() as f32;
-    remember(&mut sim, id, "mean_speed", MemValue::Float(0.3));
-    remember(&mut sim, id, "sampled_at", MemValue::Float(now));
-    remember(
-        &mut sim,
-        id,
-        "best_food",
-        MemValue::Vec3(v(-40.0, 5.0, -40.0)),
-    );
-    sim.run_until(4, |s| s.behavior(id) == "disperse")
-        .expect("disperses");
-    // Centroid of the kin it perceives plus 2 s of their mean velocity.
-    let Some(MemValue::Vec3(best)) = recalls(&sim, id, "best_food") else {
-        panic!("adopted nothing")
-    };
-    let others: Vec<Vec3> = ids[1..].iter().map(|&k| sim.agent(k).pos).collect();
-    let centroid = others.iter().sum::<Vec3>() / 3.0;
-    assert!(best.distance(centroid) < 10.0, "{best} vs {centroid}");
-    assert!(best.distance(v(-40.0, 5.0, -40.0)) > 30.0, "forgot its own");
+    // The school's best (seed 003) is a food position a perceived member knows: with one, the
+    // dispersing sardine swaps its own for it; with none, it is left with no food target at
+    // all (it used to head for a point ahead of the school, where no food need be).
+    for member_knows in [true, false] {
+        let mut sim = sim();
+        let ids: Vec<_> = (0..4)
+            .map(|k| sardine(&mut sim, v(k as f32, 20.0, 0.0), 0.0))
+            .collect();
+        sim.run(60);
+        let id = ids[0];
+        // Remembered by member 2, beyond its vision (8): kept until it gets there.
+        let food = v(30.0, 20.0, 0.0);
+        if member_knows {
+            sim.agent_mut(ids[2]).mind.best_food = Some(food);
+        }
+        let now = sim.world.time() as f32;
+        remember(&mut sim, id, "mean_speed", MemValue::Float(0.3));
+        remember(&mut sim, id, "sampled_at", MemValue::Float(now));
+        remember(
+            &mut sim,
+            id,
+            "best_food",
+            MemValue::Vec3(v(-40.0, 5.0, -40.0)),
+        );
+        sim.run_until(4, |s| s.behavior(id) == "disperse")
+            .expect("disperses");
+        let best = recalls(&sim, id, "best_food");
+        if member_knows {
+            assert_eq!(best, Some(MemValue::Vec3(food)), "adopted the member's");
+        } else {
+            assert_eq!(best, None, "no member knows food: no target");
+        }
+    }
 }
 
 #[test]

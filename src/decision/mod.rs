@@ -155,6 +155,7 @@ pub fn value(v: &ValueNode, ctx: &Ctx, mind: &Mind) -> f32 {
                 DriveKind::Libido => dr.libido,
                 DriveKind::Fear => dr.fear,
                 DriveKind::Fatigue => dr.fatigue,
+                DriveKind::State => dr.state,
             }
         }
         ValueNode::Distance(c) => ctx.summaries[*c as usize].nearest_dist,

@@ -1,6 +1,11 @@
 //! Stage 3 of the tick: drives. Hunger, libido and fear with the formulas of seed 000 §2, the
 //! internal-state curve `S(t)` and hunger variant of seed 003. Every constant is a field of
 //! [`DriveParams`] with the papers' value as its default.
+//!
+//! Choices where the papers leave a gap: seed 003 gives `S(t) = S_max·exp(−t²/δ²)` without
+//! saying what `t` counts or giving numbers; here `t` is the time since the last meal (a
+//! satiety that fades, read as `Drive(State)` and `this.state`), with S_max = 1 and δ = 100 s.
+//! Seed 000's stimulus `S_h` has no formula: [`stimulus`] is the nearness `1 − d/O_r`.
 
 use serde::{Deserialize, Serialize};
 
@@ -28,6 +33,11 @@ pub struct DriveParams {
     pub rho0: f32,
     /// Seed 003 hunger variant: C.
     pub c: f32,
+    /// Seed 003 internal state `S(t) = S_max·exp(−t²/δ²)`: S_max.
+    pub s_max: f32,
+    /// Seed 003 internal state: δ (s), the time since the last meal at which S has fallen to
+    /// S_max/e.
+    pub delta: f32,
 }
 
 impl Default for DriveParams {
@@ -43,6 +53,8 @@ impl Default for DriveParams {
             u: 1.0,
             rho0: 0.01,
             c: 1.0,
+            s_max: 1.0,
+            delta: 100.0,
         }
     }
 }
@@ -55,6 +67,18 @@ pub enum HungerModel {
     Digestion,
     /// Seed 003: `H = min(1 − exp(u·(1 − ρ0·Δt_H)/C) + a_h·S_h, 1)`.
     Exponential,
+}
+
+/// Stimulus of perceived food or mate (seed 000 §2's `S_h`, `S_l`): the nearness of the nearest
+/// one, `1 − d/O_r` with `O_r` the smell radius, in [0, 1]; 0 when none is perceived or the
+/// species has no smell. The paper names the stimulus without a formula; this is the one the
+/// engine uses.
+pub fn stimulus(nearest: f32, smell_radius: f32) -> f32 {
+    if nearest.is_finite() && smell_radius > 0.0 {
+        (1.0 - nearest / smell_radius).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
 }
 
 /// Digestion `r(x) = 1 − p0·x`, never below 0.
@@ -76,6 +100,33 @@ pub fn hunger(eaten: f32, since_meal: f32, stimulus: f32, p: &DriveParams) -> f3
 /// Hunger variant of seed 003: `H(t) = min(1 − exp(u·(1 − ρ0·Δt_H)/C) + a_h·S_h(t), 1)`.
 pub fn hunger_exponential(since_meal: f32, stimulus: f32, p: &DriveParams) -> f32 {
     clamp01(1.0 - (p.u * (1.0 - p.rho0 * since_meal) / p.c.max(1e-6)).exp() + p.a_h * stimulus)
+}
+
+/// Where an agent's meal clock starts so that its hunger is `hunger` (no food stimulus), as
+/// `(n_e, Δt_H)`; `since_meal` is the species' starting time since the last meal.
+/// - Digestion (seed 000): `n_e = (1 − H)·n_a` with the clock at `since_meal` (at 0, the first
+///   tick's `1 − n_e·r(dt)/n_a` is `H` plus a step of digestion).
+/// - Exponential (seed 003) ignores `n_e`: the clock itself says the hunger. It starts at the
+///   `Δt_H` where `1 − exp(u·(1 − ρ0·Δt_H)/C) = H`, i.e. `Δt_H = (1 − C·ln(1 − H)/u)/ρ0`, plus
+///   `since_meal`. `H` is taken below 1 by 1e-6 (1 itself is only reached at infinity); without
+///   a solution (`u` or `ρ0` not > 0) the clock starts at `since_meal`.
+pub fn meal_clock_for(hunger: f32, since_meal: f32, p: &DriveParams) -> (f32, f32) {
+    match p.hunger_model {
+        HungerModel::Digestion => ((1.0 - hunger).max(0.0) * p.appetite, since_meal),
+        HungerModel::Exponential => {
+            let h = if hunger.is_nan() {
+                0.0
+            } else {
+                hunger.clamp(0.0, 1.0 - 1e-6)
+            };
+            let dt = (1.0 - p.c * (1.0 - h).ln() / p.u) / p.rho0;
+            if p.u > 0.0 && p.rho0 > 0.0 && dt.is_finite() {
+                (0.0, dt + since_meal)
+            } else {
+                (0.0, since_meal)
+            }
+        }
+    }
 }
 
 /// Libido of seed 000: `L(t) = min(l(Δt_L)·(1 − H(t)) + a_l·S_l, 1)` with `l(x) = p1·x`.
@@ -189,6 +240,29 @@ mod tests {
     }
 
     #[test]
+    fn food_stimulus_is_the_nearness_within_smell() {
+        // O_r = 15: food at 6 → 1 − 6/15 = 0.6; at 12 → 0.2; at 0 → 1.
+        assert!((stimulus(6.0, 15.0) - 0.6).abs() < 1e-6);
+        assert!((stimulus(12.0, 15.0) - 0.2).abs() < 1e-6);
+        assert_eq!(stimulus(0.0, 15.0), 1.0);
+        // At and beyond the smell radius: 0 (never negative).
+        assert_eq!(stimulus(15.0, 15.0), 0.0);
+        assert_eq!(stimulus(20.0, 15.0), 0.0);
+        // None perceived (the summary's nearest is ∞), or no smell.
+        assert_eq!(stimulus(f32::INFINITY, 15.0), 0.0);
+        assert_eq!(stimulus(3.0, 0.0), 0.0);
+        // 0/0 must not leak a NaN; a negative radius is no smell, not 1 − 3/(−15) = 1.2.
+        assert_eq!(stimulus(0.0, 0.0), 0.0);
+        assert_eq!(stimulus(3.0, -15.0), 0.0);
+        // Into hunger: a_h = 0.5, S_h = 1 − 6/15 = 0.6 → 0.67 + 0.3 = 0.97 (seed 000 §2).
+        let p = DriveParams {
+            a_h: 0.5,
+            ..Default::default()
+        };
+        assert!((hunger(1.0, 1000.0, stimulus(6.0, 15.0), &p) - 0.97).abs() < 1e-5);
+    }
+
+    #[test]
     fn libido_grows_with_time_and_falls_with_hunger() {
         let p = DriveParams::default();
         // l(200) = 0.0025·200 = 0.5; (1 − H) with H = 0.2 → 0.4.
@@ -257,6 +331,7 @@ pub fn update(
     d.hunger = hunger(d.eaten, d.since_meal, stimuli.food, p);
     d.libido = libido(d.since_mating, d.hunger, stimuli.mate, p);
     d.fear = predators.fear(p.d0);
+    d.state = internal_state(d.since_meal, p.s_max, p.delta);
 }
 
 #[cfg(test)]
@@ -284,6 +359,67 @@ mod update_tests {
         // l(200)·(1 − 0.67) = 0.5·0.33.
         assert!((d.libido - 0.165).abs() < 1e-5);
         assert!((d.fear - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_first_tick_keeps_the_starting_hunger_in_both_models() {
+        let dt = 0.05;
+        for model in [HungerModel::Digestion, HungerModel::Exponential] {
+            let p = DriveParams {
+                hunger_model: model,
+                ..Default::default()
+            };
+            let (eaten, since_meal) = meal_clock_for(0.5, 0.0, &p);
+            let mut d = crate::world::Drives {
+                hunger: 0.5,
+                eaten,
+                since_meal,
+                ..Default::default()
+            };
+            update(&mut d, &p, Stimuli::default(), &PredatorSums::of([]), dt);
+            // Digestion: 1 − 0.5·(1 − 0.00067·0.05) = 0.50001675.
+            // Exponential: Δt_H = (1 − ln 0.5)/0.01 = 169.3147 s; one tick later
+            // 1 − exp(1 − 0.01·169.3647) = 1 − 0.5·exp(−0.0005) = 0.50025.
+            let want = match model {
+                HungerModel::Digestion => 0.500_016_75,
+                HungerModel::Exponential => 0.500_249_9,
+            };
+            assert!((d.hunger - want).abs() < 2e-6, "{model:?}: {}", d.hunger);
+        }
+        let exp = DriveParams {
+            hunger_model: HungerModel::Exponential,
+            ..Default::default()
+        };
+        // Δt_H = (1 − 1·ln(1 − 0.5)/1)/0.01 = 169.3147, plus a starting since_meal of 10.
+        let (e, t) = meal_clock_for(0.5, 10.0, &exp);
+        assert_eq!(e, 0.0);
+        assert!((t - 179.314_7).abs() < 1e-3, "{t}");
+        // u = 2, C = 4, ρ0 = 0.02, H = 0.75: (1 − 4·ln 0.25/2)/0.02 = (1 + 2.7726)/0.02 = 188.63.
+        let q = DriveParams {
+            u: 2.0,
+            c: 4.0,
+            rho0: 0.02,
+            ..exp
+        };
+        let (_, t) = meal_clock_for(0.75, 0.0, &q);
+        assert!((t - 188.629_4).abs() < 1e-2, "{t}");
+        assert!((hunger(0.0, t, 0.0, &q) - 0.75).abs() < 1e-5);
+        // H = 1 is reached only at infinity: a finite clock whose hunger rounds to 1.
+        let (_, t) = meal_clock_for(1.0, 0.0, &exp);
+        assert!(t.is_finite() && hunger(0.0, t, 0.0, &exp) > 0.999_99);
+        // Digestion: n_e = (1 − 0.5)·n_a = 0.5·2, clock left where the species starts it.
+        let dig = DriveParams {
+            appetite: 2.0,
+            ..Default::default()
+        };
+        assert_eq!(meal_clock_for(0.5, 7.0, &dig), (1.0, 7.0));
+        assert_eq!(meal_clock_for(1.5, 0.0, &dig), (0.0, 0.0));
+        // No solution without a positive u: the clock starts at since_meal.
+        let flat = DriveParams { u: 0.0, ..exp };
+        assert_eq!(meal_clock_for(0.5, 3.0, &flat), (0.0, 3.0));
+        // u < 0 gives a finite but meaningless (1 + ln 0.5)/0.01 = 30.7 s: refused too.
+        let falling = DriveParams { u: -1.0, ..exp };
+        assert_eq!(meal_clock_for(0.5, 3.0, &falling), (0.0, 3.0));
     }
 
     #[test]

@@ -768,8 +768,7 @@ impl Run {
                 }
             }
             if hunger.is_some() {
-                dr.eaten = (1.0 - dr.hunger).max(0.0) * params.appetite;
-                dr.since_meal = 0.0;
+                (dr.eaten, dr.since_meal) = crate::drives::meal_clock_for(dr.hunger, 0.0, params);
             }
             if hunger.is_some() || libido.is_some() {
                 dr.since_mating = crate::drives::since_mating_for(dr.libido, dr.hunger, params);

@@ -73,6 +73,12 @@ pub struct AgentView {
     pub fear: FLOAT,
     /// Fatigue.
     pub fatigue: FLOAT,
+    /// Seed 003 internal state S(t) (read-only).
+    pub state: FLOAT,
+    /// Own best food position (a `Vec3`, or `()` when it knows none; read-only).
+    pub best_food: Dynamic,
+    /// The school's best food position (a `Vec3`, or `()`; read-only).
+    pub school_best: Dynamic,
     /// Current behavior name.
     pub behavior: ImmutableString,
     /// Seconds in the current behavior.
@@ -257,6 +263,22 @@ fn register_agent(e: &mut Engine) {
     read_only(e, "fwd", |v| v.fwd);
     read_only(e, "speed", |v| v.speed);
     read_only(e, "max_speed", |v| v.max_speed);
+    read_only(e, "state", |v| v.state);
+    for (name, get) in [
+        (
+            "best_food",
+            (|v| v.best_food.clone()) as fn(&AgentView) -> Dynamic,
+        ),
+        ("school_best", |v| v.school_best.clone()),
+    ] {
+        e.register_get(name, move |v: &mut AgentView| get(v));
+        e.register_set(
+            name,
+            move |_: &mut AgentView, _: Dynamic| -> Result<(), Box<EvalAltResult>> {
+                Err(err(format!("`this.{name}` is read-only")))
+            },
+        );
+    }
     read_only(e, "behavior", |v| v.behavior.clone());
     read_only(e, "time_in_behavior", |v| v.time_in_behavior);
     read_only(e, "stack_depth", |v| v.stack_depth);

@@ -305,6 +305,8 @@ pub enum DriveKind {
     Fear,
     /// Fatigue.
     Fatigue,
+    /// Seed 003 internal state S(t).
+    State,
 }
 
 /// An attribute.

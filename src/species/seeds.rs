@@ -59,6 +59,13 @@ pub fn seed_constants() -> Vec<SeedConstant> {
         c("drives.params.p0", drives.p0, Some(0.00067), "000 §2"),
         c("drives.params.p1", drives.p1, Some(0.0025), "000 §2"),
         c("drives.params.d0", drives.d0, Some(200.0), "000 §2"),
+        c("drives.params.a_h", drives.a_h, None, "000 §2"),
+        c("drives.params.a_l", drives.a_l, None, "000 §2"),
+        c("drives.params.u", drives.u, None, "003"),
+        c("drives.params.rho0", drives.rho0, None, "003"),
+        c("drives.params.c", drives.c, None, "003"),
+        c("drives.params.s_max", drives.s_max, None, "003"),
+        c("drives.params.delta", drives.delta, None, "003"),
     ]);
 
     // Obstacle avoidance, move to goal and escape (000 §4).
@@ -106,7 +113,13 @@ pub fn seed_constants() -> Vec<SeedConstant> {
     ]);
 
     // Schooling and group rules (001, 003).
-    out.extend([]);
+    let vicsek = crate::species::VicsekDef::default();
+    let disperse = crate::species::DisperseDef::default();
+    out.extend([
+        c("Vicsek(radius)", vicsek.radius, None, "003"),
+        c("Vicsek(noise)", vicsek.noise, None, "003"),
+        c("Disperse(below)", disperse.below, None, "003"),
+    ]);
 
     // Formation planning (004).
     let plan = crate::formation::PlanningParams::default();

@@ -574,12 +574,37 @@ impl Builder<'_> {
             }
             Recipe::Zones(z) => {
                 n.enter("Zones");
+                // Seed 003 needs r_r < r_m < r_a: equal radii leave a zone empty, reversed ones
+                // make repulsion win where attraction was meant.
                 if n.non_negative("repulsion", z.repulsion)
                     & n.non_negative("matching", z.matching)
                     & n.non_negative("attraction", z.attraction)
                 {
-                    n.order("repulsion", z.repulsion, "matching", z.matching);
-                    n.order("matching", z.matching, "attraction", z.attraction);
+                    for (lo_key, lo, hi_key, hi) in [
+                        ("repulsion", z.repulsion, "matching", z.matching),
+                        ("matching", z.matching, "attraction", z.attraction),
+                    ] {
+                        if lo >= hi {
+                            n.error(
+                                lo_key,
+                                format!(
+                                    "`{lo_key}` ({lo}) must be below `{hi_key}` ({hi}): \
+                                     seed 003's zones need repulsion < matching < attraction"
+                                ),
+                            );
+                        }
+                    }
+                }
+                // The soft band is a fraction of r_r; 1 would make the whole zone a ramp
+                // starting at 0 distance.
+                if z.soft.is_nan() || !(0.0..1.0).contains(&z.soft) {
+                    n.error(
+                        "soft",
+                        format!(
+                            "`soft` must be a number from 0 up to (not including) 1, not {}",
+                            z.soft
+                        ),
+                    );
                 }
             }
             Recipe::Vicsek(v) => {
@@ -743,17 +768,22 @@ impl Builder<'_> {
         let q = &d.params;
         for (key, v) in [
             ("p0", q.p0),
-            ("appetite", q.appetite),
             ("p1", q.p1),
             ("d0", q.d0),
             ("rho0", q.rho0),
+            ("s_max", q.s_max),
+            ("delta", q.delta),
         ] {
             n.non_negative(key, v);
         }
-        for (key, v) in [("a_h", q.a_h), ("a_l", q.a_l), ("u", q.u)] {
+        for (key, v) in [("a_h", q.a_h), ("a_l", q.a_l)] {
             n.finite(key, v);
         }
-        n.positive("c", q.c);
+        // n_a divides the meal in seed 000's hunger, C the exponent of seed 003's; `u` > 0 keeps
+        // seed 003's hunger rising with the time since the meal.
+        for (key, v) in [("appetite", q.appetite), ("u", q.u), ("c", q.c)] {
+            n.positive(key, v);
+        }
         n.from = drives;
     }
 

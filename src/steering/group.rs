@@ -8,6 +8,7 @@
 use super::Steer;
 use crate::perception::group::Near;
 use crate::perception::{GroupQuery, GroupSum};
+use crate::world::Rng;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -207,6 +208,21 @@ pub fn vicsek_of(
     Steer::Velocity(crate::frame::forward(yaw, pitch) * speed)
 }
 
+/// Group escape by density (seed 003 (1)): a fish slower than `below` re-draws its speed
+/// uniformly in [V_min, V_max] (`v_min`, `v_max`) and keeps its heading; a faster one is left
+/// alone ([`Steer::None`], and no draw is taken from `rng`).
+pub fn disperse(speed: f32, below: f32, v_min: f32, v_max: f32, rng: &mut Rng) -> Steer {
+    if speed < below {
+        Steer::Turn {
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: rng.range(v_min, v_max),
+        }
+    } else {
+        Steer::None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -347,5 +363,66 @@ mod tests {
             (v - Vec3::new(1.0, 0.0, 1.0).normalize() * 1.5).length() < 1e-5,
             "{v}"
         );
+    }
+    #[test]
+    fn vicsek_noise_is_uniform_in_plus_minus_half_eta() {
+        // Alone, heading +Z (yaw 0, pitch 0), η = 0.8: u = (1, 0) turns yaw by 0.8·(1 − 0.5) =
+        // +0.4 and pitch by 0.8·(0 − 0.5) = −0.4; forward(0.4, −0.4) = (−sin0.4·cos0.4,
+        // sin(−0.4), cos0.4·cos0.4) = (−0.358683, −0.389418, 0.848353), times speed 2.
+        let Steer::Velocity(v) = vicsek(Vec3::Z, &[], 2.0, 2.0, 0.8, (1.0, 0.0)) else {
+            panic!()
+        };
+        let want = Vec3::new(-0.717356, -0.778837, 1.69671);
+        assert!((v - want).length() < 1e-5, "{v}");
+        // u = 0.5 is no noise at all.
+        let Steer::Velocity(v) = vicsek(Vec3::Z, &[], 2.0, 1.0, 0.8, (0.5, 0.5)) else {
+            panic!()
+        };
+        assert!((v - Vec3::Z).length() < 1e-6, "{v}");
+        // With a neighbor heading +X: the mean heading normalize(Z + X) has yaw −π/4; η = 1,
+        // u.0 = 0.75 adds 0.25 → yaw −0.535398, level; forward = (sin 0.535398, 0,
+        // cos 0.535398) = (0.509994, 0, 0.860188), times speed 1.5.
+        let n = [nb(Vec3::new(1.0, 0.0, 0.0), Vec3::X)];
+        let Steer::Velocity(v) = vicsek(Vec3::Z, &n, 2.0, 1.5, 1.0, (0.75, 0.5)) else {
+            panic!()
+        };
+        let want = Vec3::new(0.765275, 0.0, 1.2901);
+        assert!((v - want).length() < 1e-5, "{v}");
+    }
+
+    #[test]
+    fn disperse_redraws_the_speed_in_vmin_vmax() {
+        // V_min = 0.4, V_max = 3.2, v_d = 0.96: a fish at 0.5 re-draws; the draw is
+        // V_min + (V_max − V_min)·u with u the stream's next number.
+        let mut rng = Rng::new(7, 3);
+        let u = {
+            let mut copy = rng;
+            copy.next_f32()
+        };
+        let Steer::Turn { yaw, pitch, speed } = disperse(0.5, 0.96, 0.4, 3.2, &mut rng) else {
+            panic!()
+        };
+        assert_eq!((yaw, pitch), (0.0, 0.0));
+        assert!(
+            (speed - (0.4 + 2.8 * u)).abs() < 1e-6,
+            "{speed} for u = {u}"
+        );
+        // Over many draws the speeds cover [0.4, 3.2] and stay in it.
+        let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+        for _ in 0..2000 {
+            let Steer::Turn { speed, .. } = disperse(0.0, 0.96, 0.4, 3.2, &mut rng) else {
+                panic!()
+            };
+            lo = lo.min(speed);
+            hi = hi.max(speed);
+        }
+        assert!(
+            (0.4..0.45).contains(&lo) && (3.15..=3.2).contains(&hi),
+            "{lo}..{hi}"
+        );
+        // At or above v_d: nothing, and no draw taken.
+        let before = rng;
+        assert_eq!(disperse(0.96, 0.96, 0.4, 3.2, &mut rng), Steer::None);
+        assert_eq!(rng, before);
     }
 }

@@ -241,15 +241,7 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
         Recipe::Disperse(d) => {
             // Seed 003 group escape (1): a fish slower than v_d re-draws its speed in
             // [V_min, V_max] and keeps its heading.
-            if kin.speed < d.below * vmax {
-                Steer::Turn {
-                    yaw: 0.0,
-                    pitch: 0.0,
-                    speed: rng.range(limits.min_speed, vmax),
-                }
-            } else {
-                Steer::None
-            }
+            group::disperse(kin.speed, d.below * vmax, limits.min_speed, vmax, rng)
         }
         Recipe::Wander(w) => {
             let u = (rng.next_f32(), rng.next_f32());

@@ -385,8 +385,8 @@ fn set_hunger(tw: &mut TestWorld, i: usize, h: f32) {
     let d = &tw.species[a.species.0 as usize].def.drives;
     a.drives.hunger = h.clamp(0.0, 1.0);
     if d.native {
-        a.drives.eaten = (1.0 - a.drives.hunger).max(0.0) * d.params.appetite;
-        a.drives.since_meal = 0.0;
+        (a.drives.eaten, a.drives.since_meal) =
+            crate::drives::meal_clock_for(a.drives.hunger, 0.0, &d.params);
     }
 }
 

@@ -60,6 +60,8 @@ pub struct Drives {
     pub fear: f32,
     /// Fatigue ∈ [0, 1] (seed 003 internal state; scripts may drive it).
     pub fatigue: f32,
+    /// Seed 003 internal state `S(t) = S_max·exp(−t²/δ²)`, t the time since the last meal.
+    pub state: f32,
     /// Time since the last meal Δt_H (s).
     pub since_meal: f32,
     /// Time since the last mating Δt_L (s).
@@ -102,6 +104,15 @@ pub struct Mind {
     /// is then not held back by `min_time`.
     #[serde(default)]
     pub reached: bool,
+    /// Seed 003 foraging memory (particle-swarm style), its own best food position: where it
+    /// last perceived food (the nearest), kept until it comes within vision of the place and
+    /// perceives none.
+    #[serde(default)]
+    pub best_food: Option<Vec3>,
+    /// The school's best food position: the nearest own best of the kin it perceives (from the
+    /// start of the tick); `None` when none of them knows food.
+    #[serde(default)]
+    pub school_best: Option<Vec3>,
 }
 
 impl Mind {
@@ -120,6 +131,8 @@ impl Mind {
             script_error_reported: false,
             quiet_until: [0; 3],
             reached: false,
+            best_food: None,
+            school_best: None,
         }
     }
     /// The stack, bottom first.

@@ -198,10 +198,9 @@ impl Sim {
     pub fn set_hunger(&mut self, id: AgentId, hunger: f32) {
         let i = self.world.agent_index(id).expect("agent alive");
         let s = self.world.agents[i].species.0 as usize;
-        let appetite = self.pipe.species.species[s].def.drives.params.appetite;
+        let params = self.pipe.species.species[s].def.drives.params;
         let a = &mut self.world.agents[i];
-        a.drives.eaten = (1.0 - hunger) * appetite;
-        a.drives.since_meal = 0.0;
+        (a.drives.eaten, a.drives.since_meal) = shoal::drives::meal_clock_for(hunger, 0.0, &params);
         a.drives.hunger = hunger;
     }
 
