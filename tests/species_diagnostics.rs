@@ -419,7 +419,9 @@ fn senses_out_of_their_seed_ranges_are_located() {
     );
     // With a volume, its farthest reach (18 ahead) stands for the vision radius.
     assert_eq!(
-        with("(smell_radius: 12.0, volume: Some(Egg(ahead: 18.0, behind: 4.0, side: 9.0, up: 6.0)))"),
+        with(
+            "(smell_radius: 12.0, volume: Some(Egg(ahead: 18.0, behind: 4.0, side: 9.0, up: 6.0)))"
+        ),
         one(
             "minnow.ron",
             4,

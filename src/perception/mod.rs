@@ -19,8 +19,8 @@ mod types;
 pub mod volume;
 
 pub use group::{GroupQueries, GroupQuery, GroupSum};
-pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use occlusion::Occluders;
+pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::Volume;
 
 use crate::frame;
@@ -1740,7 +1740,11 @@ mod tests {
         };
         let p = run(&w, &rel(), paper);
         let pred = p.summaries(0)[Category::Predator as usize];
-        assert_eq!((pred.count, pred.seen), (1, 0), "the bounding sphere hides it");
+        assert_eq!(
+            (pred.count, pred.seen),
+            (1, 0),
+            "the bounding sphere hides it"
+        );
         // Occlusion off: seen either way.
         let off = SenseParams {
             occlusion: false,
@@ -1771,12 +1775,14 @@ mod tests {
             radius: 1.0,
         });
         w.agents.push(agent(1, 1, Vec3::new(0.0, 0.0, 8.0), 0.0));
-        let pred = run(&w, &rel(), SenseParams::default()).summaries(0)[Category::Predator as usize];
+        let pred =
+            run(&w, &rel(), SenseParams::default()).summaries(0)[Category::Predator as usize];
         assert_eq!((pred.count, pred.seen), (1, 0), "hidden by the rock");
         // A big one there (size 4 × 4 × 4: radius 2√3 = 3.46) sticks out: its outline points'
         // lines of sight pass the rock's centre at about 4·3.46/√(64 + 12) = 1.59 (> 1).
         w.agents[1].size = Vec3::splat(4.0);
-        let pred = run(&w, &rel(), SenseParams::default()).summaries(0)[Category::Predator as usize];
+        let pred =
+            run(&w, &rel(), SenseParams::default()).summaries(0)[Category::Predator as usize];
         assert_eq!((pred.count, pred.seen), (1, 1), "partly in view");
     }
 

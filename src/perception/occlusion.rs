@@ -9,8 +9,8 @@
 //!
 //! **Partial occlusion** (the paper's "not fully occluded"): a target is hidden only when the
 //! segment from the eye to its centre and the segments to four points of its outline are all
-//! blocked. The four points lie on the target's bounding sphere, across the line of sight (up,
-//! down, left and right of the centre as the eye sees it): they are the extremes of its outline.
+//! blocked. The four points lie on the target's bounding sphere, across the line of sight, at
+//! both ends of two perpendicular diameters of its outline as the eye sees it.
 //! Why this test: the centre's segment is tested first, one segment-against-shape test per
 //! occluder as before; the four others run only for a target whose centre is hidden, which is
 //! rare, so the common case costs no more than a centre-only test. A target that shows only a
@@ -156,7 +156,10 @@ mod tests {
         // Offset by 0.6 sideways: the chord's half-length is √(1 − 0.36) = 0.8: z in 3.2 .. 4.8,
         // t = 0.4 .. 0.6.
         let (t0, t1) = span(&s, Vec3::new(0.6, 0.0, 0.0), Vec3::new(0.0, 0.0, 8.0)).unwrap();
-        assert!((t0 - 0.4).abs() < 1e-6 && (t1 - 0.6).abs() < 1e-6, "{t0} {t1}");
+        assert!(
+            (t0 - 0.4).abs() < 1e-6 && (t1 - 0.6).abs() < 1e-6,
+            "{t0} {t1}"
+        );
         // Passing 1.5 to the side: no span; grazing at exactly 1: none either.
         assert_eq!(span(&s, Vec3::new(1.5, 0.0, 0.0), Vec3::Z), None);
         assert_eq!(span(&s, Vec3::new(1.0, 0.0, 0.0), Vec3::Z), None);
@@ -191,7 +194,10 @@ mod tests {
         // Backwards along −x from (10, 0, 0) with seg (−10, 0, 0): x = 10 − 10t in 2..4 for
         // t in 0.6..0.8 (the slab's bounds swap).
         let (t0, t1) = span(&b, Vec3::new(10.0, 0.0, 0.0), Vec3::new(-10.0, 0.0, 0.0)).unwrap();
-        assert!((t0 - 0.6).abs() < 1e-6 && (t1 - 0.8).abs() < 1e-6, "{t0} {t1}");
+        assert!(
+            (t0 - 0.6).abs() < 1e-6 && (t1 - 0.8).abs() < 1e-6,
+            "{t0} {t1}"
+        );
 
         // Cylinder: axis at (5, ·, 0), radius 1, y from 0 to 2. Level line at y = 1 from the
         // origin, seg (10, 0, 0): the disc spans x 4..6, t = 0.4..0.6.
@@ -201,15 +207,24 @@ mod tests {
             height: 2.0,
         };
         let (t0, t1) = span(&c, Vec3::new(0.0, 1.0, 0.0), Vec3::new(10.0, 0.0, 0.0)).unwrap();
-        assert!((t0 - 0.4).abs() < 1e-6 && (t1 - 0.6).abs() < 1e-6, "{t0} {t1}");
+        assert!(
+            (t0 - 0.4).abs() < 1e-6 && (t1 - 0.6).abs() < 1e-6,
+            "{t0} {t1}"
+        );
         // Rising from y = 1 with seg (10, 2, 0): y = 1 + 2t leaves the top at t = 0.5, inside
         // the disc from 0.4: (0.4, 0.5).
         let (t0, t1) = span(&c, Vec3::new(0.0, 1.0, 0.0), Vec3::new(10.0, 2.0, 0.0)).unwrap();
-        assert!((t0 - 0.4).abs() < 1e-6 && (t1 - 0.5).abs() < 1e-6, "{t0} {t1}");
+        assert!(
+            (t0 - 0.4).abs() < 1e-6 && (t1 - 0.5).abs() < 1e-6,
+            "{t0} {t1}"
+        );
         // Straight down the axis from y = 5, seg (0, −10, 0): the slab alone, y 2..0 for
         // t = 0.3..0.5.
         let (t0, t1) = span(&c, Vec3::new(5.0, 5.0, 0.0), Vec3::new(0.0, -10.0, 0.0)).unwrap();
-        assert!((t0 - 0.3).abs() < 1e-6 && (t1 - 0.5).abs() < 1e-6, "{t0} {t1}");
+        assert!(
+            (t0 - 0.3).abs() < 1e-6 && (t1 - 0.5).abs() < 1e-6,
+            "{t0} {t1}"
+        );
         // Straight down beside it (1.5 from the axis): none.
         assert_eq!(
             span(&c, Vec3::new(6.5, 5.0, 0.0), Vec3::new(0.0, -10.0, 0.0)),
@@ -234,7 +249,26 @@ mod tests {
         assert!(!blocks(&s, Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0)));
         assert!(!blocks(&s, Vec3::ZERO, Vec3::new(0.0, 0.0, -8.0)));
         // An eye inside it looking out (t from −1/8 to 1/8): blocked.
-        assert!(blocks(&s, Vec3::new(0.0, 0.0, 4.0), Vec3::new(0.0, 0.0, 8.0)));
+        assert!(blocks(
+            &s,
+            Vec3::new(0.0, 0.0, 4.0),
+            Vec3::new(0.0, 0.0, 8.0)
+        ));
+        // An eye on its far surface looking away (t from −1/4 to exactly 0): not blocked.
+        assert!(!blocks(
+            &s,
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::new(0.0, 0.0, 8.0)
+        ));
+        // Box x 2..4, y −1..1: a line that climbs over it (x enters at t = 1/4 after y leaves
+        // at 1/8) and one through its edge (x enters and y leaves both at t = 1/4): not blocked.
+        let b = Shape::Box(Aabb::new(
+            Vec3::new(2.0, -1.0, -1.0),
+            Vec3::new(4.0, 1.0, 1.0),
+        ));
+        assert!(!blocks(&b, Vec3::ZERO, Vec3::new(8.0, 8.0, 0.0)));
+        assert!(!blocks(&b, Vec3::ZERO, Vec3::new(8.0, 4.0, 0.0)));
+        assert!(blocks(&b, Vec3::ZERO, Vec3::new(8.0, 2.0, 0.0)));
     }
 
     #[test]
@@ -271,6 +305,27 @@ mod tests {
         assert!(!hidden(from, far, || 1.0, &pole));
         // No occluder: seen.
         assert!(!hidden(from, far, || 1.0, &[]));
+        // A target of radius 3.9 there: its outline points' lines of sight pass the rock's
+        // centre at 5·3.9/√(3.9² + 10²) = 1.82 (< 2): hidden. An undefined radius counts as a
+        // point.
+        assert!(hidden(from, far, || 3.9, &rock));
+        assert!(hidden(from, far, || f32::NAN, &rock));
+        // Seen from here along +z, the outline points lie along ±x and ±y. A slab covering the
+        // centre and every side but −x (x from −0.2), then every side but −y: seen each time.
+        let all_but = |lo: Vec3| {
+            [Shape::Box(Aabb::new(
+                Vec3::new(lo.x, lo.y, 4.0),
+                Vec3::new(5.0, 5.0, 6.0),
+            ))]
+        };
+        let no_minus_x = all_but(Vec3::new(-0.2, -5.0, 0.0));
+        let no_minus_y = all_but(Vec3::new(-5.0, -0.2, 0.0));
+        assert!(occluders_block_centre(&no_minus_x, far));
+        assert!(!hidden(from, far, || 1.0, &no_minus_x));
+        assert!(!hidden(from, far, || 1.0, &no_minus_y));
+        // Covering all four sides as well: hidden.
+        let all = all_but(Vec3::new(-5.0, -5.0, 0.0));
+        assert!(hidden(from, far, || 1.0, &all));
     }
 
     fn occluders_block_centre(occ: &[Shape], to: Vec3) -> bool {

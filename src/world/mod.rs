@@ -102,7 +102,9 @@ impl Shape {
             Shape::Sphere { radius, .. } => 2.0 * radius * 3f32.sqrt(),
             Shape::Box(b) => b.size().length(),
             // The box around it: 2r × h × 2r.
-            Shape::Cylinder { radius, height, .. } => (8.0 * radius * radius + height * height).sqrt(),
+            Shape::Cylinder { radius, height, .. } => {
+                (8.0 * radius * radius + height * height).sqrt()
+            }
         }
     }
     /// Where a body centred at `p` must move to keep `clearance` from the shape: `None` when it
