@@ -230,6 +230,11 @@ mod tests {
             span(&c, Vec3::new(6.5, 5.0, 0.0), Vec3::new(0.0, -10.0, 0.0)),
             None
         );
+        // Straight down along its side (exactly 1 from the axis): touching is not entering.
+        assert_eq!(
+            span(&c, Vec3::new(6.0, 5.0, 0.0), Vec3::new(0.0, -10.0, 0.0)),
+            None
+        );
         // Above the top, level: none.
         assert_eq!(span(&c, Vec3::new(0.0, 3.0, 0.0), Vec3::X), None);
     }

@@ -481,4 +481,48 @@ mod tests {
         assert_eq!(c.push_out_level(Vec3::new(11.0, 7.3, 0.0), 0.25), None);
         assert_eq!(c.push_out_level(Vec3::new(12.3, 3.0, 0.0), 0.25), None);
     }
+
+    #[test]
+    fn a_cylinder_off_the_axes_and_at_its_bounds() {
+        // Radius 2 around (10, ·, −3), y from 1 to 7; with clearance 0.25: keep 2.25 from the
+        // axis, y within (0.75, 7.25).
+        let c = Shape::Cylinder {
+            base: Vec3::new(10.0, 1.0, -3.0),
+            radius: 2.0,
+            height: 6.0,
+        };
+        let near = |a: Option<Vec3>, b: Vec3| a.is_some_and(|a| (a - b).length() < 1e-5);
+        // 1 from the axis along (0.6, 0, 0.8): side 1.25, top 4.25, bottom 2.25: out of the
+        // side at (10 + 0.6·2.25, 3, −3 + 0.8·2.25).
+        let p = Vec3::new(10.6, 3.0, -2.2);
+        let out = Vec3::new(11.35, 3.0, -1.2);
+        assert!(near(c.push_out(p, 0.25), out));
+        assert!(near(c.push_out_level(p, 0.25), out));
+        // 1.55 from the axis, 0.45 below the grown top: the top (0.45) is nearer than the side
+        // (0.7).
+        assert!(near(
+            c.push_out(Vec3::new(11.55, 6.8, -3.0), 0.25),
+            Vec3::new(11.55, 7.25, -3.0)
+        ));
+        // 2.2 from the axis (2.2² = 4.84 < 2.25² = 5.0625), 1.0 high (above 0.75): along the
+        // floor out to 2.25.
+        assert!(near(
+            c.push_out_level(Vec3::new(12.2, 1.0, -3.0), 0.25),
+            Vec3::new(12.25, 1.0, -3.0)
+        ));
+        // Exactly at the grown bounds: outside.
+        for q in [
+            Vec3::new(10.5, 0.75, -3.0),
+            Vec3::new(10.5, 7.25, -3.0),
+            Vec3::new(12.25, 3.0, -3.0),
+        ] {
+            assert_eq!(c.push_out(q, 0.25), None, "{q}");
+            assert_eq!(c.push_out_level(q, 0.25), None, "{q}");
+        }
+        // Above the top, off the axis by (3, 4): the rim of the top at 2/5 of the way.
+        assert!(near(
+            Some(c.closest_point(Vec3::new(13.0, 9.0, 1.0))),
+            Vec3::new(11.2, 7.0, -1.4)
+        ));
+    }
 }
