@@ -502,3 +502,84 @@ fn bad_avoid_chase_and_escape_constants_are_located() {
     got.sort();
     assert_eq!(got, want);
 }
+
+#[test]
+fn senses_out_of_their_seed_ranges_are_located() {
+    let with = |senses: &str| {
+        let ron = MINNOW.replace(
+            "    initial: \"idle\",",
+            &format!("    senses: {senses},\n    initial: \"idle\","),
+        );
+        diagnostics(&ron, MINNOW_RHAI, &[])
+    };
+    // Seed 000 §1: smell reaches farther than vision.
+    assert_eq!(
+        with("(vision_radius: 10.0, smell_radius: 5.0)"),
+        one(
+            "minnow.ron",
+            4,
+            49,
+            "`smell_radius` (5) must be 0 (no smell) or at least `vision_radius` (10): smell \
+             reaches farther than vision"
+        )
+    );
+    // With a volume, its farthest reach (18 ahead) stands for the vision radius.
+    assert_eq!(
+        with(
+            "(smell_radius: 12.0, volume: Some(Egg(ahead: 18.0, behind: 4.0, side: 9.0, up: 6.0)))"
+        ),
+        one(
+            "minnow.ron",
+            4,
+            28,
+            "`smell_radius` (12) must be 0 (no smell) or at least the reach of `volume` (18): \
+             smell reaches farther than vision"
+        )
+    );
+    // A half-angle beyond π (all around) or not above 0.
+    for a in ["3.5", "0.0", "-1.0", "NaN"] {
+        let shown = a.trim_end_matches(".0").trim_end_matches(".5");
+        let d = with(&format!("(vision_half_angle: {a})"));
+        assert_eq!(d.len(), 1, "{a}: {d:?}");
+        assert_eq!((d[0].1, d[0].2), (4, 33), "{a}");
+        assert!(
+            d[0].3.starts_with(
+                "`vision_half_angle` must be an angle > 0 and ≤ π (3.1415927: all around) in \
+                 radians, not "
+            ) && d[0].3.contains(shown),
+            "{a}: {}",
+            d[0].3
+        );
+    }
+    // Negative and NaN radii, each at its key (no order error on top of them).
+    assert_eq!(
+        with("(vision_radius: -1.0, smell_radius: NaN)"),
+        vec![
+            (
+                "minnow.ron".to_string(),
+                4,
+                29,
+                "`vision_radius` must be a finite number ≥ 0, not -1".to_string()
+            ),
+            (
+                "minnow.ron".to_string(),
+                4,
+                49,
+                "`smell_radius` must be a finite number ≥ 0, not NaN".to_string()
+            ),
+        ]
+    );
+    // No smell at all, a full circle, and the defaults are fine.
+    for ok in [
+        "(vision_radius: 12.0, smell_radius: 0.0, vision_half_angle: 3.1415927)",
+        "(vision_radius: 0.0, smell_radius: 2.5)",
+        "(occluders: BoundingSphere)",
+    ] {
+        let ron = MINNOW.replace(
+            "    initial: \"idle\",",
+            &format!("    senses: {ok},\n    initial: \"idle\","),
+        );
+        let dir = folder(&[("minnow.ron", &ron), ("minnow.rhai", MINNOW_RHAI)]);
+        load(&dir.path().join("minnow.ron"), dir.path());
+    }
+}

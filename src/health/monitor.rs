@@ -198,6 +198,17 @@ pub(super) fn signed_distance(shape: &Shape, p: Vec3) -> f32 {
             let q = (p - b.center()).abs() - b.size() * 0.5;
             q.max(Vec3::ZERO).length() + q.max_element().min(0.0)
         }
+        Shape::Cylinder {
+            base,
+            radius,
+            height,
+        } => {
+            // Outside the side and outside the height, as a box's two axes.
+            let ring = (p.x - base.x).hypot(p.z - base.z) - radius;
+            let y = (p.y - (base.y + height * 0.5)).abs() - height * 0.5;
+            let q = glam::Vec2::new(ring, y);
+            q.max(glam::Vec2::ZERO).length() + q.max_element().min(0.0)
+        }
     }
 }
 
@@ -206,6 +217,7 @@ pub(super) fn obstacle_label(o: &Obstacle) -> String {
     match o.shape {
         Shape::Sphere { .. } => format!("sphere {}", o.id),
         Shape::Box(_) => format!("box {}", o.id),
+        Shape::Cylinder { .. } => format!("cylinder {}", o.id),
     }
 }
 

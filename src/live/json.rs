@@ -138,6 +138,13 @@ enum ObstacleJson {
         max: [f32; 3],
         removed_tick: Option<u64>,
     },
+    Cylinder {
+        id: u32,
+        base: [f32; 3],
+        radius: f32,
+        height: f32,
+        removed_tick: Option<u64>,
+    },
 }
 
 #[derive(Serialize)]
@@ -178,6 +185,17 @@ pub fn world_json(run: &Run, removed_at: &[Option<u64>]) -> String {
                     id: o.id,
                     min: b.min.to_array(),
                     max: b.max.to_array(),
+                    removed_tick,
+                },
+                Shape::Cylinder {
+                    base,
+                    radius,
+                    height,
+                } => ObstacleJson::Cylinder {
+                    id: o.id,
+                    base: base.to_array(),
+                    radius,
+                    height,
                     removed_tick,
                 },
             }

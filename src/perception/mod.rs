@@ -3,8 +3,8 @@
 //!
 //! For every agent, the spatial index yields candidates within its largest sensing range; each is
 //! classified by the species' relations (food, predator, kin, mate, other), tested against vision
-//! (sphere `v_r` limited to a cone, or a custom body-frame [`Volume`], not occluded by nearer
-//! obstacles' bounding spheres) and smell (sphere `O_r`), given its bearing, elevation and sector,
+//! (sphere `v_r` limited to a cone, or a custom body-frame [`Volume`], not fully occluded by
+//! obstacles: see [`occlusion`]) and smell (sphere `O_r`), given its bearing, elevation and sector,
 //! and folded into a per-category [`Summary`]. Results go into fixed-size per-agent slots, so the
 //! stage allocates nothing once warmed up and runs in parallel with identical results.
 //!
@@ -14,16 +14,18 @@
 
 pub mod group;
 pub mod kin;
+pub mod occlusion;
 mod types;
 pub mod volume;
 
 pub use group::{GroupQueries, GroupQuery, GroupSum};
+pub use occlusion::Occluders;
 pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::Volume;
 
 use crate::frame;
 use crate::index::{Grid, ObstacleGrid};
-use crate::world::World;
+use crate::world::{Shape, World};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -50,8 +52,11 @@ pub struct SenseParams {
     pub smell_radius: f32,
     /// A custom body-frame volume replacing the vision sphere and cone.
     pub volume: Option<Volume>,
-    /// Whether obstacles' bounding spheres hide what lies behind them.
+    /// Whether obstacles hide what lies fully behind them ([`occlusion`]).
     pub occlusion: bool,
+    /// What obstacles occlude with: their own shape (default) or their bounding sphere
+    /// (seed 001's form).
+    pub occluders: Occluders,
     /// Percepts kept per agent (the nearest ones, and always the nearest of each category), at
     /// least one per [`Category`] and at most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
     pub max_percepts: usize,
@@ -65,6 +70,7 @@ impl Default for SenseParams {
             smell_radius: 20.0,
             volume: None,
             occlusion: true,
+            occluders: Occluders::Shape,
             max_percepts: DEFAULT_PERCEPTS,
         }
     }
@@ -1112,28 +1118,11 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
     }
 }
 
-/// Whether the segment from `from` to `to` passes through a sphere nearer than `to`.
-#[inline]
-fn occluded(from: Vec3, to: Vec3, occluders: &[(Vec3, f32)]) -> bool {
-    let seg = to - from;
-    let len2 = seg.length_squared();
-    if len2 <= 0.0 {
-        return false;
-    }
-    for &(c, r) in occluders {
-        let t = ((c - from).dot(seg) / len2).clamp(0.0, 1.0);
-        let closest = from + seg * t;
-        // The target itself may touch the sphere (food on a rock): only block strictly between.
-        if t > 0.0
-            && t < 1.0
-            && (c - closest).length_squared() < r * r
-            && (c - to).length_squared() > r * r
-        {
-            return true;
-        }
-    }
-    false
-}
+/// An unused occluder slot.
+const NO_OCCLUDER: Shape = Shape::Sphere {
+    center: Vec3::ZERO,
+    radius: 0.0,
+};
 
 /// A perceiver's body frame and vision cone, computed once per agent.
 struct Eye {
@@ -1296,7 +1285,7 @@ fn perceive_one<const KEEP: bool>(
     sums.fill(GroupSum::default());
 
     // Nearby obstacles first: they are percepts and occluders.
-    let mut occluders = [(Vec3::ZERO, 0.0f32); MAX_OCCLUDERS];
+    let mut occluders = [NO_OCCLUDER; MAX_OCCLUDERS];
     let mut n_occ = 0;
     // The grid lists, in index order, every active obstacle that may be within `radius`.
     for &k in view.obstacle_grid.near(me.pos) {
@@ -1311,12 +1300,12 @@ fn perceive_one<const KEEP: bool>(
             continue;
         }
         if sense.occlusion && n_occ < MAX_OCCLUDERS {
-            occluders[n_occ] = (o.shape.center(), o.shape.bounding_radius());
+            occluders[n_occ] = occlusion::occluder(&o.shape, sense.occluders);
             n_occ += 1;
         }
         let to_center = o.shape.center() - me.pos;
         let dir = if dist > 1e-6 { offset } else { to_center };
-        if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense, &[]) {
+        if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense) {
             let cat = Category::Obstacle;
             fold.take(
                 cat,
@@ -1376,7 +1365,9 @@ fn perceive_one<const KEEP: bool>(
                     return;
                 }
                 let offset = pos - here_a;
-                let Some(seen) = sense_point(here, offset.into(), d2, &eye, sense, occ) else {
+                let radius = || view.diagonals[k] * 0.5;
+                let Some(seen) = sense_point(here, offset.into(), d2, &eye, sense, occ, radius)
+                else {
                     return;
                 };
                 let other = &view.near[k];
@@ -1400,7 +1391,8 @@ fn perceive_one<const KEEP: bool>(
                 }
                 let offset_a = pos - here_a;
                 let offset = Vec3::from(offset_a);
-                let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) else {
+                let radius = || view.diagonals[k] * 0.5;
+                let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ, radius) else {
                     return;
                 };
                 let other = &view.near[k];
@@ -1439,7 +1431,7 @@ fn perceive_one<const KEEP: bool>(
     if relations.eats_items(s) {
         view.food.for_each_within(here, radius, |j, pos, d2| {
             let offset = pos - here;
-            if let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ) {
+            if let Some(seen) = sense_point(here, offset, d2, &eye, sense, occ, || 0.0) {
                 let cat = Category::Food;
                 let at = Vec3A::from(pos);
                 let dist = || d2.sqrt();
@@ -1494,16 +1486,19 @@ fn percept(
     }
 }
 
-/// Decides whether a point target at `offset`, of squared length `d2`, is seen, smelt or
-/// missed: ranges are compared squared, and the square root is taken only for a vision cone.
+/// Decides whether a target at `offset`, of squared length `d2` and bounding radius
+/// `radius()` (asked only when occluders hide its centre), is seen, smelt or missed: ranges
+/// are compared squared, and the square root is taken only for a vision cone.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn sense_point(
     from: Vec3,
     offset: Vec3,
     d2: f32,
     eye: &Eye,
     sense: &SenseParams,
-    occluders: &[(Vec3, f32)],
+    occluders: &[Shape],
+    radius: impl FnOnce() -> f32,
 ) -> Option<Sense> {
     let vision = d2 <= sense.vision_radius * sense.vision_radius;
     let smell = d2 <= sense.smell_radius * sense.smell_radius;
@@ -1515,14 +1510,13 @@ fn sense_point(
         smell,
         eye,
         sense,
-        occluders,
+        (occluders, radius),
     )
 }
 
-/// Decides whether a target at `offset` (of length `offset_len`; `dist` is the distance the
-/// ranges apply to, e.g. to an obstacle's surface) is seen, smelt or missed.
+/// Decides whether an obstacle at `offset` (of length `offset_len`; `dist` is the distance the
+/// ranges apply to, to its surface) is seen, smelt or missed: obstacles are not occluded.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn sense_of(
     from: Vec3,
     offset: Vec3,
@@ -1530,7 +1524,6 @@ fn sense_of(
     dist: f32,
     eye: &Eye,
     sense: &SenseParams,
-    occluders: &[(Vec3, f32)],
 ) -> Option<Sense> {
     let vision = dist <= sense.vision_radius;
     let smell = dist <= sense.smell_radius;
@@ -1542,7 +1535,7 @@ fn sense_of(
         smell,
         eye,
         sense,
-        occluders,
+        (&[], || 0.0),
     )
 }
 
@@ -1558,7 +1551,7 @@ fn sense_with(
     within_smell: bool,
     eye: &Eye,
     sense: &SenseParams,
-    occluders: &[(Vec3, f32)],
+    (occluders, radius): (&[Shape], impl FnOnce() -> f32),
 ) -> Option<Sense> {
     let in_vision = match &sense.volume {
         Some(v) => v.contains(Vec3::new(
@@ -1576,7 +1569,7 @@ fn sense_with(
                 })
         }
     };
-    if in_vision && (occluders.is_empty() || !occluded(from, from + offset, occluders)) {
+    if in_vision && (occluders.is_empty() || !occlusion::hidden(from, offset, radius, occluders)) {
         Some(Sense::Vision)
     } else if within_smell {
         Some(Sense::Smell)
@@ -1706,6 +1699,114 @@ mod tests {
         );
         assert_eq!(sm[Category::Obstacle as usize].count, 1);
         assert!((sm[Category::Obstacle as usize].nearest_dist - 3.0).abs() < 1e-6);
+    }
+
+    /// A reef fish at (0, 0, −3) heading +z, 3 in front of a 12 × 2 × 6 box (x −6..6, y −1..1,
+    /// z 2..8; centre (0, 0, 5), bounding radius √184/2 = 6.78: the fish is 8 from its centre,
+    /// outside it), with vision 20 and smell 30.
+    fn beside_a_box() -> (World, SenseParams) {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::new(0.0, 0.0, -3.0), 0.0));
+        w.add_obstacle(Shape::Box(Aabb::new(
+            Vec3::new(-6.0, -1.0, 2.0),
+            Vec3::new(6.0, 1.0, 8.0),
+        )));
+        let sense = SenseParams {
+            vision_radius: 20.0,
+            smell_radius: 30.0,
+            ..SenseParams::default()
+        };
+        (w, sense)
+    }
+
+    #[test]
+    fn a_shark_above_a_box_is_seen_past_its_real_shape() {
+        let (mut w, sense) = beside_a_box();
+        // The shark at (0, 4, 12): the line of sight rises 4 over 15, at the box's front face
+        // (z = 2, 5 along) it is 4·5/15 = 1.33 high, above the top (1); it passes the box's
+        // centre at 8·4/√241 = 2.06 (< 6.78) and the shark is √(16 + 49) = 8.06 from that
+        // centre (> 6.78): the bounding sphere would hide it.
+        w.agents.push(agent(1, 1, Vec3::new(0.0, 4.0, 12.0), 0.0));
+        let p = run(&w, &rel(), sense);
+        let pred = p.summaries(0)[Category::Predator as usize];
+        assert_eq!((pred.count, pred.seen), (1, 1), "seen above the box");
+        // The box itself: 5 ahead (front face at z = 2).
+        let obs = p.summaries(0)[Category::Obstacle as usize];
+        assert!((obs.nearest_dist - 5.0).abs() < 1e-6);
+        // The paper's form: the bounding sphere hides it (still smelt at 15.5 < 30).
+        let paper = SenseParams {
+            occluders: Occluders::BoundingSphere,
+            ..sense
+        };
+        let p = run(&w, &rel(), paper);
+        let pred = p.summaries(0)[Category::Predator as usize];
+        assert_eq!(
+            (pred.count, pred.seen),
+            (1, 0),
+            "the bounding sphere hides it"
+        );
+        // Occlusion off: seen either way.
+        let off = SenseParams {
+            occlusion: false,
+            ..paper
+        };
+        let pred = run(&w, &rel(), off).summaries(0)[Category::Predator as usize];
+        assert_eq!((pred.count, pred.seen), (1, 1));
+    }
+
+    #[test]
+    fn a_fish_behind_the_box_is_hidden_by_its_real_shape() {
+        let (mut w, sense) = beside_a_box();
+        // Kin at (0, 0, 12): the line of sight runs through the box along its axis; the outline
+        // points (0.53 across: size 0.2 × 0.3 × 1, diagonal 1.06) do too.
+        w.agents.push(agent(1, 0, Vec3::new(0.0, 0.0, 12.0), 0.0));
+        let kin = run(&w, &rel(), sense).summaries(0)[Category::Kin as usize];
+        assert_eq!((kin.count, kin.seen), (1, 0), "behind the box: smelt only");
+    }
+
+    #[test]
+    fn a_target_behind_a_rock_is_hidden_unless_it_sticks_out() {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        // A rock of radius 1 at z = 4; a predator at z = 8, radius 0.53: its outline points'
+        // lines of sight pass the rock's centre at 4·0.53/8 ≈ 0.27 (< 1): hidden.
+        w.add_obstacle(Shape::Sphere {
+            center: Vec3::new(0.0, 0.0, 4.0),
+            radius: 1.0,
+        });
+        w.agents.push(agent(1, 1, Vec3::new(0.0, 0.0, 8.0), 0.0));
+        let pred =
+            run(&w, &rel(), SenseParams::default()).summaries(0)[Category::Predator as usize];
+        assert_eq!((pred.count, pred.seen), (1, 0), "hidden by the rock");
+        // A big one there (size 4 × 4 × 4: radius 2√3 = 3.46) sticks out: its outline points'
+        // lines of sight pass the rock's centre at about 4·3.46/√(64 + 12) = 1.59 (> 1).
+        w.agents[1].size = Vec3::splat(4.0);
+        let pred =
+            run(&w, &rel(), SenseParams::default()).summaries(0)[Category::Predator as usize];
+        assert_eq!((pred.count, pred.seen), (1, 1), "partly in view");
+    }
+
+    #[test]
+    fn a_cylinder_is_perceived_at_its_surface_and_occludes() {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        // A pillar of radius 1 around (0, ·, 4), from y = −5 to 5: its surface 3 ahead.
+        w.add_obstacle(Shape::Cylinder {
+            base: Vec3::new(0.0, -5.0, 4.0),
+            radius: 1.0,
+            height: 10.0,
+        });
+        w.add_food(Vec3::new(0.0, 0.0, 8.0));
+        // Higher, at y = 6: the line of sight crosses the axis 3 high, below the top (5): hidden.
+        w.add_food(Vec3::new(0.0, 6.0, 8.0));
+        // Beside it (x = 3 at z = 8: 1.5 off the axis at z = 4): seen.
+        w.add_food(Vec3::new(3.0, 0.0, 8.0));
+        let p = run(&w, &rel(), SenseParams::default());
+        let sm = p.summaries(0);
+        let obs = sm[Category::Obstacle as usize];
+        assert!((obs.nearest_dist - 3.0).abs() < 1e-6);
+        let food = sm[Category::Food as usize];
+        assert_eq!((food.count, food.seen), (3, 1));
     }
 
     #[test]

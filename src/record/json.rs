@@ -91,6 +91,9 @@ pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
                 Shape::Box(b) => json!({
                     "id": o.id, "shape": "box", "min": b.min.to_array(), "max": b.max.to_array(), "removed_tick": removed_tick
                 }),
+                Shape::Cylinder { base, radius, height } => json!({
+                    "id": o.id, "shape": "cylinder", "base": base.to_array(), "radius": radius, "height": height, "removed_tick": removed_tick
+                }),
             }
         })
         .collect();

@@ -80,6 +80,16 @@ pub enum ObstacleDef {
         /// Largest corner.
         max: Vec3,
     },
+    /// An upright cylinder: a disc of `radius` around `base`, extruded up by `height`
+    /// (seed 001's cylinder bounds).
+    Cylinder {
+        /// Centre of the bottom disc.
+        base: Vec3,
+        /// Radius.
+        radius: f32,
+        /// Height.
+        height: f32,
+    },
 }
 
 impl ObstacleDef {
@@ -92,6 +102,15 @@ impl ObstacleDef {
             ObstacleDef::Box { min, max } => {
                 crate::world::Shape::Box(crate::world::Aabb::new(min, max))
             }
+            ObstacleDef::Cylinder {
+                base,
+                radius,
+                height,
+            } => crate::world::Shape::Cylinder {
+                base,
+                radius,
+                height,
+            },
         }
     }
 }

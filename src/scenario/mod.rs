@@ -130,6 +130,16 @@ fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Vec<Diagnosti
                     );
                 }
             }
+            ObstacleDef::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                n.enter("Cylinder");
+                n.point("base", &base.to_array());
+                n.range("radius", radius, 0.0, MAX_COORD);
+                n.range("height", height, 0.0, MAX_COORD);
+            }
         }
     }
     // Food: the respawn loop adds whole items per tick, so the rate is bounded by what the

@@ -719,14 +719,38 @@ impl Builder<'_> {
         n.from = 0;
         n.enter("senses");
         let s = &def.senses;
-        n.non_negative("vision_radius", s.vision_radius);
-        n.range(
-            "vision_half_angle",
-            s.vision_half_angle,
-            0.0,
-            std::f32::consts::TAU,
-        );
-        n.non_negative("smell_radius", s.smell_radius);
+        let vision = n.non_negative("vision_radius", s.vision_radius);
+        let a = s.vision_half_angle;
+        if !(a.is_finite() && a > 0.0 && a <= std::f32::consts::PI) {
+            n.error(
+                "vision_half_angle",
+                format!(
+                    "`vision_half_angle` must be an angle > 0 and ≤ π (3.1415927: all around) \
+                     in radians, not {a}"
+                ),
+            );
+        }
+        // Seed 000 §1: smell reaches farther than vision (O_r > v_r); 0 is no smell at all.
+        let reach = s.volume.map_or(s.vision_radius, |v| v.max_reach());
+        if n.non_negative("smell_radius", s.smell_radius)
+            && vision
+            && s.smell_radius > 0.0
+            && s.smell_radius < reach
+        {
+            let what = if s.volume.is_some() {
+                "the reach of `volume`"
+            } else {
+                "`vision_radius`"
+            };
+            n.error(
+                "smell_radius",
+                format!(
+                    "`smell_radius` ({}) must be 0 (no smell) or at least {what} ({reach}): \
+                     smell reaches farther than vision",
+                    s.smell_radius
+                ),
+            );
+        }
         if let Some(crate::perception::Volume::Egg {
             ahead,
             behind,

@@ -932,6 +932,21 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
             .world
             .add_obstacle(crate::world::Shape::Box(Aabb::new(min, max))) as INT
     });
+    e.register_fn(
+        "add_cylinder",
+        |w: &mut WorldRef, base: Vec3, radius: FLOAT, height: FLOAT| -> R<INT> {
+            if radius.is_nan() || radius <= 0.0 || height.is_nan() || height < 0.0 {
+                return Err(error(
+                    "a cylinder's radius must be positive and its height not negative",
+                ));
+            }
+            Ok(w.get().world.add_obstacle(crate::world::Shape::Cylinder {
+                base,
+                radius,
+                height,
+            }) as INT)
+        },
+    );
     e.register_fn("remove_obstacle", |w: &mut WorldRef, id: INT| -> R<()> {
         let mut tw = w.get();
         let o = usize::try_from(id)

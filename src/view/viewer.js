@@ -406,6 +406,14 @@ void main() {
       geom.circle(out, ctr, r, 0, c); geom.circle(out, ctr, r, 1, c); geom.circle(out, ctr, r, 2, c);
       for (const f of [-0.6, 0.6]) geom.circle(out, [ctr[0], ctr[1] + f * r, ctr[2]], r * 0.8, 1, c);
     },
+    cylinder(out, base, r, h, c) {
+      const top = [base[0], base[1] + h, base[2]];
+      geom.circle(out, base, r, 1, c); geom.circle(out, top, r, 1, c);
+      for (let k = 0; k < 8; k++) {
+        const a = (k / 8) * Math.PI * 2, dx = Math.cos(a) * r, dz = Math.sin(a) * r;
+        geom.seg(out, [base[0] + dx, base[1], base[2] + dz], [top[0] + dx, top[1], top[2] + dz], c);
+      }
+    },
     cross(out, p, s, c) {
       geom.seg(out, [p[0] - s, p[1], p[2]], [p[0] + s, p[1], p[2]], c);
       geom.seg(out, [p[0], p[1] - s, p[2]], [p[0], p[1] + s, p[2]], c);
@@ -466,6 +474,7 @@ void main() {
     for (const o of present) {
       if (o.shape === 'sphere') geom.sphere(out, o.center, o.radius, [0.85, 0.55, 0.45]);
       else if (o.shape === 'box') geom.box(out, o.min, o.max, [0.85, 0.55, 0.45]);
+      else if (o.shape === 'cylinder') geom.cylinder(out, o.base, o.radius, o.height, [0.85, 0.55, 0.45]);
     }
     const s = camera.scale * 0.01;
     for (const plan of w.plans || []) {

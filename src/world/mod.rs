@@ -67,6 +67,16 @@ pub enum Shape {
     },
     /// An axis-aligned box.
     Box(Aabb),
+    /// An upright cylinder (axis along world up): from `base` up to `base.y + height`
+    /// (seed 001: complex obstacles bounded by boxes, cylinders or spheres).
+    Cylinder {
+        /// Centre of the bottom disc.
+        base: Vec3,
+        /// Radius.
+        radius: f32,
+        /// Height (≥ 0).
+        height: f32,
+    },
 }
 
 impl Shape {
@@ -75,6 +85,7 @@ impl Shape {
         match self {
             Shape::Sphere { center, .. } => *center,
             Shape::Box(b) => b.center(),
+            Shape::Cylinder { base, height, .. } => *base + Vec3::Y * (height * 0.5),
         }
     }
     /// Radius of the bounding sphere (used for occlusion and the path test, seed 001).
@@ -82,6 +93,7 @@ impl Shape {
         match self {
             Shape::Sphere { radius, .. } => *radius,
             Shape::Box(b) => b.size().length() * 0.5,
+            Shape::Cylinder { radius, height, .. } => radius.hypot(height * 0.5),
         }
     }
     /// Size `S` of seed 000 §4.1: the bounding box diagonal.
@@ -89,6 +101,10 @@ impl Shape {
         match self {
             Shape::Sphere { radius, .. } => 2.0 * radius * 3f32.sqrt(),
             Shape::Box(b) => b.size().length(),
+            // The box around it: 2r × h × 2r.
+            Shape::Cylinder { radius, height, .. } => {
+                (8.0 * radius * radius + height * height).sqrt()
+            }
         }
     }
     /// Where a body centred at `p` must move to keep `clearance` from the shape: `None` when it
@@ -132,6 +148,31 @@ impl Shape {
                 }
                 Some(best.1)
             }
+            Shape::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let keep = radius + clearance;
+                let (lo, hi) = (base.y - clearance, base.y + height + clearance);
+                let h = Vec3::new(p.x - base.x, 0.0, p.z - base.z);
+                let ring = h.length();
+                if !(p.y > lo && p.y < hi && ring < keep) {
+                    return None;
+                }
+                // The nearest of the side (grown by `clearance`), the top and the bottom, in
+                // that order among equals.
+                let side = keep - ring;
+                let (top, bottom) = (hi - p.y, p.y - lo);
+                if side <= top && side <= bottom {
+                    let dir = h.try_normalize().unwrap_or(Vec3::X);
+                    Some(Vec3::new(base.x + dir.x * keep, p.y, base.z + dir.z * keep))
+                } else if top <= bottom {
+                    Some(Vec3::new(p.x, hi, p.z))
+                } else {
+                    Some(Vec3::new(p.x, lo, p.z))
+                }
+            }
         }
     }
     /// [`Shape::push_out`] along the horizontal only: for a body that stands on the floor of
@@ -167,6 +208,20 @@ impl Shape {
                 }
                 Shape::Box(flat).push_out(p, clearance)
             }
+            Shape::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let keep = radius + clearance;
+                let inside_height = p.y > base.y - clearance && p.y < base.y + height + clearance;
+                let h = Vec3::new(p.x - base.x, 0.0, p.z - base.z);
+                if !inside_height || h.length_squared() >= keep * keep {
+                    return None;
+                }
+                let dir = h.try_normalize().unwrap_or(Vec3::X);
+                Some(Vec3::new(base.x + dir.x * keep, p.y, base.z + dir.z * keep))
+            }
         }
     }
     /// The surface point nearest to `p` (for a point inside, `p` itself).
@@ -182,6 +237,21 @@ impl Shape {
                 }
             }
             Shape::Box(b) => b.closest_point(p),
+            Shape::Cylinder {
+                base,
+                radius,
+                height,
+            } => {
+                let y = p.y.clamp(base.y, base.y + height);
+                let h = Vec3::new(p.x - base.x, 0.0, p.z - base.z);
+                let ring = h.length();
+                if ring <= *radius {
+                    Vec3::new(p.x, y, p.z)
+                } else {
+                    let k = radius / ring;
+                    Vec3::new(base.x + h.x * k, y, base.z + h.z * k)
+                }
+            }
         }
     }
 }
@@ -353,5 +423,106 @@ mod tests {
             b.push_out_level(Vec3::new(1.9, 0.0, 1.0), 0.2),
             Some(Vec3::new(2.2, 0.0, 1.0))
         );
+    }
+
+    #[test]
+    fn a_cylinder_has_its_bounds_nearest_point_and_push_out() {
+        // Radius 2, from y = 1 up to y = 7, axis at x = 10, z = 0.
+        let c = Shape::Cylinder {
+            base: Vec3::new(10.0, 1.0, 0.0),
+            radius: 2.0,
+            height: 6.0,
+        };
+        // Centre at mid-height (1 + 3); bounding sphere √(2² + 3²) = √13; box 4 × 6 × 4:
+        // diagonal √(16 + 36 + 16) = √68.
+        assert_eq!(c.center(), Vec3::new(10.0, 4.0, 0.0));
+        assert!((c.bounding_radius() - 13f32.sqrt()).abs() < 1e-6);
+        assert!((c.diagonal() - 68f32.sqrt()).abs() < 1e-5);
+        // Beside it at 5 from the axis, 2 above the base: onto the side at radius 2.
+        assert_eq!(
+            c.closest_point(Vec3::new(15.0, 3.0, 0.0)),
+            Vec3::new(12.0, 3.0, 0.0)
+        );
+        // Above the top, off the axis by (3, 4) (5 away): the rim of the top disc, at 2/5 of it.
+        let q = c.closest_point(Vec3::new(13.0, 9.0, 4.0));
+        assert!((q - Vec3::new(11.2, 7.0, 1.6)).length() < 1e-5, "{q}");
+        // Above the top, within the radius: straight down onto the top.
+        assert_eq!(
+            c.closest_point(Vec3::new(11.0, 9.0, 0.0)),
+            Vec3::new(11.0, 7.0, 0.0)
+        );
+        // Inside: itself.
+        let inside = Vec3::new(10.5, 2.0, 0.5);
+        assert_eq!(c.closest_point(inside), inside);
+        // Inside, 0.5 from the side (ring 1.5), 1 above the base, 5 below the top: out of the
+        // side grown by 0.25, at 2.25 from the axis.
+        assert_eq!(
+            c.push_out(Vec3::new(11.5, 2.0, 0.0), 0.25),
+            Some(Vec3::new(12.25, 2.0, 0.0))
+        );
+        // Inside, 0.2 below the top (ring 1, 1 from the side): onto the top grown by 0.25.
+        assert_eq!(
+            c.push_out(Vec3::new(11.0, 6.8, 0.0), 0.25),
+            Some(Vec3::new(11.0, 7.25, 0.0))
+        );
+        // Inside, 0.1 above the base: down under the base grown by 0.25.
+        assert_eq!(
+            c.push_out(Vec3::new(11.0, 1.1, 0.0), 0.25),
+            Some(Vec3::new(11.0, 0.75, 0.0))
+        );
+        // Outside the clearance, beside and above: left alone.
+        assert_eq!(c.push_out(Vec3::new(12.3, 2.0, 0.0), 0.25), None);
+        assert_eq!(c.push_out(Vec3::new(10.0, 7.3, 0.0), 0.25), None);
+        // Along the floor: sideways only, even when the top is nearer.
+        assert_eq!(
+            c.push_out_level(Vec3::new(11.0, 6.8, 0.0), 0.25),
+            Some(Vec3::new(12.25, 6.8, 0.0))
+        );
+        assert_eq!(c.push_out_level(Vec3::new(11.0, 7.3, 0.0), 0.25), None);
+        assert_eq!(c.push_out_level(Vec3::new(12.3, 3.0, 0.0), 0.25), None);
+    }
+
+    #[test]
+    fn a_cylinder_off_the_axes_and_at_its_bounds() {
+        // Radius 2 around (10, ·, −3), y from 1 to 7; with clearance 0.25: keep 2.25 from the
+        // axis, y within (0.75, 7.25).
+        let c = Shape::Cylinder {
+            base: Vec3::new(10.0, 1.0, -3.0),
+            radius: 2.0,
+            height: 6.0,
+        };
+        let near = |a: Option<Vec3>, b: Vec3| a.is_some_and(|a| (a - b).length() < 1e-5);
+        // 1 from the axis along (0.6, 0, 0.8): side 1.25, top 4.25, bottom 2.25: out of the
+        // side at (10 + 0.6·2.25, 3, −3 + 0.8·2.25).
+        let p = Vec3::new(10.6, 3.0, -2.2);
+        let out = Vec3::new(11.35, 3.0, -1.2);
+        assert!(near(c.push_out(p, 0.25), out));
+        assert!(near(c.push_out_level(p, 0.25), out));
+        // 1.55 from the axis, 0.45 below the grown top: the top (0.45) is nearer than the side
+        // (0.7).
+        assert!(near(
+            c.push_out(Vec3::new(11.55, 6.8, -3.0), 0.25),
+            Vec3::new(11.55, 7.25, -3.0)
+        ));
+        // 2.2 from the axis (2.2² = 4.84 < 2.25² = 5.0625), 1.0 high (above 0.75): along the
+        // floor out to 2.25.
+        assert!(near(
+            c.push_out_level(Vec3::new(12.2, 1.0, -3.0), 0.25),
+            Vec3::new(12.25, 1.0, -3.0)
+        ));
+        // Exactly at the grown bounds: outside.
+        for q in [
+            Vec3::new(10.5, 0.75, -3.0),
+            Vec3::new(10.5, 7.25, -3.0),
+            Vec3::new(12.25, 3.0, -3.0),
+        ] {
+            assert_eq!(c.push_out(q, 0.25), None, "{q}");
+            assert_eq!(c.push_out_level(q, 0.25), None, "{q}");
+        }
+        // Above the top, off the axis by (3, 4): the rim of the top at 2/5 of the way.
+        assert!(near(
+            Some(c.closest_point(Vec3::new(13.0, 9.0, 1.0))),
+            Vec3::new(11.2, 7.0, -1.4)
+        ));
     }
 }
