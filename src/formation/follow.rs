@@ -11,8 +11,8 @@
 //! position. Each leg carries a speed factor, the member's distance over the leader's, so that
 //! members moving at `factor × leader speed` arrive together and wait little.
 //!
-//! On a grid ([`member_paths_on`]) two rules keep the slots out of walls, both engine readings
-//! the source leaves open:
+//! On a grid ([`member_paths_on`]) one rule keeps the slots out of walls, an engine reading the
+//! source leaves open:
 //! - **A transition starts where the new formation fits.** The leg into a transition is where
 //!   the source interpolates; that is right going into a narrow pass (the narrow formation fits
 //!   where the leg starts), but coming out of one the leg into the transition runs inside the pass,
@@ -20,9 +20,11 @@
 //!   does not fit at the key point before the transition (leader there, facing along the leg), the
 //!   members hold the old formation up to the transition and interpolate over the leg after it:
 //!   the wide formation is restored only after the pass.
-//! - **A slot inside a wall is drawn in toward the leader.** Where a low K2 let the plan keep a
-//!   formation that does not fit (some `aᵢ = 0`), a waypoint on a blocked cell moves along the line
-//!   from the leader to the slot to the farthest point before the first blocked cell.
+//! - **Not applied: drawing a slot inside a wall in toward the leader** ([`draw_in`], kept and
+//!   tested). Where a low K2 lets the plan keep a formation that does not fit, moving the waypoint
+//!   to the last free point before the wall made members walk into blocked cells on the way to it
+//!   (7–9 blocked steps on `tests/squad_runtime.rs`'s wall, none without it). A waypoint must be
+//!   reachable along the leg, not just free; until that is checked, slots follow the formation.
 //!
 //! [`member_paths`] is the source's form, the formation function alone.
 
@@ -102,14 +104,7 @@ pub fn member_paths_on(
                 .iter()
                 .zip(&headings)
                 .zip(&held)
-                .map(|((k, &h), &f)| {
-                    let slot = formations[f].world_slot(m, leader, k.pos, h);
-                    if m == leader {
-                        slot
-                    } else {
-                        draw_in(grid, k.pos, slot)
-                    }
-                })
+                .map(|((k, &h), &f)| formations[f].world_slot(m, leader, k.pos, h))
                 .collect();
             let speed_factors = speed_factors(keys, &waypoints);
             MemberPath {
@@ -371,16 +366,9 @@ mod tests {
         // The first sample already blocked: the leader's point.
         let by_wall = Vec2::new(6.9, 5.5);
         assert_eq!(draw_in(&g, by_wall, Vec2::new(9.5, 5.5)), by_wall);
-        // In member paths: a line of 3 facing north at (6.5, 5.5) has its right slot at
-        // (7.5, 5.5), in the wall: 1 m in 4 samples, 6.75 free, 7.0 not.
+        // A line of 3 facing north fits at (4.5, 5.5); at (6.5, 5.5) its right slot (7.5, 5.5) is
+        // in the wall.
         let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
-        let keys = [kp(6.5, 5.5, 0, 0), kp(6.5, 1.5, 0, 4)];
-        let paths = member_paths_on(&g, &keys, &f, 0);
-        assert_eq!(paths[1].waypoints[0], Vec2::new(6.75, 5.5));
-        assert_eq!(paths[2].waypoints[0], Vec2::new(5.5, 5.5));
-        assert!(paths
-            .iter()
-            .all(|p| p.waypoints.iter().all(|&w| free(&g, w))));
         assert!(fits(
             &g,
             &f[0],

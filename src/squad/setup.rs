@@ -294,7 +294,11 @@ pub fn load(
             ));
             ok = false;
         }
-        let leader = match sq.leader.resolve(members, &sq.roles, def.seed, index) {
+        // A squad with no members is refused at its `count` already.
+        let leader = match sq
+            .leader
+            .resolve(members.max(1), &sq.roles, def.seed, index)
+        {
             Ok(l) => Some(l),
             Err(msg) => {
                 diags.push(diag(
