@@ -1077,4 +1077,129 @@ mod tests {
         };
         assert!(v.z < 0.0);
     }
+
+    #[test]
+    fn pressures_split_a_source_dead_ahead_and_level() {
+        // S = 2, d = 3, m0 = 1, θ = ω = 0: each term 2·cos 0/4 = 0.5, half to each side.
+        let p = pressures([src(3.0, 0.0, 0.0, 2.0)], 1.0);
+        let quarter = Pressures {
+            left: 0.25,
+            right: 0.25,
+            up: 0.25,
+            down: 0.25,
+        };
+        assert_eq!(p, quarter);
+    }
+
+    #[test]
+    fn front_field_sides_and_the_on_line_band() {
+        // S = 2, forward = 0.5, d = 3, m0 = 1: t = 2·0.5/4 = 0.25.
+        let fs = |right: f32, up: f32| FrontSource {
+            dist: 3.0,
+            size: 2.0,
+            forward: 0.5,
+            right,
+            up,
+        };
+        let p = |left, right, up, down| Pressures {
+            left,
+            right,
+            up,
+            down,
+        };
+        assert_eq!(
+            front_pressures([fs(-0.5, -0.5)], 1.0),
+            p(0.25, 0.0, 0.0, 0.25)
+        );
+        assert_eq!(
+            front_pressures([fs(0.5, 0.5)], 1.0),
+            p(0.0, 0.25, 0.25, 0.0)
+        );
+        // Two on the left and below add up.
+        let two = front_pressures([fs(-0.5, -0.5), fs(-0.5, -0.5)], 1.0);
+        assert_eq!(two, p(0.5, 0.0, 0.0, 0.5));
+        // Exactly ±1e-4 off the line is on it: half of t to each side.
+        for e in [1e-4, -1e-4] {
+            assert_eq!(
+                front_pressures([fs(e, e)], 1.0),
+                p(0.125, 0.125, 0.125, 0.125)
+            );
+        }
+    }
+
+    #[test]
+    fn range_counts_up_to_its_limit() {
+        assert!(AvoidParams::default().in_range(1e9));
+        let p = AvoidParams {
+            range: Some(5.0),
+            ..AvoidParams::default()
+        };
+        assert!(p.in_range(5.0));
+        assert!(!p.in_range(5.1));
+    }
+
+    #[test]
+    fn front_field_pitches_when_up_and_down_differ() {
+        // v_r = 999, m0 = 1: M_min = 0.001. U = 0.02, D = 0.015: |U − D| = 0.005 > 1e-3·0.02,
+        // so not level: U > D → pitch −π/8; R > L → yaw −π/8.
+        let p = Pressures {
+            left: 0.0,
+            right: 0.02,
+            up: 0.02,
+            down: 0.015,
+        };
+        let s = avoid_static(&kin(2.0), p, 999.0, 0.5, 2.0, 0.1, &AvoidParams::default());
+        let Steer::Turn { yaw, pitch, .. } = s else {
+            panic!("{s:?}")
+        };
+        assert_eq!((yaw, pitch), (-FRAC_PI_8, -FRAC_PI_8));
+    }
+
+    #[test]
+    fn path_test_from_an_offset_position_and_at_its_edges() {
+        // From (1, 2, 3) along (0, 0, 10), centre (1.5, 2, 8): a = (0.5, 0, 5), t = 50/100 = 0.5,
+        // p = (0, 0, 5), b = (0.5, 0, 0), |b| < 1 → a hit 0.5 to the side.
+        let hit = path_test(
+            Vec3::new(1.0, 2.0, 3.0),
+            10.0 * Vec3::Z,
+            Vec3::new(1.5, 2.0, 8.0),
+            1.0,
+        );
+        assert_eq!(hit, Some(Vec3::new(0.5, 0.0, 0.0)));
+        // Centre exactly at the tip: |p| = |v|, not strictly inside the path.
+        assert_eq!(
+            path_test(Vec3::ZERO, 10.0 * Vec3::Z, 10.0 * Vec3::Z, 1.0),
+            None
+        );
+        // Grazing: |b| = 1 = r is not inside either.
+        let graze = Vec3::new(1.0, 0.0, 5.0);
+        assert_eq!(path_test(Vec3::ZERO, 10.0 * Vec3::Z, graze, 1.0), None);
+        // A look-ahead with |v|² = 1e-14 ≤ 1e-12 tests nothing, even with the centre on it.
+        let tiny = Vec3::new(0.0, 0.0, 1e-7);
+        assert_eq!(path_test(Vec3::ZERO, tiny, 0.5 * tiny, 1.0), None);
+    }
+
+    #[test]
+    fn predicted_collision_look_ahead_speed_and_ties() {
+        // Vc = 0.5 below 0.1·V_max = 2: the look-ahead is 2·5 = 10 along +Z and the command's
+        // speed is 2. Hit at z = 9, b = (0.5, 0, 0) → (fwd − X)/√2·2 = (−√2, 0, √2).
+        let hit = |obstacles: &[(Vec3, f32)]| {
+            predict_collision(&kin(0.5), obstacles.iter().copied(), 5.0, 0.0, 20.0)
+        };
+        let Steer::Velocity(v) = hit(&[(Vec3::new(0.5, 0.0, 9.0), 1.0)]) else {
+            panic!()
+        };
+        let r2 = 2f32.sqrt();
+        assert!((v - Vec3::new(-r2, 0.0, r2)).length() < 1e-5, "{v}");
+        // Beyond the look-ahead: nothing.
+        assert_eq!(hit(&[(Vec3::new(0.5, 0.0, 11.0), 1.0)]), Steer::None);
+        // Two hits equally far ahead: the first listed wins, here on the right → turn left.
+        let Steer::Velocity(v) = hit(&[
+            (Vec3::new(-0.5, 0.0, 5.0), 1.0),
+            (Vec3::new(0.5, 0.0, 5.0), 1.0),
+        ]) else {
+            panic!()
+        };
+        assert!((v - Vec3::new(r2, 0.0, r2)).length() < 1e-5, "{v}");
+    }
 }

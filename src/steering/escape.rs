@@ -511,4 +511,19 @@ mod tests {
         };
         assert!((v - Vec3::new(-2.0, 0.0, 0.0)).length() < 1e-6);
     }
+
+    #[test]
+    fn level_band_edges_count_as_level() {
+        // Band 0.25, body level, predator behind (θ = 2, V_max = 4): exactly ∓0.25 is level →
+        // aim 0, pitch 0; beyond it the aim is ±π/4, one smell step π/8 at most.
+        let l = Leveling {
+            level_band: 0.25,
+            ..Leveling::default()
+        };
+        let at = |e: f32| escape_leveled(false, 2.0, e, 0.0, 15.0, 10.0, 2.0, 4.0, &l);
+        assert_eq!(at(-0.25), turn(0.0, 0.0, 4.0));
+        assert_eq!(at(0.25), turn(0.0, 0.0, 4.0));
+        assert_eq!(at(-0.26), turn(0.0, FRAC_PI_8, 4.0));
+        assert_eq!(at(0.26), turn(0.0, -FRAC_PI_8, 4.0));
+    }
 }

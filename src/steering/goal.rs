@@ -468,4 +468,78 @@ mod tests {
         let expect = Vec3::new(1.0, 0.0, 10.0).normalize() * 2.0;
         assert!((v - expect).length() < 1e-5);
     }
+
+    #[test]
+    fn intercept_point_branches() {
+        let at_x10 = Vec3::new(10.0, 0.0, 0.0);
+        // Equal speeds (a = 0): t = −c/b. Target closing at 1: b = 2·(10·−1) = −20, c = 100,
+        // t = 5 → (5, 0, 0). Moving away: t = −5 < 0 → aim at it. Sideways: b = 0 → aim at it.
+        let p = intercept_point(Vec3::ZERO, 1.0, at_x10, Vec3::new(-1.0, 0.0, 0.0));
+        assert_eq!(p, Vec3::new(5.0, 0.0, 0.0));
+        assert_eq!(intercept_point(Vec3::ZERO, 1.0, at_x10, Vec3::X), at_x10);
+        assert_eq!(intercept_point(Vec3::ZERO, 1.0, at_x10, Vec3::Z), at_x10);
+        // b = 2·(10·−1e−11) = −2e−10, below 1e−9: no usable solution, aim at it.
+        let grazing = Vec3::new(-1e-11, 0.0, 1.0);
+        assert_eq!(intercept_point(Vec3::ZERO, 1.0, at_x10, grazing), at_x10);
+        // Faster target closing at 2, pursuer at 1: a = 3, b = −40, c = 100, disc = 400,
+        // t = (40 ∓ 20)/6 = 10/3 or 10 → the sooner, (10 − 20/3, 0, 0).
+        let p = intercept_point(Vec3::ZERO, 1.0, at_x10, Vec3::new(-2.0, 0.0, 0.0));
+        assert!((p - Vec3::new(10.0 / 3.0, 0.0, 0.0)).length() < 1e-5, "{p}");
+        // A standing pursuer: a = 4, disc = 1600 − 1600 = 0, t = 40/8 = 5 → the origin.
+        let p = intercept_point(Vec3::ZERO, 0.0, at_x10, Vec3::new(-2.0, 0.0, 0.0));
+        assert_eq!(p, Vec3::ZERO);
+        // Closing at 1: a = 1, b = −20, disc = 400 − 400 = 0, t = 20/2 = 10 → the origin.
+        let p = intercept_point(Vec3::ZERO, 0.0, at_x10, Vec3::new(-1.0, 0.0, 0.0));
+        assert_eq!(p, Vec3::ZERO);
+        // Faster target passing sideways: a = 3, b = 0, disc = −1200 < 0 → aim at it.
+        let p = intercept_point(Vec3::ZERO, 1.0, at_x10, Vec3::new(0.0, 0.0, 2.0));
+        assert_eq!(p, at_x10);
+        // From a pursuer away from the origin: r = target − from.
+        let p = intercept_point(
+            Vec3::new(0.0, 0.0, 1.0),
+            1.0,
+            Vec3::new(10.0, 0.0, 1.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+        );
+        assert_eq!(p, Vec3::new(5.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn pursuit_by_none_and_intercept() {
+        let k = Kin {
+            pos: Vec3::ZERO,
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: 1.0,
+        };
+        let (now, before) = (Vec3::new(10.0, 0.0, 0.0), Vec3::new(10.0, 0.0, -0.1));
+        let v = |p: Prediction, dt: f32| match pursue(&k, now, before, dt, p, 2f32.sqrt()) {
+            Steer::Velocity(v) => v,
+            s => panic!("{s:?}"),
+        };
+        // None: straight at (10, 0, 0), speed √2.
+        assert!((v(Prediction::None, 0.1) - Vec3::new(2f32.sqrt(), 0.0, 0.0)).length() < 1e-5);
+        // Intercept: V = (0, 0, 0.1)/0.1 = +Z at 1, pursuer at √2 → (10, 0, 10) as above,
+        // direction (1, 0, 1)/√2 times √2 = (1, 0, 1).
+        let i = v(Prediction::Intercept, 0.1);
+        assert!((i - Vec3::new(1.0, 0.0, 1.0)).length() < 1e-4, "{i}");
+        // dt = 0: no velocity estimate, aim at the target.
+        let i = v(Prediction::Intercept, 0.0);
+        assert!(
+            (i - Vec3::new(2f32.sqrt(), 0.0, 0.0)).length() < 1e-5,
+            "{i}"
+        );
+    }
+
+    #[test]
+    fn intercept_takes_the_sooner_root_when_nearly_as_fast() {
+        // Head-on, target at 10 closing at 2: they meet at t = 10/(2 + s), at 10 − 2t.
+        // s = 1.999 (a = 4 − s² ≈ 0.004): t = 10/3.999 = 2.50063 → x = 4.99875.
+        let closing = Vec3::new(-2.0, 0.0, 0.0);
+        let p = intercept_point(Vec3::ZERO, 1.999, Vec3::new(10.0, 0.0, 0.0), closing);
+        assert!((p - Vec3::new(4.998_75, 0.0, 0.0)).length() < 1e-2, "{p}");
+        // s = 0.025 (disc = 400·s² = 0.25, √disc = 0.5): t = 10/2.025 = 4.93827 → x = 0.12346.
+        let p = intercept_point(Vec3::ZERO, 0.025, Vec3::new(10.0, 0.0, 0.0), closing);
+        assert!((p - Vec3::new(0.123_46, 0.0, 0.0)).length() < 1e-3, "{p}");
+    }
 }
