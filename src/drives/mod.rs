@@ -297,6 +297,50 @@ mod tests {
         assert!((hunger_exponential(200.0, 0.0, &p) - 0.632_120_6).abs() < 1e-5);
     }
 
+    #[test]
+    fn stimuli_add_to_exponential_hunger_and_libido() {
+        // Seed 003 hunger at Δt_H = 200 plus a_h·S_h = 0.5·0.4: 1 − exp(−1) + 0.2 = 0.832121.
+        let p = DriveParams {
+            a_h: 0.5,
+            a_l: 0.5,
+            ..Default::default()
+        };
+        assert!((hunger_exponential(200.0, 0.4, &p) - 0.832_120_6).abs() < 1e-5);
+        // Libido l(200)·(1 − 0.2) + a_l·S_l = 0.4 + 0.5·0.4 = 0.6.
+        assert!((libido(200.0, 0.2, 0.4, &p) - 0.6).abs() < 1e-6);
+    }
+
+    #[test]
+    fn since_mating_for_refuses_negative_or_infinite_answers() {
+        let p = DriveParams::default();
+        // L = −0.4 at H = 0.2 would be −0.4/0.002 = −200 s.
+        assert_eq!(since_mating_for(-0.4, 0.2, &p), 0.0);
+        // H = 1.5 leaves p1·(1 − H) = −0.00125: 0.4/−0.00125 = −320 s.
+        assert_eq!(since_mating_for(0.4, 1.5, &p), 0.0);
+        // p1 = 1e-39: L = 1 would take 1/1e-39 = 1e39 s, beyond f32::MAX (3.4e38).
+        let slow = DriveParams { p1: 1e-39, ..p };
+        assert_eq!(since_mating_for(1.0, 0.0, &slow), 0.0);
+    }
+
+    #[test]
+    fn fear_saturates_at_zero_and_at_d0() {
+        // −0.0 is a zero distance too, not 200/−0.0 = −∞.
+        assert_eq!(fear_term(-0.0, 200.0), 1.0);
+        assert_eq!(fear([-0.0], 200.0), 1.0);
+        // A predator at exactly D0 = 41: F = 41/41 = 1, though 41·(1/41) rounds to 0.99999994.
+        assert_eq!(fear([41.0], 41.0), 1.0);
+        assert_eq!(PredatorSums::of([41.0]).fear(41.0), 1.0);
+    }
+
+    #[test]
+    fn internal_state_is_gaussian_in_t() {
+        // S_max = 2, δ = 4, t = 3: 2·exp(−9/16) = 1.139566.
+        assert!((internal_state(3.0, 2.0, 4.0) - 1.139_565_6).abs() < 1e-5);
+        // δ = 0: S_max at t = 0 only.
+        assert_eq!(internal_state(0.0, 2.0, 0.0), 2.0);
+        assert_eq!(internal_state(3.0, 2.0, 0.0), 0.0);
+    }
+
     proptest! {
         #[test]
         fn drives_stay_in_unit_interval(a in -1e6f32..1e6, b in -1e6f32..1e6, c in -1e6f32..1e6) {

@@ -263,6 +263,26 @@ mod tests {
     }
 
     #[test]
+    fn separation_scales_with_every_factor() {
+        // m1·k·length·factor = 2·1.5·0.5·4 = 6; neighbor at (0,3,0): d/|d|² = (0,1/3,0) → (0,−2,0).
+        let f = separation(
+            &[nb(Vec3::new(0.0, 3.0, 0.0), Vec3::ZERO)],
+            2.0,
+            1.5,
+            0.5,
+            4.0,
+        );
+        assert!((f - Vec3::new(0.0, -2.0, 0.0)).length() < 1e-6, "{f}");
+    }
+
+    #[test]
+    fn no_neighbors_no_alignment_or_cohesion() {
+        assert_eq!(mean(Vec3::ONE, 0), None);
+        assert_eq!(alignment(&[], Vec3::Z, 1.0, 1.0), Vec3::ZERO);
+        assert_eq!(cohesion(&[], 1.0), Vec3::ZERO);
+    }
+
+    #[test]
     fn alignment_is_difference_from_mean_velocity() {
         let n = [
             nb(Vec3::X, Vec3::new(2.0, 0.0, 0.0)),
@@ -313,6 +333,39 @@ mod tests {
         assert_eq!(
             ra_zones(&[nb(Vec3::new(9.0, 0.0, 0.0), Vec3::Z)], &z, 1.0),
             Steer::None
+        );
+    }
+
+    #[test]
+    fn two_repelling_neighbors_still_ignore_the_matching_zone() {
+        let z = Zones {
+            repulsion: 1.0,
+            matching: 3.0,
+            attraction: 6.0,
+            soft: 0.0,
+        };
+        // Two inside r_r (w = 2): a = −(0.5,0,0)/0.5 − (0,0.5,0)/0.5 = (−1,−1,0). The matched
+        // neighbor at 2 must not enter as (1 − w)·Z = −Z.
+        let n = [
+            nb(Vec3::new(0.5, 0.0, 0.0), Vec3::Z),
+            nb(Vec3::new(0.0, 0.5, 0.0), Vec3::Z),
+            nb(Vec3::new(2.0, 0.0, 0.0), Vec3::Z),
+        ];
+        let Steer::Velocity(v) = ra_zones(&n, &z, 1.0) else {
+            panic!()
+        };
+        assert!(
+            (v - Vec3::new(-1.0, -1.0, 0.0).normalize()).length() < 1e-6,
+            "{v}"
+        );
+    }
+
+    #[test]
+    fn default_zones_nest_with_a_half_soft_band() {
+        let z = Zones::default();
+        assert_eq!(
+            (z.repulsion, z.matching, z.attraction, z.soft),
+            (1.0, 4.0, 10.0, 0.5)
         );
     }
 
