@@ -97,7 +97,7 @@ fn perceive(bencher: divan::Bencher) {
     };
     bencher
         .counter(divan::counter::ItemsCount::new(w.run.world.agents.len()))
-        .bench_local(|| w.run.pipeline.perceive(&w.run.world));
+        .bench_local(|| w.run.sim.pipeline.perceive(&w.run.sim.world));
 }
 
 /// Formation A* + smoothing + follower paths on a 1024² terrain (see `src/bench/plan.rs`).

@@ -236,6 +236,19 @@ impl Pipeline {
         p
     }
 
+    /// Delivers a message of `kind` to agent `id` between ticks, heard in the next tick as if a
+    /// neighbour had sent it (and gone after it, like any message). `false` when the agent is
+    /// not in `world`.
+    pub fn deliver(&mut self, world: &mut World, id: AgentId, kind: MessageKind) -> bool {
+        let Some(a) = world.agent_index(id).map(|i| &mut world.agents[i]) else {
+            return false;
+        };
+        a.inbox = Some(MessageKind::max_priority(a.inbox, kind));
+        // The tick clears every inbox it did not fill only when one was filled.
+        self.delivered = true;
+        true
+    }
+
     /// Sets the wall-time budgets of script calls (default: [`crate::script::TimeBudget`]'s).
     pub fn set_time_budget(&mut self, budget: crate::script::TimeBudget) {
         self.stats.script_timeouts += self.script_clock.take_exceeded();
@@ -457,8 +470,9 @@ impl Pipeline {
         self.times.ticks += 1;
     }
 
-    /// Advances `world` by one tick. Events of the tick are left in [`Pipeline::events`]
-    /// (cleared at the start of each tick, after spawns made between ticks).
+    /// Advances `world` by one tick, appending the tick's events to [`Pipeline::events`]. It
+    /// does not clear them: [`crate::sim::Sim::step`], the one caller outside tests of the
+    /// stages, clears them before the tick (spawns made between ticks stay in).
     ///
     /// From [`HELPER_FROM`] agents, another thread of the current rayon pool spins for the
     /// length of the tick, looking for the tick's work ([`awake::with_helper`]); in a pool

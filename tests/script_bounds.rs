@@ -426,14 +426,17 @@ fn a_slow_on_tick_in_a_run_is_reported_and_counted_apart() {
     let sp = load_species(&dir.path().join("slow.ron"), dir.path(), &limits)
         .unwrap_or_else(|e| panic!("{e}"));
     let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-10.0), Vec3::splat(10.0)));
-    sim.pipe.set_time_budget(TimeBudget {
+    sim.pipeline.set_time_budget(TimeBudget {
         per_call: Some(Duration::from_millis(1)),
         per_tick: None,
     });
     let id = sim.spawn("slow", Vec3::ZERO, 0.0);
     sim.run(2);
-    assert!(sim.pipe.stats.script_timeouts >= 1);
-    assert_eq!(sim.pipe.stats.script_timeouts, sim.pipe.stats.script_errors);
+    assert!(sim.pipeline.stats.script_timeouts >= 1);
+    assert_eq!(
+        sim.pipeline.stats.script_timeouts,
+        sim.pipeline.stats.script_errors
+    );
     let errors = sim.script_errors();
     assert_eq!(errors.len(), 1, "{errors:#?}");
     assert!(
@@ -446,13 +449,13 @@ fn a_slow_on_tick_in_a_run_is_reported_and_counted_apart() {
     assert!(errors[0].contains("slow.rhai:2:1:"), "{errors:#?}");
     // Without the guard the same run has no error: the budget never changes what a run computes
     // silently.
-    sim.pipe.set_time_budget(TimeBudget {
+    sim.pipeline.set_time_budget(TimeBudget {
         per_call: None,
         per_tick: None,
     });
-    let before = sim.pipe.stats.script_errors;
+    let before = sim.pipeline.stats.script_errors;
     sim.run(2);
-    assert_eq!(sim.pipe.stats.script_errors, before);
+    assert_eq!(sim.pipeline.stats.script_errors, before);
 }
 
 #[test]

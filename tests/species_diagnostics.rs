@@ -317,7 +317,7 @@ fn runtime_error_is_reported_once_per_agent_and_the_agent_keeps_its_last_steerin
         )
     );
     // Every failed call is counted (scripts run every tick here).
-    assert_eq!(sim.pipe.stats.script_errors, 2 * 30);
+    assert_eq!(sim.pipeline.stats.script_errors, 2 * 30);
     for (k, &id) in ids.iter().enumerate() {
         let a = sim.agent(id);
         assert_eq!(sim.behavior(id), "idle");
@@ -342,7 +342,7 @@ fn endless_loop_is_stopped_by_the_operation_limit_and_reported() {
             dir.path().join("minnow.rhai").display()
         )
     );
-    assert_eq!(sim.pipe.stats.script_errors, 3);
+    assert_eq!(sim.pipeline.stats.script_errors, 3);
     assert_eq!(sim.world.tick, 3);
     assert!(sim.agent(ids[0]).pos.is_finite());
 }
@@ -380,7 +380,7 @@ fn nan_steering_from_a_script_is_rejected_and_the_last_valid_one_kept() {
         "{}",
         a.yaw
     );
-    assert_eq!(sim.pipe.stats.script_errors, 40);
+    assert_eq!(sim.pipeline.stats.script_errors, 40);
 }
 
 #[test]

@@ -262,13 +262,13 @@ fn transitions_are_recorded_as_events_with_cause_condition_and_stack() {
     let (mut sim, id, _dir) = probe("", "");
     set(&mut sim, id, 0.9, 0.0, 0.0, 0.0);
     sim.step();
-    let sp = &sim.pipe.species.species[0];
+    let sp = &sim.pipeline.species.species[0];
     let (feed, idle) = (
         sp.behavior_index("feed").unwrap(),
         sp.behavior_index("idle").unwrap(),
     );
     let transitions: Vec<&Event> = sim
-        .pipe
+        .pipeline
         .events
         .iter()
         .filter(|e| matches!(e, Event::Transition { .. }))
@@ -285,7 +285,7 @@ fn transitions_are_recorded_as_events_with_cause_condition_and_stack() {
             stack: vec![idle],
         }]
     );
-    assert_eq!(sim.pipe.stats.transitions, 1);
+    assert_eq!(sim.pipeline.stats.transitions, 1);
     assert_eq!(Cause::Interrupted.name(), "interrupted");
 }
 

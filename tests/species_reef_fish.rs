@@ -114,7 +114,7 @@ fn escape_interrupts_eating_and_eating_resumes_when_the_shark_is_gone() {
     );
     assert_eq!(c.stack, ["wander", "eat"]);
     // On entering, escape warns kin around.
-    assert!(sim.pipe.events.iter().any(|e| matches!(
+    assert!(sim.pipeline.events.iter().any(|e| matches!(
         e,
         Event::Message { from, kind: MessageKind::Danger, radius } if *from == fish && *radius == 8.0
     )));
@@ -246,7 +246,7 @@ fn chase_by_smell_hands_over_to_eat_in_sight_then_eat_completes_after_the_meal()
         .log
         .iter()
         .any(|(_, e)| matches!(e, Event::Meal { agent, .. } if *agent == fish)));
-    assert_eq!(sim.pipe.stats.meals, 1);
+    assert_eq!(sim.pipeline.stats.meals, 1);
     is(
         &sim.last_change(fish),
         "eat",
@@ -270,11 +270,11 @@ fn mate_then_leave_then_wander() {
         // l(Δt_L)·(1 − H) = 0.02·100·0.9 ≥ 1: in the mood.
         a.drives.since_mating = 100.0;
     }
-    sim.run_until(40, |s| s.pipe.stats.matings > 0)
+    sim.run_until(40, |s| s.pipeline.stats.matings > 0)
         .expect("they meet");
     let d0 = sim.agent(f).pos.distance(sim.agent(m).pos);
     sim.run(80);
-    assert_eq!(sim.pipe.stats.matings, 1, "mating resets libido: once");
+    assert_eq!(sim.pipeline.stats.matings, 1, "mating resets libido: once");
     let seq = |id| -> Vec<(String, String, Cause, String)> {
         sim.changes(id)
             .into_iter()

@@ -181,7 +181,7 @@ fn escape_warns_the_school_which_reacts_to_the_danger_message() {
             Some("sees predator or (heard danger and perceives predator)")
         )
     );
-    assert!(sim.pipe.events.iter().any(|e| matches!(
+    assert!(sim.pipeline.events.iter().any(|e| matches!(
         e,
         Event::Message { from, kind: MessageKind::Danger, radius } if *from == front && *radius == 8.0
     )));
@@ -199,7 +199,7 @@ fn escape_warns_the_school_which_reacts_to_the_danger_message() {
     }
     // Each passes the warning on, once.
     let relays = sim
-        .pipe
+        .pipeline
         .events
         .iter()
         .filter(|e| matches!(e, Event::Message { kind: MessageKind::Danger, radius, .. } if *radius == 8.0))
@@ -321,7 +321,7 @@ fn a_hungry_sardine_forages_eats_and_stops() {
     );
     sim.run_until(100, |s| s.behavior(id) != "forage")
         .expect("sated");
-    assert_eq!(sim.pipe.stats.meals, 1);
+    assert_eq!(sim.pipeline.stats.meals, 1);
     is(
         &sim.last_change(id),
         "forage",

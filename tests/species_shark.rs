@@ -103,7 +103,7 @@ fn hunt_aims_at_the_linear_prediction_catches_then_rests_until_digested() {
         e,
         Event::Catch { agent, prey: p } if *agent == shark && *p == prey
     )));
-    assert_eq!(sim.pipe.stats.catches, 1);
+    assert_eq!(sim.pipeline.stats.catches, 1);
     // The catch is a meal: n_e = 0.8 + 1 → H = 1 − 1.8/2 = 0.1: it rests.
     sim.step();
     is(

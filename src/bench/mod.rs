@@ -404,7 +404,7 @@ pub fn memory() -> Option<(u64, u64)> {
 
 /// Mean number of kin perceived per agent in the last tick.
 pub fn mean_neighbors(w: &BenchWorld) -> f32 {
-    let p = w.run.pipeline.perception();
+    let p = w.run.sim.pipeline.perception();
     if p.is_empty() {
         return 0.0;
     }
@@ -431,7 +431,7 @@ pub fn step_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
     let mut updates = 0;
     let t0 = Instant::now();
     for _ in 0..ticks {
-        updates += w.run.world.agents.len() as u64;
+        updates += w.run.sim.world.agents.len() as u64;
         w.run.step();
     }
     (t0.elapsed().as_secs_f64(), updates)
@@ -477,12 +477,12 @@ pub fn measure(
     }
     let base = memory().map(|m| m.0);
     let mut w = world_of(workload, n, behaviors_dir)?;
-    let agents = w.run.world.agents.len();
+    let agents = w.run.sim.world.agents.len();
     warm_up(&mut w, WARMUP_TICKS);
     // Peak while running: construction transients (spawning) are not counted, what the world
     // keeps resident is.
     let tracked = reset_peak_memory();
-    w.run.pipeline.reset_stage_times();
+    w.run.sim.pipeline.reset_stage_times();
     let (seconds, updates) = match workload {
         Workload::Perceive => perceive_timed(&mut w, ticks),
         Workload::Decide => decide_timed(&w, ticks, true),
@@ -505,7 +505,7 @@ pub fn measure(
         bytes_per_agent,
         stages: match workload {
             Workload::Decide | Workload::DecideNative => None,
-            _ => Some(w.run.pipeline.stage_times()),
+            _ => Some(w.run.sim.pipeline.stage_times()),
         },
     }))
 }
@@ -513,10 +513,10 @@ pub fn measure(
 /// Runs stages 1–2 (spatial index, perception) `ticks` times on the current world.
 #[inline(never)]
 pub fn perceive_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
-    let n = w.run.world.agents.len() as u64;
+    let n = w.run.sim.world.agents.len() as u64;
     let t0 = Instant::now();
     for _ in 0..ticks {
-        w.run.pipeline.perceive(&w.run.world);
+        w.run.sim.pipeline.perceive(&w.run.sim.world);
     }
     (t0.elapsed().as_secs_f64(), n * ticks)
 }
@@ -527,8 +527,8 @@ pub fn perceive_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
 /// Minds are copies, so the world does not change between passes.
 #[inline(never)]
 pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
-    let world = &w.run.world;
-    let pipeline = &w.run.pipeline;
+    let world = &w.run.sim.world;
+    let pipeline = &w.run.sim.pipeline;
     let set = pipeline.species.clone();
     let perception = pipeline.perception();
     let n = world.agents.len().min(perception.len());
@@ -632,13 +632,13 @@ mod tests {
             Workload::ReefNative,
         ] {
             let mut b = world_of(w, 300, &behaviors()).unwrap_or_else(|d| panic!("{w:?}: {d}"));
-            let n = b.run.world.agents.len();
+            let n = b.run.sim.world.agents.len();
             assert!(n >= 300, "{w:?}: {n} agents");
             for _ in 0..3 {
                 b.run.step();
             }
             assert!(
-                b.run.world.agents.iter().all(|a| a.pos.is_finite()),
+                b.run.sim.world.agents.iter().all(|a| a.pos.is_finite()),
                 "{w:?}"
             );
         }
@@ -683,7 +683,7 @@ mod tests {
             "{:?}",
             b.notes
         );
-        let set = &b.run.pipeline.species;
+        let set = &b.run.sim.pipeline.species;
         assert!(set.species.iter().all(|s| s.script.is_none()));
     }
 }

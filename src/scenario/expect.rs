@@ -587,12 +587,12 @@ mod tests {
         let sc = scenario(expect).unwrap_or_else(|d| panic!("{d}"));
         let mut tracker = Tracker::new(&sc).unwrap_or_else(|d| panic!("{d}"));
         let mut run = Run::new(sc, Overrides::default());
-        tracker.observe(&run.world, &run.pipeline);
+        tracker.observe(&run.sim.world, &run.sim.pipeline);
         while !run.finished() {
             run.step();
-            tracker.observe(&run.world, &run.pipeline);
+            tracker.observe(&run.sim.world, &run.sim.pipeline);
         }
-        tracker.finish(&run.world, &run.pipeline)
+        tracker.finish(&run.sim.world, &run.sim.pipeline)
     }
 
     #[test]

@@ -11,6 +11,7 @@ pub use reload::ScenarioReload;
 
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::index::Layout;
+use crate::sim::Sim;
 use crate::species::validate::{locate, ron_diag, ron_options};
 use crate::species::{load_species, Draw, Species, SpeciesSet};
 use crate::terrain::dem::MAX_DIAGNOSTICS;
@@ -568,19 +569,29 @@ pub struct Overrides {
 pub struct Run {
     /// The scenario.
     pub scenario: Scenario,
-    /// The world.
-    pub world: World,
-    /// The pipeline.
-    pub pipeline: Pipeline,
+    /// The world, pipeline and squads, stepped by [`Run::step`]; a `Run` derefs to it, so
+    /// `run.sim.world`, `run.sim.pipeline` and `run.sim.squads` read through.
+    pub sim: Sim,
     /// Ticks to run.
     pub total_ticks: u64,
     next_event: usize,
     food_rng: Rng,
     food_debt: f32,
-    /// Agents alive per species at the last tick.
+    /// Events the scenario itself made (spawns of its timed groups).
     pub scenario_events: Vec<crate::events::Event>,
-    /// The terrain and squads at run time (walking agents, plans, formation measures).
-    pub squads: crate::squad::Squads,
+}
+
+impl std::ops::Deref for Run {
+    type Target = Sim;
+    fn deref(&self) -> &Sim {
+        &self.sim
+    }
+}
+
+impl std::ops::DerefMut for Run {
+    fn deref_mut(&mut self) -> &mut Sim {
+        &mut self.sim
+    }
 }
 
 /// Where and how one agent of a group starts: drawn before the group is numbered.
@@ -622,7 +633,8 @@ const FOOD_CLEARANCE: f32 = 0.3;
 impl Run {
     /// The active obstacles' shapes (what spawning keeps clear of).
     fn solid_shapes(&self) -> Vec<Shape> {
-        self.world
+        self.sim
+            .world
             .obstacles
             .iter()
             .filter(|o| o.active)
@@ -641,7 +653,7 @@ impl Run {
         }
         let duration = o.duration.unwrap_or(def.duration);
         let total_ticks = (duration / def.dt).round().max(0.0) as u64;
-        let mut pipeline = Pipeline::new(scenario.species.clone());
+        let pipeline = Pipeline::new(scenario.species.clone());
         let mut food_rng = Rng::new(seed, u64::MAX);
         let region = def.food.region.unwrap_or(def.bounds);
         let solid: Vec<Shape> = world.obstacles.iter().map(|o| o.shape).collect();
@@ -652,16 +664,13 @@ impl Run {
         let groups = def.groups.clone();
         let mut run = Run {
             scenario,
-            world,
-            pipeline: Pipeline::new(Arc::new(SpeciesSet::new(Vec::new()).expect("empty set"))),
+            sim: Sim::from_parts(world, pipeline, crate::squad::Squads::default()),
             total_ticks,
             next_event: 0,
             food_rng,
             food_debt: 0.0,
             scenario_events: Vec::new(),
-            squads: crate::squad::Squads::default(),
         };
-        std::mem::swap(&mut run.pipeline, &mut pipeline);
         // Every group is numbered against the grid of the first tick, which counts them all and
         // the squads' members.
         let layout = run.layout_with(
@@ -676,11 +685,12 @@ impl Run {
         for (k, g) in groups.iter().enumerate() {
             run.spawn_group_in(g, k as u64, &layout);
         }
-        run.squads = crate::squad::Squads::start(
+        let sim = &mut run.sim;
+        sim.squads = crate::squad::Squads::start(
             run.scenario.ground.clone(),
             &run.scenario.squads,
-            &mut run.world,
-            &mut run.pipeline,
+            &mut sim.world,
+            &mut sim.pipeline,
         );
         run
     }
@@ -700,13 +710,15 @@ impl Run {
     fn layout_with<'a>(&self, added: impl IntoIterator<Item = (&'a str, i64)>) -> Layout {
         let set = &self.scenario.species;
         let mut counts = vec![0u32; set.species.len()];
-        self.world.count_species(&mut counts);
+        self.sim.world.count_species(&mut counts);
         for (name, n) in added {
             if let Some(c) = set.index_of(name).and_then(|s| counts.get_mut(s)) {
                 *c = c.saturating_add(n.clamp(0, u32::MAX as i64) as u32);
             }
         }
-        self.pipeline.agent_layout(self.world.bounds, &counts)
+        self.sim
+            .pipeline
+            .agent_layout(self.sim.world.bounds, &counts)
     }
 
     /// [`Run::spawn_group`], numbering the group in the cells of `layout`.
@@ -715,14 +727,14 @@ impl Run {
             return;
         };
         let mut rng = Rng::new(
-            self.world.seed ^ 0x5EED_0000,
-            salt.wrapping_add(self.world.tick << 16),
+            self.sim.world.seed ^ 0x5EED_0000,
+            salt.wrapping_add(self.sim.world.tick << 16),
         );
         let count = g.count.max(0) as usize;
         // Room for the whole group at once: growing by doubling would leave the outgrown
         // buffers behind in the allocator, about one more agent record per agent.
-        self.world.agents.reserve(count);
-        self.pipeline.events.reserve(count);
+        self.sim.world.agents.reserve(count);
+        self.sim.pipeline.events.reserve(count);
         // Each agent's draws, from the group's stream in the order the group lists them.
         let solid = self.solid_shapes();
         let clearance = self.scenario.species.species[s].def.body.size.length() * 0.5;
@@ -762,8 +774,11 @@ impl Run {
         order.sort_unstable();
         let params = &self.scenario.species.species[s].def.drives.params;
         for p in order.into_iter().map(|o| place(&mut Rng(o as u64))) {
-            let id = self.pipeline.spawn(&mut self.world, s, p.pos, p.yaw, 0.0);
-            let a = self.world.agents.last_mut().expect("just spawned");
+            let id = self
+                .sim
+                .pipeline
+                .spawn(&mut self.sim.world, s, p.pos, p.yaw, 0.0);
+            let a = self.sim.world.agents.last_mut().expect("just spawned");
             debug_assert_eq!(a.id, id);
             let [hunger, libido, fear, fatigue] = p.drives;
             let dr = &mut a.drives;
@@ -788,15 +803,15 @@ impl Run {
 
     /// Whether the run has done all its ticks.
     pub fn finished(&self) -> bool {
-        self.world.tick >= self.total_ticks
+        self.sim.world.tick >= self.total_ticks
     }
 
     /// Applies timed events due now and food respawn, then advances one tick. Events of the
-    /// tick (scenario ones first) are in `self.pipeline.events` afterwards.
+    /// tick (scenario ones first) are in `self.sim.pipeline.events` afterwards.
     pub fn step(&mut self) {
-        self.pipeline.events.clear();
-        let t = self.world.time() as f32;
-        let dt = self.world.dt;
+        self.sim.begin_tick();
+        let t = self.sim.world.time() as f32;
+        let dt = self.sim.world.dt;
         while let Some(ev) = self.scenario.def.events.get(self.next_event) {
             if ev.at > t + dt * 0.5 {
                 break;
@@ -806,7 +821,7 @@ impl Run {
             match ev.action {
                 EventAction::Spawn(g) => self.spawn_group(&g, 1000 + self.next_event as u64),
                 EventAction::RemoveObstacle(id) => {
-                    if let Some(o) = self.world.obstacles.get_mut(id as usize) {
+                    if let Some(o) = self.sim.world.obstacles.get_mut(id as usize) {
                         o.active = false;
                     }
                 }
@@ -814,10 +829,10 @@ impl Run {
                     let solid = self.solid_shapes();
                     for _ in 0..count {
                         let p = free_in(&region, &mut self.food_rng, &solid, FOOD_CLEARANCE);
-                        self.world.add_food(p);
+                        self.sim.world.add_food(p);
                     }
                 }
-                EventAction::SetCurrent(c) => self.world.current = c,
+                EventAction::SetCurrent(c) => self.sim.world.current = c,
             }
         }
         let f = &self.scenario.def.food;
@@ -831,31 +846,28 @@ impl Run {
             if !self.food_debt.is_finite() {
                 self.food_debt = 0.0;
             }
-            let room = (f.max as usize).saturating_sub(self.world.food.len());
+            let room = (f.max as usize).saturating_sub(self.sim.world.food.len());
             let add = if due.is_finite() && due >= 0.0 {
                 (due as usize).min(room)
             } else {
                 room
             };
             if add > 0 {
-                let region = f.region.unwrap_or(self.world.bounds);
+                let region = f.region.unwrap_or(self.sim.world.bounds);
                 let solid = self.solid_shapes();
                 for _ in 0..add {
                     let p = free_in(&region, &mut self.food_rng, &solid, FOOD_CLEARANCE);
-                    self.world.add_food(p);
+                    self.sim.world.add_food(p);
                 }
             }
         }
-        self.squads.before_tick(&mut self.world, &mut self.pipeline);
-        self.pipeline.step(&mut self.world);
-        let set = self.pipeline.species.clone();
-        self.squads.after_tick(&mut self.world, &set);
+        self.sim.advance();
     }
 
     /// Agents alive per species, in species order.
     pub fn alive(&self) -> Vec<(String, usize)> {
         let mut counts = vec![0usize; self.scenario.species.species.len()];
-        for a in &self.world.agents {
+        for a in &self.sim.world.agents {
             counts[a.species.0 as usize] += 1;
         }
         self.scenario

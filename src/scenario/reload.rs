@@ -6,6 +6,7 @@
 
 use super::{Run, Scenario};
 use crate::diag::Diagnostic;
+use crate::sim::Sim;
 use crate::species::validate::locate;
 use crate::tick::{Pipeline, Remap};
 use crate::world::Obstacle;
@@ -25,14 +26,16 @@ impl Run {
     pub fn fork(&self) -> Run {
         Run {
             scenario: self.scenario.clone(),
-            world: self.world.clone(),
-            pipeline: Pipeline::new(self.pipeline.species.clone()),
+            sim: Sim::from_parts(
+                self.sim.world.clone(),
+                Pipeline::new(self.sim.pipeline.species.clone()),
+                self.sim.squads.fork(),
+            ),
             total_ticks: self.total_ticks,
             next_event: self.next_event,
             food_rng: self.food_rng,
             food_debt: self.food_debt,
             scenario_events: Vec::new(),
-            squads: self.squads.fork(),
         }
     }
 
@@ -61,15 +64,16 @@ impl Run {
         let old = std::mem::replace(&mut self.scenario, new);
         let def = &self.scenario.def;
         let remap = self
+            .sim
             .pipeline
-            .install_species(&mut self.world, self.scenario.species.clone());
+            .install_species(&mut self.sim.world, self.scenario.species.clone());
         // World-level settings that follow the file (each only when the file changed it, so that
         // what timed events did stays done).
         if def.obstacles != old.def.obstacles {
-            let before = std::mem::take(&mut self.world.obstacles);
+            let before = std::mem::take(&mut self.sim.world.obstacles);
             for (i, ob) in def.obstacles.iter().enumerate() {
                 let shape = ob.shape();
-                self.world.obstacles.push(Obstacle {
+                self.sim.world.obstacles.push(Obstacle {
                     id: i as u32,
                     shape,
                     active: before.get(i).is_none_or(|o| o.active),
@@ -77,14 +81,14 @@ impl Run {
             }
         }
         if def.current != old.def.current {
-            self.world.current = def.current;
+            self.sim.world.current = def.current;
         }
         if def.bounds != old.def.bounds {
-            self.world.bounds = def.bounds;
+            self.sim.world.bounds = def.bounds;
         }
         if def.events != old.def.events {
             // Events already due by the last tick count as done.
-            let done_by = self.world.time() as f32 - self.world.dt * 0.5;
+            let done_by = self.sim.world.time() as f32 - self.sim.world.dt * 0.5;
             self.next_event = def
                 .events
                 .iter()
@@ -102,13 +106,13 @@ impl Run {
             .collect();
         let groups = self.scenario.def.groups.clone();
         for name in added {
-            let before = self.world.agents.len();
+            let before = self.sim.world.agents.len();
             for (k, g) in groups.iter().enumerate() {
                 if g.species == name {
                     self.spawn_group(g, 2000 + k as u64);
                 }
             }
-            spawned.push((name, self.world.agents.len() - before));
+            spawned.push((name, self.sim.world.agents.len() - before));
         }
         Ok(ScenarioReload { remap, spawned })
     }

@@ -9,9 +9,10 @@ pub mod validate;
 pub use def::*;
 pub use validate::{load_species, load_species_str, SpeciesSet};
 
+use crate::diag::Diagnostics;
 use crate::perception::{Category, SenseParams};
 use crate::script::Script;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A number read from the agent's state, resolved.
@@ -202,6 +203,22 @@ pub struct Species {
 }
 
 impl Species {
+    /// Reads and validates the species file `file` and its script; shared script modules are
+    /// imported relative to the file's folder.
+    pub fn load(file: impl AsRef<Path>) -> Result<Species, Diagnostics> {
+        let file = file.as_ref();
+        let root = file.parent().unwrap_or(Path::new("."));
+        validate::load_species(file, root, &crate::script::Limits::default())
+    }
+
+    /// Validates species `text`, named `file` in messages; a script it names is read relative to
+    /// `file`'s folder.
+    pub fn parse(file: impl AsRef<Path>, text: &str) -> Result<Species, Diagnostics> {
+        let file = file.as_ref();
+        let root = file.parent().unwrap_or(Path::new("."));
+        validate::load_species_str(file, text, root, &crate::script::Limits::default())
+    }
+
     /// Index of the behavior named `name`.
     pub fn behavior_index(&self, name: &str) -> Option<u16> {
         self.behaviors

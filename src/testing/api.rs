@@ -179,23 +179,23 @@ fn new_world(ctx: &Arc<TestCtx>, opts: &Map) -> R<WorldRef> {
         ctx.coverage.clone(),
     );
     if let Some(c) = opts.get("current") {
-        tw.world.current = vec3(c, "current")?;
+        tw.sim.world.current = vec3(c, "current")?;
     }
     let terrain = match (dem, opts.get("terrain")) {
         (Some(t), _) => Some(t),
-        (None, Some(d)) => Some(flat_terrain(d, &tw.world.bounds)?),
+        (None, Some(d)) => Some(flat_terrain(d, &tw.sim.world.bounds)?),
         (None, None) => None,
     };
     if let Some(t) = terrain {
         let (lo, hi) = height_range(&t);
-        let b = tw.world.bounds;
+        let b = tw.sim.world.bounds;
         if lo < b.min.y || hi > b.max.y {
             return Err(error(format!(
                 "the world bounds must hold the terrain: its heights run from {lo} to {hi}, the bounds' y from {} to {}",
                 b.min.y, b.max.y
             )));
         }
-        tw.world.terrain = Some(Arc::new(t));
+        tw.sim.world.terrain = Some(Arc::new(t));
     }
     let w = WorldRef(Arc::new(Mutex::new(tw)));
     lock(&ctx.worlds).push(w.clone());
@@ -351,13 +351,20 @@ fn add_squad(
 /// `slot_dist`, `at_goal`, `formation`; `()` for an agent in no squad.
 fn squad_of(a: &AgentRef) -> R<Dynamic> {
     a.with(|tw, i| {
-        let pos = tw.world.agents[i].pos;
-        let Some(sq) = tw.squads.squads.iter().find(|s| s.members.contains(&a.id)) else {
+        let pos = tw.sim.world.agents[i].pos;
+        let Some(sq) = tw
+            .sim
+            .squads
+            .squads
+            .iter()
+            .find(|s| s.members.contains(&a.id))
+        else {
             return Dynamic::UNIT;
         };
         let m = sq.members.iter().position(|x| *x == a.id).unwrap_or(0);
         let slot = sq.slot(m);
         let y = tw
+            .sim
             .world
             .terrain
             .as_ref()
@@ -381,7 +388,7 @@ fn squad_of(a: &AgentRef) -> R<Dynamic> {
 
 /// Sets hunger so that it stays there: the digestion model starts from the value given.
 fn set_hunger(tw: &mut TestWorld, i: usize, h: f32) {
-    let a = &mut tw.world.agents[i];
+    let a = &mut tw.sim.world.agents[i];
     let d = &tw.species[a.species.0 as usize].def.drives;
     a.drives.hunger = h.clamp(0.0, 1.0);
     if d.native {
@@ -392,7 +399,7 @@ fn set_hunger(tw: &mut TestWorld, i: usize, h: f32) {
 
 /// Sets libido so that it stays there given the current hunger (`L = p1·Δt_L·(1 − H)`).
 fn set_libido(tw: &mut TestWorld, i: usize, l: f32) {
-    let a = &mut tw.world.agents[i];
+    let a = &mut tw.sim.world.agents[i];
     let d = &tw.species[a.species.0 as usize].def.drives;
     a.drives.libido = l.clamp(0.0, 1.0);
     let k = d.params.p1 * (1.0 - a.drives.hunger);
@@ -412,10 +419,10 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
     )?;
     let mut tw = w.get();
     let s = tw.species_index(species).map_err(error)?;
-    if !tw.world.bounds.contains(pos) {
+    if !tw.sim.world.bounds.contains(pos) {
         return Err(error(format!(
             "spawn position {pos} is outside the world bounds {}..{}",
-            tw.world.bounds.min, tw.world.bounds.max
+            tw.sim.world.bounds.min, tw.sim.world.bounds.max
         )));
     }
     let name = opts.get("name").map(|d| string(d, "name")).transpose()?;
@@ -430,10 +437,10 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
     if let Some(n) = name {
         tw.names.insert(id, n);
     }
-    let i = tw.world.agents.len() - 1;
+    let i = tw.sim.world.agents.len() - 1;
     let sp = tw.species[s].clone();
     if let Some(d) = opts.get("speed") {
-        tw.world.agents[i].speed = num(d, "speed")?;
+        tw.sim.world.agents[i].speed = num(d, "speed")?;
     }
     if let Some(d) = opts.get("hunger") {
         set_hunger(&mut tw, i, num(d, "hunger")?);
@@ -441,7 +448,7 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
     if let Some(d) = opts.get("libido") {
         set_libido(&mut tw, i, num(d, "libido")?);
     }
-    let a = &mut tw.world.agents[i];
+    let a = &mut tw.sim.world.agents[i];
     if let Some(d) = opts.get("fear") {
         a.drives.fear = num(d, "fear")?.clamp(0.0, 1.0);
     }
@@ -537,7 +544,7 @@ impl AgentRef {
     }
     fn behavior(&self) -> R<String> {
         self.with(|tw, i| {
-            let a = &tw.world.agents[i];
+            let a = &tw.sim.world.agents[i];
             tw.species[a.species.0 as usize]
                 .behavior_name(a.mind.current)
                 .to_string()
@@ -545,7 +552,7 @@ impl AgentRef {
     }
     fn stack(&self) -> R<Vec<String>> {
         self.with(|tw, i| {
-            let a = &tw.world.agents[i];
+            let a = &tw.sim.world.agents[i];
             let sp = &tw.species[a.species.0 as usize];
             a.mind
                 .stack()
@@ -576,7 +583,7 @@ fn event_map(tw: &TestWorld, l: &Logged) -> Map {
     put("tick", Dynamic::from(l.tick as INT));
     put(
         "time",
-        Dynamic::from((l.tick as f64 * tw.world.dt as f64) as FLOAT),
+        Dynamic::from((l.tick as f64 * tw.sim.world.dt as f64) as FLOAT),
     );
     put("kind", Dynamic::from(ImmutableString::from(l.event.kind())));
     let sp_name = |s: u16| {
@@ -911,10 +918,10 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
     );
     e.register_fn("add_food", |w: &mut WorldRef, pos: Vec3| -> R<INT> {
         let mut tw = w.get();
-        if !tw.world.bounds.contains(pos) {
+        if !tw.sim.world.bounds.contains(pos) {
             return Err(error(format!("food at {pos} is outside the world bounds")));
         }
-        Ok(tw.world.add_food(pos) as INT)
+        Ok(tw.sim.world.add_food(pos) as INT)
     });
     e.register_fn(
         "add_rock",
@@ -951,7 +958,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         let mut tw = w.get();
         let o = usize::try_from(id)
             .ok()
-            .and_then(|i| tw.world.obstacles.get_mut(i))
+            .and_then(|i| tw.sim.world.obstacles.get_mut(i))
             .ok_or_else(|| error(format!("no obstacle {id}")))?;
         o.active = false;
         Ok(())
@@ -1007,7 +1014,8 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         });
     e.register_fn("count", |w: &mut WorldRef, species: &str| -> INT {
         let tw = w.get();
-        tw.world
+        tw.sim
+            .world
             .agents
             .iter()
             .filter(|a| tw.species[a.species.0 as usize].name == species)
@@ -1057,9 +1065,9 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         let tw = w.get();
         format!(
             "world at tick {} with {} agents and {} food",
-            tw.world.tick,
-            tw.world.agents.len(),
-            tw.world.food.len()
+            tw.sim.world.tick,
+            tw.sim.world.agents.len(),
+            tw.sim.world.food.len()
         )
     });
 
@@ -1073,7 +1081,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         })
         .register_get("species", |a: &mut AgentRef| -> R<String> {
             a.with(|tw, i| {
-                tw.species[tw.world.agents[i].species.0 as usize]
+                tw.species[tw.sim.world.agents[i].species.0 as usize]
                     .name
                     .clone()
             })
@@ -1083,25 +1091,26 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
             Ok(a.stack()?.into_iter().map(Dynamic::from).collect())
         })
         .register_get("stack_depth", |a: &mut AgentRef| -> R<INT> {
-            a.with(|tw, i| tw.world.agents[i].mind.depth as INT)
+            a.with(|tw, i| tw.sim.world.agents[i].mind.depth as INT)
         })
         .register_get("time_in_behavior", |a: &mut AgentRef| -> R<FLOAT> {
             a.with(|tw, i| {
-                tw.world
+                tw.sim
+                    .world
                     .tick
-                    .saturating_sub(tw.world.agents[i].mind.entered_tick) as f32
-                    * tw.world.dt
+                    .saturating_sub(tw.sim.world.agents[i].mind.entered_tick) as f32
+                    * tw.sim.world.dt
             })
         })
         .register_get("fwd", |a: &mut AgentRef| -> R<Vec3> {
-            a.with(|tw, i| tw.world.agents[i].forward())
+            a.with(|tw, i| tw.sim.world.agents[i].forward())
         })
         .register_get("vel", |a: &mut AgentRef| -> R<Vec3> {
-            a.with(|tw, i| tw.world.agents[i].velocity())
+            a.with(|tw, i| tw.sim.world.agents[i].velocity())
         })
         .register_get("sex", |a: &mut AgentRef| -> R<String> {
             a.with(|tw, i| {
-                if tw.world.agents[i].attrs.sex == Sex::Male {
+                if tw.sim.world.agents[i].attrs.sex == Sex::Male {
                     "male".to_string()
                 } else {
                     "female".to_string()
@@ -1109,26 +1118,26 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
             })
         })
         .register_get("age", |a: &mut AgentRef| -> R<FLOAT> {
-            a.with(|tw, i| tw.world.agents[i].attrs.age)
+            a.with(|tw, i| tw.sim.world.agents[i].attrs.age)
         })
         .register_get("mass", |a: &mut AgentRef| -> R<FLOAT> {
-            a.with(|tw, i| tw.world.agents[i].attrs.mass)
+            a.with(|tw, i| tw.sim.world.agents[i].attrs.mass)
         })
         .register_get("squad", |a: &mut AgentRef| squad_of(a))
         .register_get("heard", |a: &mut AgentRef| -> R<String> {
             a.with(|tw, i| {
-                tw.world.agents[i]
+                tw.sim.world.agents[i]
                     .inbox
                     .map_or(String::new(), |k| k.name().to_string())
             })
         });
     e.register_get_set(
         "pos",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].pos),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].pos),
         |a: &mut AgentRef, p: Vec3| {
             a.with_mut(|tw, i| {
-                let p = tw.world.bounds.closest_point(p);
-                let ag = &mut tw.world.agents[i];
+                let p = tw.sim.world.bounds.closest_point(p);
+                let ag = &mut tw.sim.world.agents[i];
                 ag.pos = p;
                 ag.prev_pos = p;
             })
@@ -1136,17 +1145,17 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
     );
     e.register_get_set(
         "yaw",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].yaw.to_degrees()),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].yaw.to_degrees()),
         |a: &mut AgentRef, deg: FLOAT| {
-            a.with_mut(|tw, i| tw.world.agents[i].yaw = frame::wrap(deg.to_radians()))
+            a.with_mut(|tw, i| tw.sim.world.agents[i].yaw = frame::wrap(deg.to_radians()))
         },
     );
     e.register_get_set(
         "pitch",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].pitch.to_degrees()),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].pitch.to_degrees()),
         |a: &mut AgentRef, deg: FLOAT| {
             a.with_mut(|tw, i| {
-                tw.world.agents[i].pitch = deg
+                tw.sim.world.agents[i].pitch = deg
                     .to_radians()
                     .clamp(-frame::PITCH_LIMIT, frame::PITCH_LIMIT)
             })
@@ -1154,46 +1163,46 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
     );
     e.register_get_set(
         "speed",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].speed),
-        |a: &mut AgentRef, v: FLOAT| a.with_mut(|tw, i| tw.world.agents[i].speed = v.max(0.0)),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].speed),
+        |a: &mut AgentRef, v: FLOAT| a.with_mut(|tw, i| tw.sim.world.agents[i].speed = v.max(0.0)),
     );
     e.register_get_set(
         "hunger",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].drives.hunger),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].drives.hunger),
         |a: &mut AgentRef, v: FLOAT| a.with_mut(|tw, i| set_hunger(tw, i, v)),
     );
     e.register_get_set(
         "libido",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].drives.libido),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].drives.libido),
         |a: &mut AgentRef, v: FLOAT| a.with_mut(|tw, i| set_libido(tw, i, v)),
     );
     e.register_get_set(
         "fear",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].drives.fear),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].drives.fear),
         |a: &mut AgentRef, v: FLOAT| {
-            a.with_mut(|tw, i| tw.world.agents[i].drives.fear = v.clamp(0.0, 1.0))
+            a.with_mut(|tw, i| tw.sim.world.agents[i].drives.fear = v.clamp(0.0, 1.0))
         },
     );
     e.register_get_set(
         "fatigue",
-        |a: &mut AgentRef| a.with(|tw, i| tw.world.agents[i].drives.fatigue),
+        |a: &mut AgentRef| a.with(|tw, i| tw.sim.world.agents[i].drives.fatigue),
         |a: &mut AgentRef, v: FLOAT| {
-            a.with_mut(|tw, i| tw.world.agents[i].drives.fatigue = v.clamp(0.0, 1.0))
+            a.with_mut(|tw, i| tw.sim.world.agents[i].drives.fatigue = v.clamp(0.0, 1.0))
         },
     );
     e.register_fn("force_behavior", |a: &mut AgentRef, name: &str| -> R<()> {
         let mut tw = a.world.get();
         tw.index(a.id).map_err(error)?;
         tw.check_behavior(a.id, name).map_err(error)?;
-        let set = tw.pipeline.species.clone();
-        if let Some(ev) = crate::tick::force_behavior(&mut tw.world, &set, a.id, name) {
-            tw.pipeline.events.push(ev);
+        let set = tw.sim.pipeline.species.clone();
+        if let Some(ev) = crate::tick::force_behavior(&mut tw.sim.world, &set, a.id, name) {
+            tw.sim.pipeline.events.push(ev);
         }
         Ok(())
     });
     e.register_indexer_get(|a: &mut AgentRef, key: &str| -> R<Dynamic> {
         a.with(|tw, i| {
-            tw.world.agents[i]
+            tw.sim.world.agents[i]
                 .memory
                 .iter()
                 .find(|(k, _)| k == key)
@@ -1203,7 +1212,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
     e.register_indexer_set(|a: &mut AgentRef, key: &str, v: Dynamic| -> R<()> {
         let v = to_mem(v)?;
         a.with_mut(|tw, i| {
-            let mem = &mut tw.world.agents[i].memory;
+            let mem = &mut tw.sim.world.agents[i].memory;
             match mem.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
                 Ok(j) => {
                     mem[j].1 = v;
@@ -1220,7 +1229,7 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
         })?
     });
     e.register_fn("has", |a: &mut AgentRef, key: &str| -> R<bool> {
-        a.with(|tw, i| tw.world.agents[i].memory.iter().any(|(k, _)| k == key))
+        a.with(|tw, i| tw.sim.world.agents[i].memory.iter().any(|(k, _)| k == key))
     });
     e.register_fn("transitions", |a: &mut AgentRef| {
         let id = a.id;
@@ -1256,9 +1265,9 @@ pub fn register(e: &mut Engine, ctx: Arc<TestCtx>) {
     e.register_fn("percepts", |a: &mut AgentRef, what: &str| -> R<Map> {
         let c = category(what)?;
         a.with(|tw, i| {
-            let p = tw.pipeline.perception();
+            let p = tw.sim.pipeline.perception();
             let mut m = Map::new();
-            let (count, seen, dist) = if i < p.len() && p.len() == tw.world.agents.len() {
+            let (count, seen, dist) = if i < p.len() && p.len() == tw.sim.world.agents.len() {
                 let s = p.summaries(i)[c as usize];
                 (s.count as INT, s.seen as INT, s.nearest_dist)
             } else {

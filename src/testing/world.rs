@@ -8,6 +8,7 @@ use crate::events::{Cause, Event};
 use crate::formation::{FormationDef, PlanRequest, Planner};
 use crate::frame;
 use crate::perception::{Category, Percept, Sense, Source};
+use crate::sim::Sim;
 use crate::species::{load_species, Species, SpeciesSet};
 use crate::squad::{shape_named, task_named, Ground, SquadSetup, Squads, SHAPE_NAMES};
 use crate::tick::Pipeline;
@@ -102,10 +103,8 @@ pub struct Logged {
 
 /// A world built by a test.
 pub struct TestWorld {
-    /// The simulated state.
-    pub world: World,
-    /// The real tick pipeline.
-    pub pipeline: Pipeline,
+    /// The world, the real tick pipeline and the squads; a `TestWorld` derefs to it.
+    pub sim: Sim,
     /// Species in use, by species index (in order of first spawn).
     pub species: Vec<Arc<Species>>,
     /// Where species come from.
@@ -118,9 +117,20 @@ pub struct TestWorld {
     pub max_ticks: u64,
     /// Percepts fed to agents instead of what they perceive, by agent.
     pub feeds: BTreeMap<AgentId, Vec<Feed>>,
-    /// The squads on the world's terrain, driven around each tick as a scenario run does.
-    pub squads: Squads,
     coverage: Arc<Coverage>,
+}
+
+impl std::ops::Deref for TestWorld {
+    type Target = Sim;
+    fn deref(&self) -> &Sim {
+        &self.sim
+    }
+}
+
+impl std::ops::DerefMut for TestWorld {
+    fn deref_mut(&mut self) -> &mut Sim {
+        &mut self.sim
+    }
 }
 
 impl TestWorld {
@@ -136,15 +146,17 @@ impl TestWorld {
         let empty = Arc::new(SpeciesSet::new(Vec::new()).expect("an empty set is valid"));
         coverage.add_root(&library.root);
         TestWorld {
-            world: World::new(bounds, dt, seed),
-            pipeline: Pipeline::new(empty),
+            sim: Sim::from_parts(
+                World::new(bounds, dt, seed),
+                Pipeline::new(empty),
+                Squads::default(),
+            ),
             species: Vec::new(),
             library,
             names: BTreeMap::new(),
             log: Vec::new(),
             max_ticks,
             feeds: BTreeMap::new(),
-            squads: Squads::default(),
             coverage,
         }
     }
@@ -160,15 +172,15 @@ impl TestWorld {
         let lib = self.library.clone();
         let set =
             SpeciesSet::with_library(all.clone(), |n| lib.exists(n)).map_err(|d| d.to_string())?;
-        self.pipeline.set_species(Arc::new(set));
+        self.sim.pipeline.set_species(Arc::new(set));
         self.species = all;
         Ok(self.species.len() - 1)
     }
 
     /// Moves the pipeline's pending events into the log.
     fn drain_events(&mut self) {
-        let tick = self.world.tick;
-        for e in self.pipeline.events.drain(..) {
+        let tick = self.sim.world.tick;
+        for e in self.sim.pipeline.events.drain(..) {
             if let Event::Transition {
                 species,
                 from,
@@ -191,35 +203,36 @@ impl TestWorld {
 
     /// Spawns an agent of species `s` (an index from [`TestWorld::species_index`]).
     pub fn spawn(&mut self, s: usize, pos: Vec3, yaw: f32, pitch: f32) -> AgentId {
-        let id = self.pipeline.spawn(&mut self.world, s, pos, yaw, pitch);
+        let id = self
+            .sim
+            .pipeline
+            .spawn(&mut self.sim.world, s, pos, yaw, pitch);
         self.drain_events();
         id
     }
 
     /// Advances one tick.
     pub fn step(&mut self) -> Result<(), String> {
-        if self.world.tick >= self.max_ticks {
+        if self.sim.world.tick >= self.max_ticks {
             return Err(format!(
                 "test exceeded its limit of {} ticks (a `step` or `run` that never ends?)",
                 self.max_ticks
             ));
         }
         self.drain_events();
-        // Fed percepts keep their bearing relative to the agent's heading as it turns.
-        self.pipeline.injected.clear();
-        for (id, feeds) in &self.feeds {
-            if let Some(a) = self.world.agent(*id) {
-                let percepts = feeds.iter().map(|f| f.percept(a.yaw, a.pitch)).collect();
-                self.pipeline.injected.insert(*id, percepts);
+        let feeds = &self.feeds;
+        self.sim.step_with(|world, pipeline| {
+            // Fed percepts keep their bearing relative to the agent's heading as it turns.
+            pipeline.injected.clear();
+            for (id, feeds) in feeds {
+                if let Some(a) = world.agent(*id) {
+                    let percepts = feeds.iter().map(|f| f.percept(a.yaw, a.pitch)).collect();
+                    pipeline.injected.insert(*id, percepts);
+                }
             }
-        }
-        // The squad layer around the pipeline, as `Run::step` does.
-        self.squads.before_tick(&mut self.world, &mut self.pipeline);
-        self.pipeline.step(&mut self.world);
-        let set = self.pipeline.species.clone();
-        self.squads.after_tick(&mut self.world, &set);
+        });
         self.drain_events();
-        for a in &self.world.agents {
+        for a in &self.sim.world.agents {
             let sp = &self.species[a.species.0 as usize];
             self.coverage
                 .behavior(&sp.name, sp.behavior_name(a.mind.current));
@@ -242,6 +255,7 @@ impl TestWorld {
         spacing: f32,
     ) -> Result<Vec<AgentId>, String> {
         let terrain = self
+            .sim
             .world
             .terrain
             .clone()
@@ -284,7 +298,7 @@ impl TestWorld {
             )
         })?;
         // Each walking species' grid, as a scenario's load builds them.
-        let old = self.squads.ground.clone();
+        let old = self.sim.squads.ground.clone();
         let grids = self
             .species
             .iter()
@@ -311,7 +325,7 @@ impl TestWorld {
                 weights: task.weights(),
             })
             .map_err(|e| format!("squad of \"{species}\": {e}"))?;
-        self.squads.ground = Some(Arc::new(Ground {
+        self.sim.squads.ground = Some(Arc::new(Ground {
             terrain: terrain.clone(),
             grids,
         }));
@@ -325,12 +339,15 @@ impl TestWorld {
             goal,
             plan,
         };
-        let ids = self.squads.add(&setup, &mut self.world, &mut self.pipeline);
-        let set = self.pipeline.species.clone();
-        self.squads.settle_all(&mut self.world, &set);
+        let ids = self
+            .sim
+            .squads
+            .add(&setup, &mut self.sim.world, &mut self.sim.pipeline);
+        let set = self.sim.pipeline.species.clone();
+        self.sim.squads.settle_all(&mut self.sim.world, &set);
         for id in &ids {
-            if let Some(i) = self.world.agent_index(*id) {
-                let a = &mut self.world.agents[i];
+            if let Some(i) = self.sim.world.agent_index(*id) {
+                let a = &mut self.sim.world.agents[i];
                 a.prev_pos = a.pos;
             }
         }
@@ -340,7 +357,7 @@ impl TestWorld {
 
     /// Index of the agent in the world, or why it is not there.
     pub fn index(&self, id: AgentId) -> Result<usize, String> {
-        self.world.agent_index(id).ok_or_else(|| {
+        self.sim.world.agent_index(id).ok_or_else(|| {
             let death = self.log.iter().find_map(|l| match &l.event {
                 Event::Death { agent, cause, .. } if *agent == id => Some((l.tick, *cause)),
                 _ => None,
@@ -366,7 +383,7 @@ impl TestWorld {
 
     /// Species name of an agent id (alive or not), from the log.
     fn species_of(&self, id: AgentId) -> Option<&Species> {
-        if let Some(a) = self.world.agent(id) {
+        if let Some(a) = self.sim.world.agent(id) {
             return self.species.get(a.species.0 as usize).map(|s| &**s);
         }
         self.log.iter().find_map(|l| match l.event {
@@ -434,7 +451,7 @@ impl TestWorld {
         let mut s = format!(
             "tick {} ({:.2} s): {} → {}, {}",
             l.tick,
-            l.tick as f64 * self.world.dt as f64,
+            l.tick as f64 * self.sim.world.dt as f64,
             sp.behavior_name(*from),
             sp.behavior_name(*to),
             cause.name()
@@ -466,8 +483,12 @@ impl TestWorld {
     pub fn decisions(&self, id: AgentId, last: usize) -> String {
         let mut out = String::new();
         let label = self.label(id);
-        let now = format!("tick {}, {:.2} s", self.world.tick, self.world.time());
-        match self.world.agent(id) {
+        let now = format!(
+            "tick {}, {:.2} s",
+            self.sim.world.tick,
+            self.sim.world.time()
+        );
+        match self.sim.world.agent(id) {
             Some(a) => {
                 let sp = &self.species[a.species.0 as usize];
                 let stack: Vec<&str> = a

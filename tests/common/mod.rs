@@ -6,8 +6,7 @@ use glam::Vec3;
 use shoal::events::{Cause, Event};
 use shoal::scenario::script_limits;
 use shoal::species::{load_species, Species, SpeciesSet};
-use shoal::tick::Pipeline;
-use shoal::world::{Aabb, Agent, AgentId, World};
+use shoal::world::{Aabb, Agent, AgentId};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
@@ -41,12 +40,24 @@ pub struct Change {
     pub stack: Vec<String>,
 }
 
-/// A world, a pipeline and the events of every tick run so far.
+/// The engine's [`shoal::Sim`] (it derefs to it) and the events of every tick run so far.
 pub struct Sim {
-    pub world: World,
-    pub pipe: Pipeline,
+    pub engine: shoal::Sim,
     /// Every event with the tick it happened in.
     pub log: Vec<(u64, Event)>,
+}
+
+impl std::ops::Deref for Sim {
+    type Target = shoal::Sim;
+    fn deref(&self) -> &shoal::Sim {
+        &self.engine
+    }
+}
+
+impl std::ops::DerefMut for Sim {
+    fn deref_mut(&mut self) -> &mut shoal::Sim {
+        &mut self.engine
+    }
 }
 
 impl Sim {
@@ -55,8 +66,7 @@ impl Sim {
         let set = SpeciesSet::with_library(species.into_iter().map(Arc::new).collect(), |_| true)
             .unwrap_or_else(|e| panic!("{e}"));
         Sim {
-            world: World::new(bounds, 0.05, 11),
-            pipe: Pipeline::new(Arc::new(set)),
+            engine: shoal::Sim::new(set, bounds, 0.05, 11),
             log: Vec::new(),
         }
     }
@@ -77,20 +87,20 @@ impl Sim {
     /// Spawns an agent of `species` at `pos` heading `yaw` (level).
     pub fn spawn(&mut self, species: &str, pos: Vec3, yaw: f32) -> AgentId {
         let s = self
-            .pipe
+            .pipeline
             .species
             .index_of(species)
             .unwrap_or_else(|| panic!("no species {species}"));
-        self.pipe.spawn(&mut self.world, s, pos, yaw, 0.0)
+        let engine = &mut self.engine;
+        engine.pipeline.spawn(&mut engine.world, s, pos, yaw, 0.0)
     }
 
     /// One tick; its events are appended to the log.
     pub fn step(&mut self) {
         let tick = self.world.tick;
-        self.pipe.events.clear();
-        self.pipe.step(&mut self.world);
+        self.engine.step();
         self.log
-            .extend(self.pipe.events.iter().cloned().map(|e| (tick, e)));
+            .extend(self.engine.events().iter().cloned().map(|e| (tick, e)));
     }
 
     /// Steps until `done` holds (checked after each tick) or `max` ticks pass; returns the number
@@ -120,7 +130,7 @@ impl Sim {
     /// The agent, mutable.
     pub fn agent_mut(&mut self, id: AgentId) -> &mut Agent {
         let i = self.world.agent_index(id).expect("agent alive");
-        &mut self.world.agents[i]
+        &mut self.engine.world.agents[i]
     }
 
     /// Whether the agent is alive.
@@ -131,7 +141,7 @@ impl Sim {
     /// Name of the agent's current behavior.
     pub fn behavior(&self, id: AgentId) -> String {
         let a = self.agent(id);
-        self.pipe.species.species[a.species.0 as usize]
+        self.pipeline.species.species[a.species.0 as usize]
             .behavior_name(a.mind.current)
             .to_string()
     }
@@ -139,7 +149,7 @@ impl Sim {
     /// Names of the agent's stacked behaviors, bottom first.
     pub fn stack(&self, id: AgentId) -> Vec<String> {
         let a = self.agent(id);
-        let sp = &self.pipe.species.species[a.species.0 as usize];
+        let sp = &self.pipeline.species.species[a.species.0 as usize];
         a.mind
             .stack()
             .iter()
@@ -161,7 +171,7 @@ impl Sim {
                     condition,
                     stack,
                 } if *agent == id => {
-                    let sp = &self.pipe.species.species[*species as usize];
+                    let sp = &self.pipeline.species.species[*species as usize];
                     Some(Change {
                         tick: *tick,
                         agent: *agent,
@@ -198,8 +208,8 @@ impl Sim {
     pub fn set_hunger(&mut self, id: AgentId, hunger: f32) {
         let i = self.world.agent_index(id).expect("agent alive");
         let s = self.world.agents[i].species.0 as usize;
-        let params = self.pipe.species.species[s].def.drives.params;
-        let a = &mut self.world.agents[i];
+        let params = self.pipeline.species.species[s].def.drives.params;
+        let a = &mut self.engine.world.agents[i];
         (a.drives.eaten, a.drives.since_meal) = shoal::drives::meal_clock_for(hunger, 0.0, &params);
         a.drives.hunger = hunger;
     }
