@@ -17,7 +17,8 @@ struct Row {
 fn read_rows(dir: &Path) -> Vec<Row> {
     let text = std::fs::read_to_string(dir.join("trajectories.csv")).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some(shoal::record::TRAJECTORY_HEADER));
+    let header = shoal::record::schema::header(&shoal::record::schema::TRAJECTORY_COLUMNS);
+    assert_eq!(lines.next(), Some(header.as_str()));
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();

@@ -12,6 +12,7 @@
 //! bits. Parquet would be smaller but costs a heavy dependency for little gain at these sizes.
 
 mod json;
+pub mod schema;
 
 pub use json::{event_json, world_json};
 
@@ -21,10 +22,6 @@ use sha2::{Digest, Sha256};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-
-/// Header of `trajectories.csv`.
-pub const TRAJECTORY_HEADER: &str =
-    "tick,time,id,species,x,y,z,fx,fy,fz,speed,behavior,stack_depth,hunger,libido,fear,swim_phase,tail_bend";
 
 /// Files a run folder holds when complete.
 pub const RUN_FILES: [&str; 4] = ["trajectories.csv", "food.csv", "events.jsonl", "world.json"];
@@ -37,8 +34,8 @@ pub const EXTRA_FILES: [&str; 1] = [crate::health::FILE];
 pub struct Recorder {
     dir: PathBuf,
     interval: u32,
-    traj: BufWriter<File>,
-    food: BufWriter<File>,
+    traj: csv::Writer<File>,
+    food: csv::Writer<File>,
     events: BufWriter<File>,
     /// Ticks recorded so far.
     pub recorded: u64,
@@ -77,6 +74,34 @@ fn at(path: &Path) -> impl Fn(std::io::Error) -> std::io::Error + '_ {
     move |e| std::io::Error::new(e.kind(), format!("{}: {e}", path.display()))
 }
 
+/// A CSV writer with a `capacity`-byte buffer (fields are quoted only when they must be: a
+/// species or behavior name holding a comma or a quote).
+fn csv_writer(capacity: usize, file: File) -> csv::Writer<File> {
+    csv::WriterBuilder::new()
+        .buffer_capacity(capacity)
+        .from_writer(file)
+}
+
+/// One field, in Rust's shortest round-trip form for floats (a re-read gives the same bits).
+fn field(
+    w: &mut csv::Writer<File>,
+    buf: &mut String,
+    v: impl std::fmt::Display,
+) -> csv::Result<()> {
+    use std::fmt::Write as _;
+    buf.clear();
+    let _ = write!(buf, "{v}");
+    w.write_field(buf.as_bytes())
+}
+
+/// The I/O error inside a CSV writer's error.
+fn csv_io(e: csv::Error) -> std::io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(e) => e,
+        other => std::io::Error::other(format!("{other:?}")),
+    }
+}
+
 fn partial(dir: &Path, name: &str) -> PathBuf {
     dir.join(format!("{name}.partial"))
 }
@@ -105,16 +130,22 @@ impl Recorder {
         let mut rec = Recorder {
             dir: dir.to_path_buf(),
             interval: interval.max(1),
-            traj: BufWriter::with_capacity(1 << 20, create(&partial(dir, "trajectories.csv"))?),
-            food: BufWriter::new(create(&partial(dir, "food.csv"))?),
+            traj: csv_writer(1 << 20, create(&partial(dir, "trajectories.csv"))?),
+            food: csv_writer(1 << 16, create(&partial(dir, "food.csv"))?),
             events: BufWriter::new(create(&partial(dir, "events.jsonl"))?),
             recorded: 0,
             removed: vec![None; run.world.obstacles.len()],
             line: String::with_capacity(256),
             extra: Vec::new(),
         };
-        writeln!(rec.traj, "{TRAJECTORY_HEADER}").map_err(at(&partial(dir, "trajectories.csv")))?;
-        writeln!(rec.food, "tick,id,x,y,z").map_err(at(&partial(dir, "food.csv")))?;
+        rec.traj
+            .write_record(schema::TRAJECTORY_COLUMNS)
+            .map_err(csv_io)
+            .map_err(at(&partial(dir, "trajectories.csv")))?;
+        rec.food
+            .write_record(schema::FOOD_COLUMNS)
+            .map_err(csv_io)
+            .map_err(at(&partial(dir, "food.csv")))?;
         let incomplete = dir.join("INCOMPLETE");
         std::fs::write(&incomplete, "this run did not finish; see manifest.json\n")
             .map_err(at(&incomplete))?;
@@ -173,48 +204,57 @@ impl Recorder {
 
     /// Writes agent and food states of the current tick.
     pub fn states(&mut self, run: &Run) -> std::io::Result<()> {
-        use std::fmt::Write as _;
         let w = &run.world;
         let t = w.time();
         let set = &run.scenario.species;
-        for a in &w.agents {
-            let sp = &set.species[a.species.0 as usize];
-            let f = a.forward();
-            self.line.clear();
-            let _ = writeln!(
-                self.line,
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-                w.tick,
-                t,
-                a.id.0,
-                sp.name,
-                a.pos.x,
-                a.pos.y,
-                a.pos.z,
-                f.x,
-                f.y,
-                f.z,
-                a.speed,
-                sp.behavior_name(a.mind.current),
-                a.mind.depth,
-                a.drives.hunger,
-                a.drives.libido,
-                a.drives.fear,
-                a.anim.phase,
-                a.anim.bend
-            );
-            self.traj
-                .write_all(self.line.as_bytes())
-                .map_err(at(&partial(&self.dir, "trajectories.csv")))?;
-        }
-        for f in &w.food {
-            writeln!(
-                self.food,
-                "{},{},{},{},{}",
-                w.tick, f.id, f.pos.x, f.pos.y, f.pos.z
-            )
+        let traj = &mut self.traj;
+        let buf = &mut self.line;
+        let mut rows = || -> csv::Result<()> {
+            for a in &w.agents {
+                let sp = &set.species[a.species.0 as usize];
+                let f = a.forward();
+                // In `schema::Traj` order.
+                field(traj, buf, w.tick)?;
+                field(traj, buf, t)?;
+                field(traj, buf, a.id.0)?;
+                traj.write_field(&sp.name)?;
+                for v in [a.pos.x, a.pos.y, a.pos.z, f.x, f.y, f.z, a.speed] {
+                    field(traj, buf, v)?;
+                }
+                traj.write_field(sp.behavior_name(a.mind.current))?;
+                field(traj, buf, a.mind.depth)?;
+                for v in [
+                    a.drives.hunger,
+                    a.drives.libido,
+                    a.drives.fear,
+                    a.anim.phase,
+                    a.anim.bend,
+                ] {
+                    field(traj, buf, v)?;
+                }
+                traj.write_record(None::<&[u8]>)?;
+            }
+            Ok(())
+        };
+        rows()
+            .map_err(csv_io)
+            .map_err(at(&partial(&self.dir, "trajectories.csv")))?;
+        let food = &mut self.food;
+        let mut rows = || -> csv::Result<()> {
+            for f in &w.food {
+                // In `schema::Food` order.
+                field(food, buf, w.tick)?;
+                field(food, buf, f.id)?;
+                for v in [f.pos.x, f.pos.y, f.pos.z] {
+                    field(food, buf, v)?;
+                }
+                food.write_record(None::<&[u8]>)?;
+            }
+            Ok(())
+        };
+        rows()
+            .map_err(csv_io)
             .map_err(at(&partial(&self.dir, "food.csv")))?;
-        }
         self.recorded += 1;
         Ok(())
     }

@@ -1,77 +1,122 @@
-//! `trajectories.csv` and `food.csv` of a run folder, read into columns.
+//! `trajectories.csv` and `food.csv` of a run folder, read into columns with the `csv` crate and
+//! the recorder's own schema ([`crate::record::schema`]).
 //!
-//! Fields never hold quotes or commas, so a line is split on `,` and nothing more. Trajectories are
-//! read in two passes: a cheap scan that counts rows per tick (so the payload can choose a frame
-//! stride before anything large is held), then a full parse of the kept ticks only.
+//! Trajectories are read in two passes: a cheap scan that counts rows per tick (so the payload
+//! can choose a frame stride before anything large is held), then a full parse of the kept ticks
+//! only.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::{Read, Seek, SeekFrom};
 use std::path::Path;
 
 use super::ViewError;
 use crate::diag::Diagnostic;
+use crate::record::schema::{Food, Traj, FOOD_COLUMNS, TRAJECTORY_COLUMNS};
 
-/// The exact header of `trajectories.csv`.
-pub(crate) const TRAJECTORIES_HEADER: &str = "tick,time,id,species,x,y,z,fx,fy,fz,speed,behavior,stack_depth,hunger,libido,fear,swim_phase,tail_bend";
-
-/// The exact header of `food.csv`.
-pub(crate) const FOOD_HEADER: &str = "tick,id,x,y,z";
-
-/// Calls `each(line_number, line)` for every non-empty data line of the CSV file at `path` after
-/// checking its header. When `allow_truncated_tail` is set, a last line that lacks its newline (a
-/// recorder stopped mid-write) is skipped and its number returned instead of being parsed.
+/// Calls `each(line_number, fields)` for every data record of the CSV file at `path` after
+/// checking that its header is exactly `columns`. When `allow_truncated_tail` is set, a last line
+/// that lacks its newline (a recorder stopped mid-write) is skipped and its number returned
+/// instead of being parsed.
 pub(crate) fn for_each_line(
     path: &Path,
-    header: &str,
+    columns: &[&str],
     allow_truncated_tail: bool,
-    mut each: impl FnMut(usize, &str) -> Result<(), ViewError>,
+    mut each: impl FnMut(usize, &csv::ByteRecord) -> Result<(), ViewError>,
 ) -> Result<Option<usize>, ViewError> {
-    let file = File::open(path).map_err(|e| ViewError::io(path, e))?;
-    let mut reader = BufReader::with_capacity(1 << 20, file);
-    let mut line = String::new();
-    let mut number = 0usize;
-    loop {
-        line.clear();
-        let n = reader
-            .read_line(&mut line)
+    let mut file = File::open(path).map_err(|e| ViewError::io(path, e))?;
+    let len = file.metadata().map_err(|e| ViewError::io(path, e))?.len();
+    let mut unterminated = false;
+    if len > 0 {
+        let mut last = [0u8];
+        file.seek(SeekFrom::End(-1))
+            .and_then(|_| file.read_exact(&mut last))
+            .and_then(|_| file.seek(SeekFrom::Start(0)))
             .map_err(|e| ViewError::io(path, e))?;
-        if n == 0 {
-            if number == 0 {
+        unterminated = last[0] != b'\n';
+    }
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .buffer_capacity(1 << 20)
+        .from_reader(file);
+    let mut record = csv::ByteRecord::new();
+    let mut first = true;
+    loop {
+        let more = reader
+            .read_byte_record(&mut record)
+            .map_err(|e| csv_error(path, e))?;
+        if !more {
+            if first {
                 return Err(Diagnostic::new(
                     path,
                     1,
                     1,
-                    format!("file is empty; expected the header `{header}`"),
+                    format!("file is empty; expected the header `{}`", columns.join(",")),
                     None,
                 )
                 .into());
             }
             return Ok(None);
         }
-        number += 1;
-        let complete = line.ends_with('\n');
-        let text = line.trim_end_matches(['\n', '\r']);
-        if number == 1 {
-            if text != header {
+        let line = record.position().map_or(0, |p| p.line() as usize);
+        if first {
+            first = false;
+            if record.iter().ne(columns.iter().map(|c| c.as_bytes())) {
                 return Err(located(
                     path,
+                    line,
                     1,
-                    1,
-                    format!("unexpected header; expected exactly `{header}`"),
-                    text,
+                    format!(
+                        "unexpected header; expected exactly `{}`",
+                        columns.join(",")
+                    ),
+                    &line_text(&record),
                 ));
             }
             continue;
         }
-        if !complete && allow_truncated_tail {
-            return Ok(Some(number));
+        if allow_truncated_tail && unterminated && reader.position().byte() == len {
+            return Ok(Some(line));
         }
-        if text.is_empty() {
-            continue;
-        }
-        each(number, text)?;
+        each(line, &record)?;
     }
+}
+
+/// A CSV syntax or encoding error, located.
+fn csv_error(path: &Path, e: csv::Error) -> ViewError {
+    let line = e.position().map_or(0, |p| p.line() as usize);
+    match e.into_kind() {
+        csv::ErrorKind::Io(e) => ViewError::io(path, e),
+        csv::ErrorKind::Utf8 { err, .. } => {
+            Diagnostic::new(path, line, 1, format!("not UTF-8 text ({err})"), None).into()
+        }
+        other => Diagnostic::new(path, line, 1, format!("{other:?}"), None).into(),
+    }
+}
+
+/// A record as the line it came from (fields joined by commas), for error messages.
+fn line_text(r: &csv::ByteRecord) -> String {
+    let fields: Vec<_> = r.iter().map(String::from_utf8_lossy).collect();
+    fields.join(",")
+}
+
+/// Field `i` of `r` as text (`""` when missing); a field that is not UTF-8 is an error.
+fn text_of<'r>(
+    path: &Path,
+    line: usize,
+    r: &'r csv::ByteRecord,
+    i: usize,
+) -> Result<&'r str, ViewError> {
+    std::str::from_utf8(r.get(i).unwrap_or(b"")).map_err(|_| {
+        located(
+            path,
+            line,
+            1,
+            format!("field {} is not UTF-8 text", i + 1),
+            &line_text(r),
+        )
+    })
 }
 
 /// A diagnostic at `line:col` of `path` showing `text` as the offending line.
@@ -91,21 +136,25 @@ pub(crate) fn located(
 pub(crate) struct Fields<'a> {
     path: &'a Path,
     line: usize,
-    text: &'a str,
+    record: &'a csv::ByteRecord,
     fields: Vec<(usize, &'a str)>,
 }
 
 impl<'a> Fields<'a> {
-    /// Splits `text` and checks it has exactly `names.len()` fields.
+    /// The fields of `record` (read at `line`), checking it has exactly `names.len()` fields.
     pub(crate) fn split(
         path: &'a Path,
         line: usize,
-        text: &'a str,
+        record: &'a csv::ByteRecord,
         names: &[&str],
     ) -> Result<Fields<'a>, ViewError> {
         let mut fields = Vec::with_capacity(names.len());
         let mut start = 0;
-        for part in text.split(',') {
+        // One UTF-8 check for the whole record; fields are slices of it.
+        let all = std::str::from_utf8(record.as_slice())
+            .map_err(|_| located(path, line, 1, "not UTF-8 text", &line_text(record)))?;
+        for i in 0..record.len() {
+            let part = record.range(i).map_or("", |r| &all[r]);
             fields.push((start + 1, part));
             start += part.len() + 1;
         }
@@ -120,13 +169,13 @@ impl<'a> Fields<'a> {
                     names.join(","),
                     fields.len()
                 ),
-                text,
+                &line_text(record),
             ));
         }
         Ok(Fields {
             path,
             line,
-            text,
+            record,
             fields,
         })
     }
@@ -145,7 +194,7 @@ impl<'a> Fields<'a> {
                 self.line,
                 col,
                 format!("expected {what}, found `{s}`"),
-                self.text,
+                &line_text(self.record),
             )
         })
     }
@@ -160,7 +209,7 @@ impl<'a> Fields<'a> {
                 self.line,
                 col,
                 format!("expected a finite number for `{name}`, found `{s}`"),
-                self.text,
+                &line_text(self.record),
             ));
         }
         Ok(v)
@@ -168,7 +217,13 @@ impl<'a> Fields<'a> {
 
     /// A diagnostic at field `i` of this line.
     pub(crate) fn error(&self, i: usize, message: impl Into<String>) -> ViewError {
-        located(self.path, self.line, self.fields[i].0, message, self.text)
+        located(
+            self.path,
+            self.line,
+            self.fields[i].0,
+            message,
+            &line_text(self.record),
+        )
     }
 }
 
@@ -189,17 +244,17 @@ pub(crate) fn scan_trajectories(
     let mut counts: Vec<(u64, usize)> = Vec::new();
     let truncated_line = for_each_line(
         path,
-        TRAJECTORIES_HEADER,
+        &TRAJECTORY_COLUMNS,
         allow_truncated_tail,
-        |line, text| {
-            let field = text.split(',').next().unwrap_or("");
+        |line, record| {
+            let field = text_of(path, line, record, Traj::Tick as usize)?;
             let tick: u64 = field.trim().parse().map_err(|_| {
                 located(
                     path,
                     line,
                     1,
                     format!("expected a tick (whole number), found `{field}`"),
-                    text,
+                    &line_text(record),
                 )
             })?;
             match counts.last_mut() {
@@ -212,7 +267,7 @@ pub(crate) fn scan_trajectories(
                         format!(
                             "tick {tick} after tick {t}: rows must be grouped by ascending tick"
                         ),
-                        text,
+                        &line_text(record),
                     ))
                 }
                 _ => counts.push((tick, 1)),
@@ -277,27 +332,6 @@ impl AgentColumns {
     }
 }
 
-const TRAJECTORY_FIELDS: [&str; 18] = [
-    "tick",
-    "time",
-    "id",
-    "species",
-    "x",
-    "y",
-    "z",
-    "fx",
-    "fy",
-    "fz",
-    "speed",
-    "behavior",
-    "stack_depth",
-    "hunger",
-    "libido",
-    "fear",
-    "swim_phase",
-    "tail_bend",
-];
-
 /// Parse pass over `trajectories.csv`: the rows of the ticks in `keep`, in order. Species and
 /// behavior names are interned into the given tables (which may be pre-filled from the world).
 pub(crate) fn read_trajectories(
@@ -311,55 +345,60 @@ pub(crate) fn read_trajectories(
     let mut last_id: Option<u32> = None;
     for_each_line(
         path,
-        TRAJECTORIES_HEADER,
+        &TRAJECTORY_COLUMNS,
         allow_truncated_tail,
-        |line, text| {
-            let f = Fields::split(path, line, text, &TRAJECTORY_FIELDS)?;
-            let tick: u64 = f.parse(0, "a tick (whole number)")?;
+        |line, record| {
+            let f = Fields::split(path, line, record, &TRAJECTORY_COLUMNS)?;
+            let tick: u64 = f.parse(Traj::Tick as usize, "a tick (whole number)")?;
             if !keep.contains(&tick) {
                 return Ok(());
             }
             if c.ticks.last() != Some(&tick) {
                 c.ticks.push(tick);
-                c.times.push(f.parse(1, "a time in seconds")?);
+                c.times
+                    .push(f.parse(Traj::Time as usize, "a time in seconds")?);
                 c.offsets.push(c.id.len() as u32);
                 last_id = None;
             }
-            let id: u32 = f.parse(2, "an agent id (whole number)")?;
+            let id: u32 = f.parse(Traj::Id as usize, "an agent id (whole number)")?;
             if let Some(prev) = last_id {
                 if id <= prev {
                     return Err(f.error(
-                        2,
+                        Traj::Id as usize,
                         format!("agent id {id} after {prev}: ids must ascend within a tick"),
                     ));
                 }
             }
             last_id = Some(id);
-            let sp = species.intern(f.str(3));
+            let sp = species.intern(f.str(Traj::Species as usize));
             if sp > usize::from(u8::MAX) {
-                return Err(f.error(3, "more than 256 species"));
+                return Err(f.error(Traj::Species as usize, "more than 256 species"));
             }
-            let be = behaviors.intern(f.str(11));
+            let be = behaviors.intern(f.str(Traj::Behavior as usize));
             if be > usize::from(u16::MAX) {
-                return Err(f.error(11, "more than 65536 behavior names"));
+                return Err(f.error(Traj::Behavior as usize, "more than 65536 behavior names"));
             }
             c.id.push(id);
             c.species.push(sp as u8);
-            for (i, name) in [(4, "x"), (5, "y"), (6, "z")] {
-                c.pos.push(f.num(i, name)?);
+            for col in [Traj::X, Traj::Y, Traj::Z] {
+                c.pos
+                    .push(f.num(col as usize, TRAJECTORY_COLUMNS[col as usize])?);
             }
-            for (i, name) in [(7, "fx"), (8, "fy"), (9, "fz")] {
-                c.fwd.push(f.num(i, name)?);
+            for col in [Traj::Fx, Traj::Fy, Traj::Fz] {
+                c.fwd
+                    .push(f.num(col as usize, TRAJECTORY_COLUMNS[col as usize])?);
             }
-            c.speed.push(f.num(10, "speed")?);
+            c.speed.push(f.num(Traj::Speed as usize, "speed")?);
             c.behavior.push(be as u16);
-            let depth: u32 = f.parse(12, "a stack depth (whole number)")?;
+            let depth: u32 = f.parse(Traj::StackDepth as usize, "a stack depth (whole number)")?;
             c.stack_depth.push(depth.min(255) as u8);
-            c.hunger.push(f.num(13, "hunger")?);
-            c.libido.push(f.num(14, "libido")?);
-            c.fear.push(f.num(15, "fear")?);
-            c.swim_phase.push(f.num(16, "swim_phase")?);
-            c.tail_bend.push(f.num(17, "tail_bend")?);
+            c.hunger.push(f.num(Traj::Hunger as usize, "hunger")?);
+            c.libido.push(f.num(Traj::Libido as usize, "libido")?);
+            c.fear.push(f.num(Traj::Fear as usize, "fear")?);
+            c.swim_phase
+                .push(f.num(Traj::SwimPhase as usize, "swim_phase")?);
+            c.tail_bend
+                .push(f.num(Traj::TailBend as usize, "tail_bend")?);
             Ok(())
         },
     )?;
@@ -383,26 +422,27 @@ pub(crate) fn read_food(path: &Path, allow_truncated_tail: bool) -> Result<FoodF
         return Ok(out);
     }
     let mut last_tick: Option<u64> = None;
-    out.truncated_line = for_each_line(path, FOOD_HEADER, allow_truncated_tail, |line, text| {
-        let f = Fields::split(path, line, text, &["tick", "id", "x", "y", "z"])?;
-        let tick: u64 = f.parse(0, "a tick (whole number)")?;
-        if let Some(prev) = last_tick {
-            if tick < prev {
-                return Err(f.error(
-                    0,
-                    format!(
-                        "tick {tick} after tick {prev}: rows must be grouped by ascending tick"
-                    ),
-                ));
+    out.truncated_line =
+        for_each_line(path, &FOOD_COLUMNS, allow_truncated_tail, |line, record| {
+            let f = Fields::split(path, line, record, &FOOD_COLUMNS)?;
+            let tick: u64 = f.parse(Food::Tick as usize, "a tick (whole number)")?;
+            if let Some(prev) = last_tick {
+                if tick < prev {
+                    return Err(f.error(
+                        Food::Tick as usize,
+                        format!(
+                            "tick {tick} after tick {prev}: rows must be grouped by ascending tick"
+                        ),
+                    ));
+                }
             }
-        }
-        last_tick = Some(tick);
-        let _id: u64 = f.parse(1, "a food id (whole number)")?;
-        let v = out.by_tick.entry(tick).or_default();
-        for (i, name) in [(2, "x"), (3, "y"), (4, "z")] {
-            v.push(f.num(i, name)?);
-        }
-        Ok(())
-    })?;
+            last_tick = Some(tick);
+            let _id: u64 = f.parse(Food::Id as usize, "a food id (whole number)")?;
+            let v = out.by_tick.entry(tick).or_default();
+            for col in [Food::X, Food::Y, Food::Z] {
+                v.push(f.num(col as usize, FOOD_COLUMNS[col as usize])?);
+            }
+            Ok(())
+        })?;
     Ok(out)
 }

@@ -12,7 +12,6 @@ use std::path::{Path, PathBuf};
 
 use crate::diag::Diagnostic;
 
-mod base64;
 mod csv;
 mod events;
 mod health;

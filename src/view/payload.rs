@@ -9,12 +9,12 @@ use std::path::Path;
 
 use serde_json::{json, Value};
 
-use super::base64;
 use super::csv::{self, NameTable};
 use super::events::Events;
 use super::manifest::{Manifest, RunStatus};
 use super::world::{SpeciesInfo, World};
 use super::ViewError;
+use base64::Engine as _;
 
 /// Encoded bytes per agent row before base64: id u32, species u8, behavior u16, pos 3×f32,
 /// forward 3×f32, speed f32, stack depth u8, three drives u8, swim phase u8, tail bend f32.
@@ -27,6 +27,12 @@ const TRANSITION_BYTES: usize = 7 * 4;
 const SPARE_COLORS: [&str; 6] = [
     "#5fb4e0", "#e07a5f", "#81b29a", "#f2cc8f", "#b07ad0", "#d0d0d0",
 ];
+
+/// Length of the standard (padded) base64 encoding of `n` bytes, which the page decodes with
+/// `atob`.
+fn encoded_len(n: usize) -> usize {
+    base64::encoded_len(n, true).unwrap_or(usize::MAX)
+}
 
 /// One binary column: its name, element type (as the page names it) and base64 text.
 #[derive(Debug, Clone)]
@@ -55,8 +61,8 @@ fn column<T: Copy>(
     for &v in values {
         to_le(v, &mut bytes);
     }
-    let mut base64 = String::new();
-    base64::encode_into(&bytes, &mut base64);
+    let mut base64 = String::with_capacity(encoded_len(bytes.len()));
+    base64::engine::general_purpose::STANDARD.encode_string(&bytes, &mut base64);
     Column { name, kind, base64 }
 }
 
@@ -96,9 +102,9 @@ pub(crate) fn choose_stride(frame_bytes: &[usize], budget: usize) -> usize {
                 sum += b;
             }
         }
-        base64::encoded_len(sum)
+        encoded_len(sum)
     };
-    let total = base64::encoded_len(frame_bytes.iter().sum());
+    let total = encoded_len(frame_bytes.iter().sum());
     let mut s = total.div_ceil(budget.max(1)).max(1);
     while s < n && cost(s) > budget {
         s += 1;
@@ -144,7 +150,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
                 + food.by_tick.get(t).map_or(0, |v| v.len() * 4)
         })
         .collect();
-    let history_bytes = base64::encoded_len(events.transitions.len() * TRANSITION_BYTES);
+    let history_bytes = encoded_len(events.transitions.len() * TRANSITION_BYTES);
     let stride = choose_stride(
         &frame_bytes,
         budget.saturating_sub(history_bytes).max(budget / 4),
@@ -285,10 +291,10 @@ mod tests {
         let frames = [300usize; 100];
         let s = choose_stride(&frames, 4000);
         let kept = (0..100).filter(|i| i % s == 0 || *i == 99).count();
-        assert!(base64::encoded_len(kept * 300) <= 4000, "stride {s}");
+        assert!(encoded_len(kept * 300) <= 4000, "stride {s}");
         let s1 = s - 1;
         let kept1 = (0..100).filter(|i| i % s1 == 0 || *i == 99).count();
-        assert!(base64::encoded_len(kept1 * 300) > 4000);
+        assert!(encoded_len(kept1 * 300) > 4000);
     }
 
     #[test]

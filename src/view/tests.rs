@@ -6,7 +6,9 @@ use std::path::Path;
 use super::payload::{self, Payload};
 use super::*;
 
-const HEADER: &str = "tick,time,id,species,x,y,z,fx,fy,fz,speed,behavior,stack_depth,hunger,libido,fear,swim_phase,tail_bend";
+fn header() -> String {
+    crate::record::schema::header(&crate::record::schema::TRAJECTORY_COLUMNS)
+}
 
 fn manifest(status: &str) -> String {
     format!(
@@ -32,7 +34,7 @@ fn row(tick: u64, id: u32, species: &str, x: f32, behavior: &str) -> String {
 fn write_run(dir: &Path, status: &str) {
     fs::write(dir.join("manifest.json"), manifest(status)).unwrap();
     fs::write(dir.join("world.json"), WORLD).unwrap();
-    let mut t = vec![HEADER.to_string()];
+    let mut t = vec![header()];
     for tick in [0u64, 2, 4] {
         t.push(row(tick, 1, "reef_fish", tick as f32, "wander"));
         t.push(row(
@@ -255,7 +257,7 @@ fn ticks_and_ids_must_ascend() {
     write_run(tmp.path(), "complete");
     let path = tmp.path().join("trajectories.csv");
     let rows = [
-        HEADER.to_string(),
+        header(),
         row(0, 2, "shark", 0.0, "patrol"),
         row(0, 1, "shark", 0.0, "patrol"),
     ];
@@ -265,7 +267,7 @@ fn ticks_and_ids_must_ascend() {
     assert!(err.to_string().contains("ids must ascend"));
 
     let rows = [
-        HEADER.to_string(),
+        header(),
         row(2, 1, "shark", 0.0, "patrol"),
         row(0, 1, "shark", 0.0, "patrol"),
     ];
@@ -346,7 +348,7 @@ fn missing_food_and_events_mean_none() {
 fn large_runs_are_subsampled_with_a_note() {
     let tmp = tempfile::tempdir().unwrap();
     write_run(tmp.path(), "complete");
-    let mut t = vec![HEADER.to_string()];
+    let mut t = vec![header()];
     for tick in 0..50u64 {
         for id in 0..20 {
             t.push(row(tick, id, "reef_fish", 0.0, "wander"));
