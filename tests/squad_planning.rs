@@ -195,9 +195,31 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
         }
     }
 
-    let (mut in_pass, mut after) = (0, 0);
+    let leader_id = run.squads.squads[0].members[leader];
+    let (mut in_pass, mut after, mut deferred) = (0, 0, 0);
     while !run.finished() {
+        // The script's `this.formation` (kept by the squad member's script on its blackboard)
+        // names the formation the members hold: the deferred one on the leg after the exit.
+        let want = {
+            let sq = &run.squads.squads[0];
+            let j = if sq.progress.finished {
+                keys.len() - 1
+            } else {
+                sq.progress.leg
+            };
+            deferred += usize::from(keys[j].formation != held[j]);
+            formations[held[j]].name().to_string()
+        };
         run.step();
+        let seen = run
+            .world
+            .agent(leader_id)
+            .unwrap()
+            .memory
+            .iter()
+            .find(|(k, _)| k == "formation")
+            .map(|(_, v)| v.clone());
+        assert_eq!(seen, Some(shoal::world::MemValue::Str(want)));
         let sq = &run.squads.squads[0];
         let leg = sq.progress.leg;
         for m in (0..sq.members.len()).filter(|&m| m != leader) {
@@ -213,6 +235,7 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
         }
     }
     assert!(in_pass > 100, "{in_pass} slot samples in the canyon");
+    assert!(deferred > 0, "the squad held the column past the exit's key point");
     assert!(after > 0, "the leader came out of the canyon");
     assert!(run.squads.squads[0].progress.finished, "the leader arrived");
 }
@@ -253,4 +276,25 @@ fn the_leader_is_chosen_by_slot_role_or_at_random_from_the_seed() {
         drawn.iter().any(|&l| l != drawn[0]),
         "five seeds draw more than one leader: {drawn:?}"
     );
+    // A run's own seed (`shoal run --seed N`) draws the leader, as the scenario's seed would.
+    let random = text.replace("spacing: 4.0,", "spacing: 4.0, leader: Random,");
+    let run_seeded = |seed: u64| {
+        let sc = Scenario::load_str(&dir.join("squad_march.ron"), &random)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let run = Run::new(
+            sc,
+            Overrides {
+                seed: Some(seed),
+                ..Overrides::default()
+            },
+        );
+        let sq = &run.squads.squads[0];
+        assert_eq!(sq.plan.leader, sq.leader);
+        assert_eq!(sq.slot(sq.leader), sq.plan.key_points[0].pos);
+        sq.leader
+    };
+    for (s, &l) in (1..=5).zip(&drawn) {
+        assert_eq!(run_seeded(s), l, "seed {s}");
+        assert_eq!(run_seeded(s), l, "seed {s}, again");
+    }
 }

@@ -20,11 +20,13 @@
 //!   does not fit at the key point before the transition (leader there, facing along the leg), the
 //!   members hold the old formation up to the transition and interpolate over the leg after it:
 //!   the wide formation is restored only after the pass.
+//! - **A member's leg must be walkable** ([`leg_passable`], [`blocked_per_leg`]): the planner
+//!   ([`crate::formation`]) narrows the formation where a follower's straight way from one
+//!   waypoint to the next crosses a blocked cell, and counts such a follower out of its slot.
 //! - **Not applied: drawing a slot inside a wall in toward the leader** ([`draw_in`], kept and
-//!   tested). Where a low K2 lets the plan keep a formation that does not fit, moving the waypoint
-//!   to the last free point before the wall made members walk into blocked cells on the way to it
-//!   (7–9 blocked steps on `tests/squad_runtime.rs`'s wall, none without it). A waypoint must be
-//!   reachable along the leg, not just free; until that is checked, slots follow the formation.
+//!   tested). Moving the waypoint to the last free point before the wall made members walk into
+//!   blocked cells on the way to it (7–9 blocked steps on `tests/squad_runtime.rs`'s wall, none
+//!   without it): a waypoint must be reachable along the leg, not just free.
 //!
 //! [`member_paths`] is the source's form, the formation function alone.
 
@@ -87,8 +89,8 @@ pub fn member_paths(keys: &[KeyPoint], formations: &[Formation], leader: usize) 
         .collect()
 }
 
-/// Every member's path on `grid`: [`member_paths`] with the two rules of the module notes (a
-/// widening transition interpolated over the leg after it, slots in walls drawn in).
+/// Every member's path on `grid`: [`member_paths`] with a widening transition interpolated over
+/// the leg after it where the new formation does not fit before it ([`held_formations`]).
 pub fn member_paths_on(
     grid: &CostGrid,
     keys: &[KeyPoint],
@@ -97,13 +99,24 @@ pub fn member_paths_on(
 ) -> Vec<MemberPath> {
     let headings = key_headings(keys);
     let held = held_formations(grid, keys, formations, leader, &headings);
+    member_paths_held(keys, formations, leader, &headings, &held)
+}
+
+/// Every member's path with the formation `held[j]` at key point `j`, facing `headings[j]`.
+pub fn member_paths_held(
+    keys: &[KeyPoint],
+    formations: &[Formation],
+    leader: usize,
+    headings: &[Vec2],
+    held: &[usize],
+) -> Vec<MemberPath> {
     let members = formations.first().map_or(0, Formation::len);
     (0..members)
         .map(|m| {
             let waypoints: Vec<Vec2> = keys
                 .iter()
-                .zip(&headings)
-                .zip(&held)
+                .zip(headings)
+                .zip(held)
                 .map(|((k, &h), &f)| formations[f].world_slot(m, leader, k.pos, h))
                 .collect();
             let speed_factors = speed_factors(keys, &waypoints);
@@ -112,6 +125,37 @@ pub fn member_paths_on(
                 waypoints,
                 speed_factors,
             }
+        })
+        .collect()
+}
+
+/// Samples per cell with which [`leg_passable`] walks a leg.
+pub const LEG_SAMPLES_PER_CELL: f32 = 4.0;
+
+/// Whether a member walking straight from `a` to `b` stays on free cells of `grid`: both ends
+/// inside the grid and free, and the segment sampled [`LEG_SAMPLES_PER_CELL`] times a cell.
+pub fn leg_passable(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
+    let free = |p: Vec2| {
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
+    };
+    if !(free(a) && free(b)) {
+        return false;
+    }
+    let n = ((a.distance(b) * LEG_SAMPLES_PER_CELL / grid.cell_size).ceil() as usize).max(1);
+    (1..n).all(|s| free(a.lerp(b, s as f32 / n as f32)))
+}
+
+/// Per leg, how many followers (members but `leader`) cross a blocked cell on it.
+pub fn blocked_per_leg(grid: &CostGrid, paths: &[MemberPath], leader: usize) -> Vec<usize> {
+    let legs = paths.first().map_or(0, |p| p.waypoints.len().saturating_sub(1));
+    (0..legs)
+        .map(|j| {
+            paths
+                .iter()
+                .filter(|p| p.member != leader)
+                .filter(|p| !leg_passable(grid, p.waypoints[j], p.waypoints[j + 1]))
+                .count()
         })
         .collect()
 }
@@ -383,6 +427,62 @@ mod tests {
             Vec2::new(6.5, 5.5),
             Vec2::new(0.0, -1.0)
         ));
+    }
+
+    /// 10 × 3 cells of 2 m with cell (2, 1) (x 4–6, z 2–4) blocked.
+    fn post_grid() -> CostGrid {
+        let mut g = CostGrid::open(10, 3, 2.0, Vec2::ZERO);
+        let i = g.index(Cell::new(2, 1));
+        g.blocked[i] = true;
+        g
+    }
+
+    #[test]
+    fn a_leg_is_walkable_when_its_ends_and_samples_are_on_free_cells() {
+        let g = post_grid();
+        // Row 0 (z = 1) is open end to end.
+        assert!(leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(19.0, 1.0)));
+        // Row 1 (z = 3): 18 m, ⌈18 · 4 / 2⌉ = 36 samples half a metre apart; x = 4.5 (sample 7)
+        // is in the blocked cell. (Three samples, at x = 7 and 13, would miss it.)
+        assert!(!leg_passable(&g, Vec2::new(1.0, 3.0), Vec2::new(19.0, 3.0)));
+        // A leg shorter than a sample step has no inner sample: its ends decide.
+        let (blocked, free) = (Vec2::new(5.9, 2.1), Vec2::new(5.9, 1.9));
+        assert!(!leg_passable(&g, blocked, free));
+        assert!(!leg_passable(&g, free, blocked));
+        assert!(leg_passable(&g, free, Vec2::new(5.9, 1.5)));
+        // An end off the grid, or not a number.
+        assert!(!leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(21.0, 1.0)));
+        assert!(!leg_passable(&g, Vec2::new(-0.5, 1.0), Vec2::new(1.0, 1.0)));
+        assert!(!leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(f32::NAN, 1.0)));
+        // Standing still on a free cell is walkable.
+        assert!(leg_passable(&g, free, free));
+    }
+
+    #[test]
+    fn blocked_legs_are_counted_per_leg_without_the_leader() {
+        let g = post_grid();
+        let path = |member: usize, w: [(f32, f32); 3]| MemberPath {
+            member,
+            waypoints: w.iter().map(|&(x, z)| Vec2::new(x, z)).collect(),
+            speed_factors: vec![1.0, 1.0],
+        };
+        let paths = [
+            // Leg 0 along row 1 through the blocked cell; leg 1 north along x = 9.
+            path(0, [(1.0, 3.0), (9.0, 3.0), (9.0, 1.0)]),
+            path(1, [(1.0, 1.0), (9.0, 1.0), (19.0, 1.0)]),
+            // Leg 0 along row 2; leg 1 ends in the blocked cell.
+            path(2, [(1.0, 5.0), (5.0, 5.0), (5.0, 3.0)]),
+        ];
+        assert_eq!(blocked_per_leg(&g, &paths, 0), vec![0, 1]);
+        assert_eq!(blocked_per_leg(&g, &paths, 1), vec![1, 1]);
+        assert_eq!(blocked_per_leg(&g, &paths, 2), vec![1, 0]);
+        assert!(blocked_per_leg(&g, &[], 0).is_empty());
+        let one = [MemberPath {
+            member: 1,
+            waypoints: vec![Vec2::new(5.0, 3.0)],
+            speed_factors: Vec::new(),
+        }];
+        assert!(blocked_per_leg(&g, &one, 0).is_empty());
     }
 
     #[test]
