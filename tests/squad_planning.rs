@@ -235,7 +235,10 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
         }
     }
     assert!(in_pass > 100, "{in_pass} slot samples in the canyon");
-    assert!(deferred > 0, "the squad held the column past the exit's key point");
+    assert!(
+        deferred > 0,
+        "the squad held the column past the exit's key point"
+    );
     assert!(after > 0, "the leader came out of the canyon");
     assert!(run.squads.squads[0].progress.finished, "the leader arrived");
 }

@@ -148,7 +148,9 @@ pub fn leg_passable(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
 
 /// Per leg, how many followers (members but `leader`) cross a blocked cell on it.
 pub fn blocked_per_leg(grid: &CostGrid, paths: &[MemberPath], leader: usize) -> Vec<usize> {
-    let legs = paths.first().map_or(0, |p| p.waypoints.len().saturating_sub(1));
+    let legs = paths
+        .first()
+        .map_or(0, |p| p.waypoints.len().saturating_sub(1));
     (0..legs)
         .map(|j| {
             paths
@@ -453,7 +455,11 @@ mod tests {
         // An end off the grid, or not a number.
         assert!(!leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(21.0, 1.0)));
         assert!(!leg_passable(&g, Vec2::new(-0.5, 1.0), Vec2::new(1.0, 1.0)));
-        assert!(!leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(f32::NAN, 1.0)));
+        assert!(!leg_passable(
+            &g,
+            Vec2::new(1.0, 1.0),
+            Vec2::new(f32::NAN, 1.0)
+        ));
         // Standing still on a free cell is walkable.
         assert!(leg_passable(&g, free, free));
     }

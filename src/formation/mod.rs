@@ -253,18 +253,17 @@ fn lay_out(grid: &CostGrid, cells: &[Cell], team: &GridFormations<'_>, may_chang
         let headings = follow::key_headings(&key_points);
         let held =
             follow::held_formations(grid, &key_points, team.formations, team.leader, &headings);
-        let member_paths = follow::member_paths_held(
-            &key_points,
-            team.formations,
-            team.leader,
-            &headings,
-            &held,
-        );
+        let member_paths =
+            follow::member_paths_held(&key_points, team.formations, team.leader, &headings, &held);
         let blocked = follow::blocked_per_leg(grid, &member_paths, team.leader);
         let mut narrowed = false;
         if may_change {
             for (j, _) in blocked.iter().enumerate().filter(|&(_, &b)| b > 0) {
-                let from = if j == 0 { 0 } else { key_points[j].path_index + 1 };
+                let from = if j == 0 {
+                    0
+                } else {
+                    key_points[j].path_index + 1
+                };
                 for n in from..=key_points[j + 1].path_index {
                     let next = along[n].0 + 1;
                     if next < team.formations.len() && floor[n] < next {

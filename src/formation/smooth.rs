@@ -120,8 +120,7 @@ pub fn smooth_from(
             .unwrap_or(last);
         let first = floor.get(i).copied().unwrap_or(0);
         let mut k = change;
-        while k > i + 1
-            && !segment_holds(grid, path, along, team, may_change, first, i, k, change)
+        while k > i + 1 && !segment_holds(grid, path, along, team, may_change, first, i, k, change)
         {
             k = (i + k) / 2;
         }
