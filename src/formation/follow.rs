@@ -492,6 +492,94 @@ mod tests {
     }
 
     #[test]
+    fn a_fine_grid_is_sampled_by_its_own_cell_size() {
+        // Cells of 0.25 m, cell (5, 0) (x 1.25–1.5) blocked: a 2 m leg along z = 0.1 takes
+        // ⌈2 · 4 / 0.25⌉ = 32 samples 1/16 m apart and finds it (two samples, at x = 0 and 1
+        // and 2, would not).
+        let mut g = CostGrid::open(12, 2, 0.25, Vec2::ZERO);
+        let i = g.index(Cell::new(5, 0));
+        g.blocked[i] = true;
+        assert!(!leg_passable(
+            &g,
+            Vec2::new(0.01, 0.1),
+            Vec2::new(2.01, 0.1)
+        ));
+        assert!(leg_passable(&g, Vec2::new(0.01, 0.4), Vec2::new(2.01, 0.4)));
+    }
+
+    #[test]
+    fn a_widening_is_deferred_only_when_it_lasts_and_does_not_fit_before_it() {
+        let g = pass_grid();
+        let f = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let held = |keys: &[KeyPoint]| held_formations(&g, keys, &f, 0, &key_headings(keys));
+        // The last key point takes its own formation, a change there included.
+        let keys = [kp(2.5, 5.5, 0, 0), kp(5.5, 5.5, 0, 3), kp(8.5, 5.5, 1, 6)];
+        assert_eq!(held(&keys), vec![0, 0, 1]);
+        // The column at (10.5, 5.5) is changed back at once at (20.5, 5.5): not a lasting
+        // change, taken as planned, although the column does not fit at (0.5, 5.5) (its slots
+        // are off the grid to the west). The line from (20.5, 5.5) on lasts and does not fit at
+        // (10.5, 5.5): deferred.
+        let keys = [
+            kp(0.5, 5.5, 0, 0),
+            kp(10.5, 5.5, 1, 10),
+            kp(20.5, 5.5, 0, 20),
+            kp(27.5, 5.5, 0, 27),
+        ];
+        assert_eq!(held(&keys), vec![0, 1, 1, 0]);
+        // The fit is tested facing along the leg into the change: east from (5.5, 5.5) the
+        // line's slots are (5.5, 6.5) and (5.5, 4.5), the latter blocked here; facing south
+        // (the next legs) they would be (4.5, 5.5) and (6.5, 5.5), free.
+        let mut open = CostGrid::open(20, 20, 1.0, Vec2::ZERO);
+        let i = open.index(Cell::new(5, 4));
+        open.blocked[i] = true;
+        let col_line = [f[1].clone(), f[0].clone()];
+        let keys = [
+            kp(5.5, 5.5, 0, 0),
+            kp(10.5, 5.5, 1, 5),
+            kp(10.5, 10.5, 1, 10),
+            kp(10.5, 15.5, 1, 15),
+        ];
+        let h = key_headings(&keys);
+        assert_eq!(
+            held_formations(&open, &keys, &col_line, 0, &h),
+            vec![0, 0, 1, 1]
+        );
+        open.blocked[i] = false;
+        assert_eq!(
+            held_formations(&open, &keys, &col_line, 0, &h),
+            vec![0, 1, 1, 1]
+        );
+    }
+
+    #[test]
+    fn a_slot_is_drawn_in_by_quarters_of_its_grid_cells() {
+        // Cells of 2 m, blocked from x = 14: from (5, 11) toward (17, 11) the samples are 0.5 m
+        // apart; x = 14 is the first blocked one (sample 18), so the slot stops at 13.5.
+        let mut g = CostGrid::open(10, 10, 2.0, Vec2::ZERO);
+        for r in 0..10 {
+            for c in 7..10 {
+                let i = g.index(Cell::new(c, r));
+                g.blocked[i] = true;
+            }
+        }
+        assert_eq!(
+            draw_in(&g, Vec2::new(5.0, 11.0), Vec2::new(17.0, 11.0)),
+            Vec2::new(13.5, 11.0)
+        );
+    }
+
+    #[test]
+    fn a_leg_where_the_leader_stands_still_has_speed_factor_one() {
+        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let keys = [kp(5.5, 5.5, 0, 0), kp(5.5, 5.5, 0, 0)];
+        let paths = member_paths(&keys, &f, 0);
+        assert!(paths.iter().all(|p| p.speed_factors == vec![1.0]));
+    }
+
+    #[test]
     fn single_key_point_faces_north() {
         let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
         let paths = member_paths(&[kp(5.0, 5.0, 0, 0)], &f, 0);

@@ -231,6 +231,24 @@ impl Planner {
     }
 }
 
+/// Side-to-side extent of a formation: its largest `right` offset minus its smallest.
+fn width(f: &Formation) -> f32 {
+    let (lo, hi) = f
+        .slots()
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), s| {
+            (lo.min(s.y), hi.max(s.y))
+        });
+    hi - lo
+}
+
+/// The first formation after `j` in the list that is narrower than formation `j` (a script may
+/// list a narrow formation first: nothing after it is narrower).
+fn narrower(formations: &[Formation], j: usize) -> Option<usize> {
+    let w = width(&formations[j]);
+    (j + 1..formations.len()).find(|&n| width(&formations[n]) < w)
+}
+
 /// A leader path laid out into the tables and the members' paths.
 struct Laid {
     along: Vec<(usize, bool)>,
@@ -242,8 +260,8 @@ struct Laid {
 
 /// Smooths `cells` and derives the members' paths; where a follower's leg crosses a blocked
 /// cell and the formation may change, every node of that leg (the start node too on the first
-/// leg) takes the next narrower formation of the list, and the layout is done again, until no
-/// leg crosses a wall or no node of such a leg can narrow further.
+/// leg) may only take formations from the next narrower one of the list on ([`narrower`]), and
+/// the layout is done again, until no leg crosses a wall or no node of such a leg can narrow.
 fn lay_out(grid: &CostGrid, cells: &[Cell], team: &GridFormations<'_>, may_change: bool) -> Laid {
     let mut floor = vec![0usize; cells.len()];
     loop {
@@ -265,10 +283,11 @@ fn lay_out(grid: &CostGrid, cells: &[Cell], team: &GridFormations<'_>, may_chang
                     key_points[j].path_index + 1
                 };
                 for n in from..=key_points[j + 1].path_index {
-                    let next = along[n].0 + 1;
-                    if next < team.formations.len() && floor[n] < next {
-                        floor[n] = next;
-                        narrowed = true;
+                    if let Some(next) = narrower(team.formations, along[n].0) {
+                        if floor[n] < next {
+                            floor[n] = next;
+                            narrowed = true;
+                        }
                     }
                 }
             }
@@ -658,6 +677,24 @@ mod tests {
         let keep = plan(&request(&grid, &line, TaskClass::MustKeep.weights())).unwrap();
         assert!(keep.transitions.is_empty());
         assert!(keep.held.iter().all(|&h| h == 0));
+    }
+
+    #[test]
+    fn narrower_means_less_wide_side_to_side_and_later_in_the_list() {
+        // Widths: line of 3 at spacing 1: 1 − (−1) = 2; wedge of 3 at 2: 2 − (−2) = 4; column 0.
+        let line = Formation::new(&Shape::Line, 3, 1.0).unwrap();
+        let wedge = Formation::new(&Shape::Wedge, 3, 2.0).unwrap();
+        let column = Formation::new(&Shape::Column, 3, 1.0).unwrap();
+        assert_eq!(width(&line), 2.0);
+        assert_eq!(width(&wedge), 4.0);
+        assert_eq!(width(&column), 0.0);
+        let list = [wedge.clone(), column.clone(), line.clone()];
+        assert_eq!(narrower(&list, 0), Some(1));
+        assert_eq!(narrower(&list, 1), None);
+        assert_eq!(narrower(&list, 2), None);
+        // A wider formation after a narrow one is not a narrowing; an equal one is not either.
+        let list = [line.clone(), wedge, line, column];
+        assert_eq!(narrower(&list, 0), Some(3));
     }
 
     #[test]

@@ -256,6 +256,83 @@ mod tests {
     }
 
     #[test]
+    fn a_transition_cell_is_exempt_from_the_old_formation_and_the_goal_is_not() {
+        // A line of 3 (spacing 1) and a column; rows 1–3 open up to column 4, then row 2 only.
+        // Heading east the line fits on columns 0–4 (slots on rows 1 and 3), the column from 5.
+        let mut grid = CostGrid::open(10, 5, 1.0, Vec2::ZERO);
+        for c in 0..10 {
+            for r in 0..5 {
+                let open = r == 2 || ((1..=3).contains(&r) && c <= 4);
+                let i = grid.index(Cell::new(c, r));
+                grid.blocked[i] = !open;
+            }
+        }
+        let f = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let path: Vec<Cell> = (0..10).map(|c| Cell::new(c, 2)).collect();
+        let along = formation_along(&grid, &path, &team, true);
+        let held: Vec<usize> = along.iter().map(|a| a.0).collect();
+        assert_eq!(held, vec![0, 0, 0, 0, 0, 1, 1, 1, 1, 1]);
+        // The shortcut 0 → 5 ends on the transition, where the line does not fit: that cell is
+        // not held to the line, so it is taken at once; then 5 → 9 in the column.
+        let (keys, transitions) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 5, 9]);
+        assert_eq!(transitions.len(), 1);
+        assert_eq!((transitions[0].from, transitions[0].to), (0, 1));
+
+        // The goal is held to the formation like any cell: east along row 5, then a diagonal
+        // step to (5, 4). Facing along that step the line's slots (6, 5) and (4, 3) are free;
+        // facing along the shortcut 0 → 4 ((4, −1)) they are (5, 5) and (5, 3), and (5, 3) is
+        // blocked: refused, k = ⌊4/2⌋ = 2; then 2 → 4 ((2, −1)) is refused the same way, and
+        // 2 → 3, 3 → 4 are single steps.
+        let mut grid = CostGrid::open(8, 8, 1.0, Vec2::ZERO);
+        let i = grid.index(Cell::new(5, 3));
+        grid.blocked[i] = true;
+        let line = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let team = GridFormations::new(&line, 0, 1.0);
+        let path = [
+            Cell::new(1, 5),
+            Cell::new(2, 5),
+            Cell::new(3, 5),
+            Cell::new(4, 5),
+            Cell::new(5, 4),
+        ];
+        let along = formation_along(&grid, &path, &team, true);
+        assert!(along.iter().all(|&a| a == (0, true)));
+        let (keys, _) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 2, 3, 4]);
+    }
+
+    #[test]
+    fn a_shortcut_lays_the_formation_along_its_own_heading() {
+        // A corridor one column wide (column 5) heading north, a column of 3: facing north its
+        // followers stand south of the leader, in the corridor, on every cell of the shortcut
+        // from the first node to the last, which is taken at once. (Facing any other way they
+        // would stand in the walls.)
+        let mut grid = CostGrid::open(11, 11, 1.0, Vec2::ZERO);
+        for c in (0..11).filter(|&c| c != 5) {
+            for r in 0..11 {
+                let i = grid.index(Cell::new(c, r));
+                grid.blocked[i] = true;
+            }
+        }
+        let f = [Formation::new(&Shape::Column, 3, 1.0).unwrap()];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let path: Vec<Cell> = (1..=8).rev().map(|r| Cell::new(5, r)).collect();
+        let along = formation_along(&grid, &path, &team, true);
+        assert!(along.iter().all(|&a| a == (0, true)));
+        let (keys, transitions) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 7]);
+        assert!(transitions.is_empty());
+    }
+
+    #[test]
     fn a_floor_narrows_the_nodes_it_covers_and_the_shortcuts_from_them() {
         // Open ground, a wedge and a column of 5 (spacing 1), the leader 6 cells east.
         let grid = CostGrid::open(30, 30, 1.0, Vec2::ZERO);
