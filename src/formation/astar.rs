@@ -1132,6 +1132,14 @@ mod tests {
             team.choose_from(&grid, Cell::new(0, 0), true, 1, slots),
             (1, false)
         );
+        // With (1, 1) blocked the line places none at (1, 0), the column 1: the column.
+        let mut walled = grid.clone();
+        let i = walled.index(Cell::new(1, 1));
+        walled.blocked[i] = true;
+        assert_eq!(
+            team.choose(&walled, Cell::new(1, 0), true, slots),
+            (1, false)
+        );
     }
 
     #[test]
