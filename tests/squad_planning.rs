@@ -195,9 +195,48 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
         }
     }
 
-    let (mut in_pass, mut after) = (0, 0);
+    let leader_id = run.squads.squads[0].members[leader];
+    let (mut in_pass, mut after, mut deferred) = (0, 0, 0);
+    // The script's `this.formation` (kept by the squad member's script on its blackboard; the
+    // script runs every 4th tick) names the formation the members hold: the column still on the
+    // leg after the exit, whose key point is the triangle's.
+    let mut recent: std::collections::VecDeque<(String, bool)> = Default::default();
     while !run.finished() {
+        {
+            let sq = &run.squads.squads[0];
+            let j = if sq.progress.finished {
+                keys.len() - 1
+            } else {
+                sq.progress.leg
+            };
+            recent.push_back((
+                formations[held[j]].name().to_string(),
+                keys[j].formation != held[j],
+            ));
+            if recent.len() > 4 {
+                recent.pop_front();
+            }
+        }
         run.step();
+        let Some(shoal::world::MemValue::Str(seen)) = run
+            .world
+            .agent(leader_id)
+            .unwrap()
+            .memory
+            .iter()
+            .find(|(k, _)| k == "formation")
+            .map(|(_, v)| v.clone())
+        else {
+            panic!("the script keeps `formation`")
+        };
+        assert!(
+            recent.iter().any(|(name, _)| *name == seen),
+            "the script saw {seen}, the squad held {recent:?}"
+        );
+        if recent.len() == 4 && recent.iter().all(|(_, d)| *d) {
+            assert_eq!(seen, formations[1].name());
+            deferred += 1;
+        }
         let sq = &run.squads.squads[0];
         let leg = sq.progress.leg;
         for m in (0..sq.members.len()).filter(|&m| m != leader) {
@@ -213,6 +252,10 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
         }
     }
     assert!(in_pass > 100, "{in_pass} slot samples in the canyon");
+    assert!(
+        deferred > 0,
+        "the squad held the column past the exit's key point"
+    );
     assert!(after > 0, "the leader came out of the canyon");
     assert!(run.squads.squads[0].progress.finished, "the leader arrived");
 }
@@ -253,4 +296,25 @@ fn the_leader_is_chosen_by_slot_role_or_at_random_from_the_seed() {
         drawn.iter().any(|&l| l != drawn[0]),
         "five seeds draw more than one leader: {drawn:?}"
     );
+    // A run's own seed (`shoal run --seed N`) draws the leader, as the scenario's seed would.
+    let random = text.replace("spacing: 4.0,", "spacing: 4.0, leader: Random,");
+    let run_seeded = |seed: u64| {
+        let sc = Scenario::load_str(&dir.join("squad_march.ron"), &random)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let run = Run::new(
+            sc,
+            Overrides {
+                seed: Some(seed),
+                ..Overrides::default()
+            },
+        );
+        let sq = &run.squads.squads[0];
+        assert_eq!(sq.plan.leader, sq.leader);
+        assert_eq!(sq.slot(sq.leader), sq.plan.key_points[0].pos);
+        sq.leader
+    };
+    for (s, &l) in (1..=5).zip(&drawn) {
+        assert_eq!(run_seeded(s), l, "seed {s}");
+        assert_eq!(run_seeded(s), l, "seed {s}, again");
+    }
 }

@@ -167,7 +167,8 @@ fn arrived() { this.at_goal && this.slot_dist < 3.0 }
 fn far_from_slot() { false }
 fn near_slot() { true }
 fn on_tick() {
-    if this.is_leader && !this.has("asked") {
+    let asked_before = this.has("asked");
+    if this.is_leader && !asked_before {
         this["asked"] = true;
         this["keys"] = this.key_points.len();
         this["first_key"] = this.key_points[0];
@@ -182,7 +183,8 @@ fn on_tick() {
         this["sees_near"] = this.can_see(vec3(31.0, 1.0, 11.0));
         this["ground"] = this.ground_height(101.0, 11.0);
     }
-    if this.is_leader && this.has("asked") && !this.has("transitions_read") {
+    // On a later call: the plan asked for is adopted after the tick that asked.
+    if this.is_leader && asked_before && !this.has("transitions_read") {
         this["transitions_read"] = true;
         let t = this.transitions;
         this["n_transitions"] = t.len();

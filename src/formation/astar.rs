@@ -361,10 +361,25 @@ impl<'a> GridFormations<'a> {
         may_change: bool,
         slots: impl Fn(usize) -> std::borrow::Cow<'s, [(i32, i32)]>,
     ) -> (usize, bool) {
+        self.choose_from(grid, cell, may_change, 0, slots)
+    }
+
+    /// [`GridFormations::choose`] among the formations from index `first` on (a place where a
+    /// wider one was found to put a member's way through a wall, see [`crate::formation`]);
+    /// `first` is capped at the last formation, and ignored when the formation may not change.
+    pub fn choose_from<'s>(
+        &self,
+        grid: &CostGrid,
+        cell: Cell,
+        may_change: bool,
+        first: usize,
+        slots: impl Fn(usize) -> std::borrow::Cow<'s, [(i32, i32)]>,
+    ) -> (usize, bool) {
         let n = self.followers();
         let count = if may_change { self.formations.len() } else { 1 };
-        let mut best = (0usize, usize::MAX);
-        for j in 0..count {
+        let first = first.min(count.saturating_sub(1));
+        let mut best = (first, usize::MAX);
+        for j in first..count {
             let free = free_slots(grid, cell, &slots(j));
             if free == n {
                 return (j, true);
@@ -1085,6 +1100,46 @@ mod tests {
         .is_err());
         assert!(Weights { step: 0.0, ..d }.validate().is_err());
         assert!(Weights { step: 1.0, ..d }.validate().is_ok());
+    }
+
+    #[test]
+    fn choosing_from_a_floor_skips_the_wider_formations() {
+        // A line and a column of 3 (spacing 1) facing east on a 5 × 3 grid; the leader at (2, 1).
+        let grid = CostGrid::open(5, 3, 1.0, Vec2::ZERO);
+        let f = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let slots = |j: usize| std::borrow::Cow::Borrowed(team.tables[j].dir(0));
+        let c = Cell::new(2, 1);
+        assert_eq!(team.choose(&grid, c, true, slots), (0, true));
+        assert_eq!(team.choose_from(&grid, c, true, 1, slots), (1, true));
+        // Past the list: the last formation; not allowed to change: the primary.
+        assert_eq!(team.choose_from(&grid, c, true, 9, slots), (1, true));
+        assert_eq!(team.choose_from(&grid, c, false, 1, slots), (0, true));
+        // At (2, 0) the line's left slot (2, −1) is off the grid; the column's (1, 0), (0, 0)
+        // fit. At (1, 0) the column's (−1, 0) is off the grid too: each places 1, the earliest
+        // is taken unless the floor excludes it. At (0, 0) the line places 1, the column none.
+        assert_eq!(team.choose(&grid, Cell::new(2, 0), true, slots), (1, true));
+        assert_eq!(team.choose(&grid, Cell::new(1, 0), true, slots), (0, false));
+        assert_eq!(
+            team.choose_from(&grid, Cell::new(1, 0), true, 1, slots),
+            (1, false)
+        );
+        assert_eq!(team.choose(&grid, Cell::new(0, 0), true, slots), (0, false));
+        assert_eq!(
+            team.choose_from(&grid, Cell::new(0, 0), true, 1, slots),
+            (1, false)
+        );
+        // With (1, 1) blocked the line places none at (1, 0), the column 1: the column.
+        let mut walled = grid.clone();
+        let i = walled.index(Cell::new(1, 1));
+        walled.blocked[i] = true;
+        assert_eq!(
+            team.choose(&walled, Cell::new(1, 0), true, slots),
+            (1, false)
+        );
     }
 
     #[test]

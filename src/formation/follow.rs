@@ -20,11 +20,13 @@
 //!   does not fit at the key point before the transition (leader there, facing along the leg), the
 //!   members hold the old formation up to the transition and interpolate over the leg after it:
 //!   the wide formation is restored only after the pass.
+//! - **A member's leg must be walkable** ([`leg_passable`], [`blocked_per_leg`]): the planner
+//!   ([`crate::formation`]) narrows the formation where a follower's straight way from one
+//!   waypoint to the next crosses a blocked cell, and counts such a follower out of its slot.
 //! - **Not applied: drawing a slot inside a wall in toward the leader** ([`draw_in`], kept and
-//!   tested). Where a low K2 lets the plan keep a formation that does not fit, moving the waypoint
-//!   to the last free point before the wall made members walk into blocked cells on the way to it
-//!   (7–9 blocked steps on `tests/squad_runtime.rs`'s wall, none without it). A waypoint must be
-//!   reachable along the leg, not just free; until that is checked, slots follow the formation.
+//!   tested). Moving the waypoint to the last free point before the wall made members walk into
+//!   blocked cells on the way to it (7–9 blocked steps on `tests/squad_runtime.rs`'s wall, none
+//!   without it): a waypoint must be reachable along the leg, not just free.
 //!
 //! [`member_paths`] is the source's form, the formation function alone.
 
@@ -87,8 +89,8 @@ pub fn member_paths(keys: &[KeyPoint], formations: &[Formation], leader: usize) 
         .collect()
 }
 
-/// Every member's path on `grid`: [`member_paths`] with the two rules of the module notes (a
-/// widening transition interpolated over the leg after it, slots in walls drawn in).
+/// Every member's path on `grid`: [`member_paths`] with a widening transition interpolated over
+/// the leg after it where the new formation does not fit before it ([`held_formations`]).
 pub fn member_paths_on(
     grid: &CostGrid,
     keys: &[KeyPoint],
@@ -97,13 +99,24 @@ pub fn member_paths_on(
 ) -> Vec<MemberPath> {
     let headings = key_headings(keys);
     let held = held_formations(grid, keys, formations, leader, &headings);
+    member_paths_held(keys, formations, leader, &headings, &held)
+}
+
+/// Every member's path with the formation `held[j]` at key point `j`, facing `headings[j]`.
+pub fn member_paths_held(
+    keys: &[KeyPoint],
+    formations: &[Formation],
+    leader: usize,
+    headings: &[Vec2],
+    held: &[usize],
+) -> Vec<MemberPath> {
     let members = formations.first().map_or(0, Formation::len);
     (0..members)
         .map(|m| {
             let waypoints: Vec<Vec2> = keys
                 .iter()
-                .zip(&headings)
-                .zip(&held)
+                .zip(headings)
+                .zip(held)
                 .map(|((k, &h), &f)| formations[f].world_slot(m, leader, k.pos, h))
                 .collect();
             let speed_factors = speed_factors(keys, &waypoints);
@@ -112,6 +125,39 @@ pub fn member_paths_on(
                 waypoints,
                 speed_factors,
             }
+        })
+        .collect()
+}
+
+/// Samples per cell with which [`leg_passable`] walks a leg.
+pub const LEG_SAMPLES_PER_CELL: f32 = 4.0;
+
+/// Whether a member walking straight from `a` to `b` stays on free cells of `grid`: both ends
+/// inside the grid and free, and the segment sampled [`LEG_SAMPLES_PER_CELL`] times a cell.
+pub fn leg_passable(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
+    let free = |p: Vec2| {
+        grid.cell_of(p)
+            .is_some_and(|c| !grid.blocked[grid.index(c)])
+    };
+    if !(free(a) && free(b)) {
+        return false;
+    }
+    let n = ((a.distance(b) * LEG_SAMPLES_PER_CELL / grid.cell_size).ceil() as usize).max(1);
+    (1..n).all(|s| free(a.lerp(b, s as f32 / n as f32)))
+}
+
+/// Per leg, how many followers (members but `leader`) cross a blocked cell on it.
+pub fn blocked_per_leg(grid: &CostGrid, paths: &[MemberPath], leader: usize) -> Vec<usize> {
+    let legs = paths
+        .first()
+        .map_or(0, |p| p.waypoints.len().saturating_sub(1));
+    (0..legs)
+        .map(|j| {
+            paths
+                .iter()
+                .filter(|p| p.member != leader)
+                .filter(|p| !leg_passable(grid, p.waypoints[j], p.waypoints[j + 1]))
+                .count()
         })
         .collect()
 }
@@ -383,6 +429,154 @@ mod tests {
             Vec2::new(6.5, 5.5),
             Vec2::new(0.0, -1.0)
         ));
+    }
+
+    /// 10 × 3 cells of 2 m with cell (2, 1) (x 4–6, z 2–4) blocked.
+    fn post_grid() -> CostGrid {
+        let mut g = CostGrid::open(10, 3, 2.0, Vec2::ZERO);
+        let i = g.index(Cell::new(2, 1));
+        g.blocked[i] = true;
+        g
+    }
+
+    #[test]
+    fn a_leg_is_walkable_when_its_ends_and_samples_are_on_free_cells() {
+        let g = post_grid();
+        // Row 0 (z = 1) is open end to end.
+        assert!(leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(19.0, 1.0)));
+        // Row 1 (z = 3): 18 m, ⌈18 · 4 / 2⌉ = 36 samples half a metre apart; x = 4.5 (sample 7)
+        // is in the blocked cell. (Three samples, at x = 7 and 13, would miss it.)
+        assert!(!leg_passable(&g, Vec2::new(1.0, 3.0), Vec2::new(19.0, 3.0)));
+        // A leg shorter than a sample step has no inner sample: its ends decide.
+        let (blocked, free) = (Vec2::new(5.9, 2.1), Vec2::new(5.9, 1.9));
+        assert!(!leg_passable(&g, blocked, free));
+        assert!(!leg_passable(&g, free, blocked));
+        assert!(leg_passable(&g, free, Vec2::new(5.9, 1.5)));
+        // An end off the grid, or not a number.
+        assert!(!leg_passable(&g, Vec2::new(1.0, 1.0), Vec2::new(21.0, 1.0)));
+        assert!(!leg_passable(&g, Vec2::new(-0.5, 1.0), Vec2::new(1.0, 1.0)));
+        assert!(!leg_passable(
+            &g,
+            Vec2::new(1.0, 1.0),
+            Vec2::new(f32::NAN, 1.0)
+        ));
+        // Standing still on a free cell is walkable.
+        assert!(leg_passable(&g, free, free));
+    }
+
+    #[test]
+    fn blocked_legs_are_counted_per_leg_without_the_leader() {
+        let g = post_grid();
+        let path = |member: usize, w: [(f32, f32); 3]| MemberPath {
+            member,
+            waypoints: w.iter().map(|&(x, z)| Vec2::new(x, z)).collect(),
+            speed_factors: vec![1.0, 1.0],
+        };
+        let paths = [
+            // Leg 0 along row 1 through the blocked cell; leg 1 north along x = 9.
+            path(0, [(1.0, 3.0), (9.0, 3.0), (9.0, 1.0)]),
+            path(1, [(1.0, 1.0), (9.0, 1.0), (19.0, 1.0)]),
+            // Leg 0 along row 2; leg 1 ends in the blocked cell.
+            path(2, [(1.0, 5.0), (5.0, 5.0), (5.0, 3.0)]),
+        ];
+        assert_eq!(blocked_per_leg(&g, &paths, 0), vec![0, 1]);
+        assert_eq!(blocked_per_leg(&g, &paths, 1), vec![1, 1]);
+        assert_eq!(blocked_per_leg(&g, &paths, 2), vec![1, 0]);
+        assert!(blocked_per_leg(&g, &[], 0).is_empty());
+        let one = [MemberPath {
+            member: 1,
+            waypoints: vec![Vec2::new(5.0, 3.0)],
+            speed_factors: Vec::new(),
+        }];
+        assert!(blocked_per_leg(&g, &one, 0).is_empty());
+    }
+
+    #[test]
+    fn a_fine_grid_is_sampled_by_its_own_cell_size() {
+        // Cells of 0.25 m, cell (5, 0) (x 1.25–1.5) blocked: a 2 m leg along z = 0.1 takes
+        // ⌈2 · 4 / 0.25⌉ = 32 samples 1/16 m apart and finds it (two samples, at x = 0 and 1
+        // and 2, would not).
+        let mut g = CostGrid::open(12, 2, 0.25, Vec2::ZERO);
+        let i = g.index(Cell::new(5, 0));
+        g.blocked[i] = true;
+        assert!(!leg_passable(
+            &g,
+            Vec2::new(0.01, 0.1),
+            Vec2::new(2.01, 0.1)
+        ));
+        assert!(leg_passable(&g, Vec2::new(0.01, 0.4), Vec2::new(2.01, 0.4)));
+    }
+
+    #[test]
+    fn a_widening_is_deferred_only_when_it_lasts_and_does_not_fit_before_it() {
+        let g = pass_grid();
+        let f = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let held = |keys: &[KeyPoint]| held_formations(&g, keys, &f, 0, &key_headings(keys));
+        // The last key point takes its own formation, a change there included.
+        let keys = [kp(2.5, 5.5, 0, 0), kp(5.5, 5.5, 0, 3), kp(8.5, 5.5, 1, 6)];
+        assert_eq!(held(&keys), vec![0, 0, 1]);
+        // The column at (10.5, 5.5) is changed back at once at (20.5, 5.5): not a lasting
+        // change, taken as planned, although the column does not fit at (0.5, 5.5) (its slots
+        // are off the grid to the west). The line from (20.5, 5.5) on lasts and does not fit at
+        // (10.5, 5.5): deferred.
+        let keys = [
+            kp(0.5, 5.5, 0, 0),
+            kp(10.5, 5.5, 1, 10),
+            kp(20.5, 5.5, 0, 20),
+            kp(27.5, 5.5, 0, 27),
+        ];
+        assert_eq!(held(&keys), vec![0, 1, 1, 0]);
+        // The fit is tested facing along the leg into the change: east from (5.5, 5.5) the
+        // line's slots are (5.5, 6.5) and (5.5, 4.5), the latter blocked here; facing south
+        // (the next legs) they would be (4.5, 5.5) and (6.5, 5.5), free.
+        let mut open = CostGrid::open(20, 20, 1.0, Vec2::ZERO);
+        let i = open.index(Cell::new(5, 4));
+        open.blocked[i] = true;
+        let col_line = [f[1].clone(), f[0].clone()];
+        let keys = [
+            kp(5.5, 5.5, 0, 0),
+            kp(10.5, 5.5, 1, 5),
+            kp(10.5, 10.5, 1, 10),
+            kp(10.5, 15.5, 1, 15),
+        ];
+        let h = key_headings(&keys);
+        assert_eq!(
+            held_formations(&open, &keys, &col_line, 0, &h),
+            vec![0, 0, 1, 1]
+        );
+        open.blocked[i] = false;
+        assert_eq!(
+            held_formations(&open, &keys, &col_line, 0, &h),
+            vec![0, 1, 1, 1]
+        );
+    }
+
+    #[test]
+    fn a_slot_is_drawn_in_by_quarters_of_its_grid_cells() {
+        // Cells of 2 m, blocked from x = 14: from (5, 11) toward (17, 11) the samples are 0.5 m
+        // apart; x = 14 is the first blocked one (sample 18), so the slot stops at 13.5.
+        let mut g = CostGrid::open(10, 10, 2.0, Vec2::ZERO);
+        for r in 0..10 {
+            for c in 7..10 {
+                let i = g.index(Cell::new(c, r));
+                g.blocked[i] = true;
+            }
+        }
+        assert_eq!(
+            draw_in(&g, Vec2::new(5.0, 11.0), Vec2::new(17.0, 11.0)),
+            Vec2::new(13.5, 11.0)
+        );
+    }
+
+    #[test]
+    fn a_leg_where_the_leader_stands_still_has_speed_factor_one() {
+        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let keys = [kp(5.5, 5.5, 0, 0), kp(5.5, 5.5, 0, 0)];
+        let paths = member_paths(&keys, &f, 0);
+        assert!(paths.iter().all(|p| p.speed_factors == vec![1.0]));
     }
 
     #[test]

@@ -8,6 +8,15 @@
 //! path into the key-point and formation-transition tables ([`smooth`]); derive every member's
 //! path from them ([`follow`]).
 //!
+//! One step the source does not have: the source checks a formation at the leader's nodes only,
+//! but a member walks straight from one waypoint to the next, and at a corner (its waypoint faces
+//! the next leg) its way can cross a wall beside a clear leader path. After smoothing, every
+//! follower's leg is checked ([`follow::leg_passable`]); where one crosses a blocked cell and the
+//! formation may change, each node of that leg may only take a formation narrower than the one
+//! it took, and the path is laid out again, until no leg crosses a wall or nothing narrower is
+//! left. [`smooth::formation_along`] and [`smooth::smooth`] without that floor are the source's
+//! form.
+//!
 //! ```
 //! use shoal::formation::{Formation, PlanRequest, Planner, Shape, TaskClass};
 //! use shoal::terrain::CostGrid;
@@ -87,6 +96,11 @@ pub struct Plan {
     pub transitions: Vec<Transition>,
     /// Every member's path, indexed by member (the leader's follows the key points).
     pub member_paths: Vec<MemberPath>,
+    /// Per key point, the formation the members' slots take there (index into the list): the
+    /// key point's own, or the one before a widening transition held over the leg after it
+    /// ([`follow::held_formations`]).
+    #[serde(default)]
+    pub held: Vec<usize>,
     /// The `(K1, K2)` of each search, in order; the last one found the path.
     pub tried: Vec<(f32, f32)>,
     /// Terrain cost of the leader's path (step lengths in cells × cell costs).
@@ -199,23 +213,94 @@ impl Planner {
                 None => return Err(PlanError::NoPath { tried }),
             }
         };
+        let laid = lay_out(grid, &found.cells, &team, w.may_change);
 
-        let along = smooth::formation_along(grid, &found.cells, &team, w.may_change);
-        let (key_points, transitions) =
-            smooth::smooth(grid, &found.cells, &along, &team, w.may_change);
-        let member_paths = follow::member_paths_on(grid, &key_points, req.formations, req.leader);
         Ok(Plan {
             leader: req.leader,
             leader_path: found.cells.iter().map(|&c| grid.center_of(c)).collect(),
             leader_cells: found.cells,
-            formation_along: along.iter().map(|&(f, _)| f).collect(),
-            key_points,
-            transitions,
-            member_paths,
+            formation_along: laid.along.iter().map(|&(f, _)| f).collect(),
+            key_points: laid.key_points,
+            transitions: laid.transitions,
+            member_paths: laid.member_paths,
+            held: laid.held,
             tried,
             cost: found.cost,
             expanded: found.expanded,
         })
+    }
+}
+
+/// Side-to-side extent of a formation: its largest `right` offset minus its smallest.
+fn width(f: &Formation) -> f32 {
+    let (lo, hi) = f
+        .slots()
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), s| {
+            (lo.min(s.y), hi.max(s.y))
+        });
+    hi - lo
+}
+
+/// The first formation after `j` in the list that is narrower than formation `j` (a script may
+/// list a narrow formation first: nothing after it is narrower).
+fn narrower(formations: &[Formation], j: usize) -> Option<usize> {
+    let w = width(&formations[j]);
+    (j + 1..formations.len()).find(|&n| width(&formations[n]) < w)
+}
+
+/// A leader path laid out into the tables and the members' paths.
+struct Laid {
+    along: Vec<(usize, bool)>,
+    key_points: Vec<KeyPoint>,
+    transitions: Vec<Transition>,
+    member_paths: Vec<MemberPath>,
+    held: Vec<usize>,
+}
+
+/// Smooths `cells` and derives the members' paths; where a follower's leg crosses a blocked
+/// cell and the formation may change, every node of that leg (the start node too on the first
+/// leg) may only take formations from the next narrower one of the list on ([`narrower`]), and
+/// the layout is done again, until no leg crosses a wall or no node of such a leg can narrow.
+fn lay_out(grid: &CostGrid, cells: &[Cell], team: &GridFormations<'_>, may_change: bool) -> Laid {
+    let mut floor = vec![0usize; cells.len()];
+    loop {
+        let along = smooth::formation_along_from(grid, cells, team, may_change, &floor);
+        let (key_points, transitions) =
+            smooth::smooth_from(grid, cells, &along, team, may_change, &floor);
+        let headings = follow::key_headings(&key_points);
+        let held =
+            follow::held_formations(grid, &key_points, team.formations, team.leader, &headings);
+        let member_paths =
+            follow::member_paths_held(&key_points, team.formations, team.leader, &headings, &held);
+        let blocked = follow::blocked_per_leg(grid, &member_paths, team.leader);
+        let mut narrowed = false;
+        if may_change {
+            for (j, _) in blocked.iter().enumerate().filter(|&(_, &b)| b > 0) {
+                let from = if j == 0 {
+                    0
+                } else {
+                    key_points[j].path_index + 1
+                };
+                for n in from..=key_points[j + 1].path_index {
+                    if let Some(next) = narrower(team.formations, along[n].0) {
+                        if floor[n] < next {
+                            floor[n] = next;
+                            narrowed = true;
+                        }
+                    }
+                }
+            }
+        }
+        if !narrowed {
+            return Laid {
+                along,
+                key_points,
+                transitions,
+                member_paths,
+                held,
+            };
+        }
     }
 }
 
@@ -535,11 +620,13 @@ mod tests {
         for w in p.key_points.windows(2) {
             assert!(grid.clear_line(w[0].cell, w[1].cell));
         }
-        // The column is held up to the exit and the line taken on the leg after it.
+        // The column is held from the entrance up to the exit and the line taken after it.
         let headings = follow::key_headings(&p.key_points);
         let held = follow::held_formations(&grid, &p.key_points, &f, 0, &headings);
-        let exit = p.transitions[1].key_index;
-        assert_eq!(held[exit], 1);
+        assert_eq!(p.held, held);
+        let (entrance, exit) = (p.transitions[0].key_index, p.transitions[1].key_index);
+        assert!(held[entrance..exit].iter().all(|&h| h == 1), "{held:?}");
+        assert_eq!(*held.last().unwrap(), 0);
         for m in &p.member_paths {
             for (j, k) in p.key_points.iter().enumerate() {
                 let slot = f[held[j]].world_slot(m.member, 0, k.pos, headings[j]);
@@ -553,6 +640,61 @@ mod tests {
             let c = grid.cell_of(m.waypoints[t.key_index]).unwrap();
             assert!(!grid.blocked[grid.index(c)], "member {} at {c:?}", m.member);
         }
+    }
+
+    #[test]
+    fn a_member_whose_way_crosses_a_wall_narrows_the_formation_there() {
+        // Only the band around the north is open (5 rows; the connectors 5 columns). A line of 3
+        // fits on every cell of the leader's path, facing along the step into it, but at the
+        // band's corners the waypoints face the next leg: a side member's slot at (5, 6) → (6.5,
+        // 6.5) lies in the wall east of the connector, and its way there crosses it.
+        let grid = corridor_map(0, true);
+        let line = line3();
+        let p = plan(&request(&grid, &line, TaskClass::MayChangeRarely.weights())).unwrap();
+        let blocked = follow::blocked_per_leg(&grid, &p.member_paths, 0);
+        assert!(blocked.iter().any(|&b| b > 0), "{blocked:?}");
+        // With a column to narrow to, the team files round each corner and spreads again after
+        // it; no member's way crosses a wall, and the first search is kept.
+        let both = vec![
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let p = plan(&request(&grid, &both, TaskClass::MayChangeRarely.weights())).unwrap();
+        assert_eq!(p.tried, vec![(0.1, 0.9)]);
+        let changes: Vec<(usize, usize)> = p.transitions.iter().map(|t| (t.from, t.to)).collect();
+        assert_eq!(changes, vec![(0, 1), (1, 0), (0, 1), (1, 0)]);
+        assert!(follow::blocked_per_leg(&grid, &p.member_paths, 0)
+            .iter()
+            .all(|&b| b == 0));
+        // The column is taken at the corners only: west (columns 1–7) and east (51–58).
+        for (k, h) in p.key_points.iter().zip(&p.held) {
+            if *h == 1 {
+                assert!(k.cell.col <= 7 || k.cell.col >= 51, "{:?}", k.cell);
+            }
+        }
+        assert!(p.held.iter().filter(|&&h| h == 0).count() > 4);
+        // The formation may not change: nothing to narrow to, the plan is the line's.
+        let keep = plan(&request(&grid, &line, TaskClass::MustKeep.weights())).unwrap();
+        assert!(keep.transitions.is_empty());
+        assert!(keep.held.iter().all(|&h| h == 0));
+    }
+
+    #[test]
+    fn narrower_means_less_wide_side_to_side_and_later_in_the_list() {
+        // Widths: line of 3 at spacing 1: 1 − (−1) = 2; wedge of 3 at 2: 2 − (−2) = 4; column 0.
+        let line = Formation::new(&Shape::Line, 3, 1.0).unwrap();
+        let wedge = Formation::new(&Shape::Wedge, 3, 2.0).unwrap();
+        let column = Formation::new(&Shape::Column, 3, 1.0).unwrap();
+        assert_eq!(width(&line), 2.0);
+        assert_eq!(width(&wedge), 4.0);
+        assert_eq!(width(&column), 0.0);
+        let list = [wedge.clone(), column.clone(), line.clone()];
+        assert_eq!(narrower(&list, 0), Some(1));
+        assert_eq!(narrower(&list, 1), None);
+        assert_eq!(narrower(&list, 2), None);
+        // A wider formation after a narrow one is not a narrowing; an equal one is not either.
+        let list = [line.clone(), wedge, line, column];
+        assert_eq!(narrower(&list, 0), Some(3));
     }
 
     #[test]

@@ -53,6 +53,19 @@ pub fn formation_along(
     team: &GridFormations<'_>,
     may_change: bool,
 ) -> Vec<(usize, bool)> {
+    formation_along_from(grid, path, team, may_change, &[])
+}
+
+/// [`formation_along`] where node `k` may only take formations from index `floor[k]` on (0 for
+/// nodes past the end of `floor`): the narrowing of [`crate::formation`] where a member's way
+/// crossed a wall.
+pub fn formation_along_from(
+    grid: &CostGrid,
+    path: &[Cell],
+    team: &GridFormations<'_>,
+    may_change: bool,
+    floor: &[usize],
+) -> Vec<(usize, bool)> {
     (0..path.len())
         .map(|k| {
             let d = match k {
@@ -61,7 +74,8 @@ pub fn formation_along(
                 _ => dir_between(path[k - 1], path[k]),
             }
             .expect("a leader path moves between adjacent cells");
-            team.choose(grid, path[k], may_change, |j| {
+            let first = floor.get(k).copied().unwrap_or(0);
+            team.choose_from(grid, path[k], may_change, first, |j| {
                 Cow::Borrowed(team.tables[j].dir(d))
             })
         })
@@ -75,6 +89,19 @@ pub fn smooth(
     along: &[(usize, bool)],
     team: &GridFormations<'_>,
     may_change: bool,
+) -> (Vec<KeyPoint>, Vec<Transition>) {
+    smooth_from(grid, path, along, team, may_change, &[])
+}
+
+/// [`smooth`] with the per-node `floor` given to [`formation_along_from`]: a shortcut from node
+/// `i` takes formations from `floor[i]` on along its line.
+pub fn smooth_from(
+    grid: &CostGrid,
+    path: &[Cell],
+    along: &[(usize, bool)],
+    team: &GridFormations<'_>,
+    may_change: bool,
+    floor: &[usize],
 ) -> (Vec<KeyPoint>, Vec<Transition>) {
     assert_eq!(path.len(), along.len());
     let key = |k: usize| KeyPoint {
@@ -91,8 +118,10 @@ pub fn smooth(
         let change = (i + 1..=last)
             .find(|&k| along[k].0 != along[k - 1].0)
             .unwrap_or(last);
+        let first = floor.get(i).copied().unwrap_or(0);
         let mut k = change;
-        while k > i + 1 && !segment_holds(grid, path, along, team, may_change, i, k, change) {
+        while k > i + 1 && !segment_holds(grid, path, along, team, may_change, first, i, k, change)
+        {
             k = (i + k) / 2;
         }
         keys.push(key(k));
@@ -119,6 +148,7 @@ fn segment_holds(
     along: &[(usize, bool)],
     team: &GridFormations<'_>,
     may_change: bool,
+    first: usize,
     i: usize,
     k: usize,
     change: usize,
@@ -142,7 +172,8 @@ fn segment_holds(
         if is_transition && cell == b {
             return true;
         }
-        let (j, fits) = team.choose(grid, cell, may_change, |j| Cow::Borrowed(&tables[j]));
+        let (j, fits) =
+            team.choose_from(grid, cell, may_change, first, |j| Cow::Borrowed(&tables[j]));
         j == formation && (fits || !full)
     })
 }
@@ -202,6 +233,143 @@ mod tests {
                 prop_assert_eq!(keys[t.key_index].formation, t.to);
             }
         }
+    }
+
+    #[test]
+    fn the_first_node_faces_the_first_step_and_a_lone_node_faces_north() {
+        // A line of 3 (spacing 1) with the leader on (1, 1) and cell (0, 1) blocked: facing east
+        // its slots are (1, 2) and (1, 0), free; facing north they are (2, 1) and (0, 1).
+        let mut grid = CostGrid::open(4, 3, 1.0, Vec2::ZERO);
+        let i = grid.index(Cell::new(0, 1));
+        grid.blocked[i] = true;
+        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let east = [Cell::new(1, 1), Cell::new(2, 1)];
+        assert_eq!(
+            formation_along(&grid, &east, &team, true),
+            vec![(0, true), (0, true)]
+        );
+        assert_eq!(
+            formation_along(&grid, &east[..1], &team, true),
+            vec![(0, false)]
+        );
+    }
+
+    #[test]
+    fn a_transition_cell_is_exempt_from_the_old_formation_and_the_goal_is_not() {
+        // A line of 3 (spacing 1) and a column; rows 1–3 open up to column 4, then row 2 only.
+        // Heading east the line fits on columns 0–4 (slots on rows 1 and 3), the column from 5.
+        let mut grid = CostGrid::open(10, 5, 1.0, Vec2::ZERO);
+        for c in 0..10 {
+            for r in 0..5 {
+                let open = r == 2 || ((1..=3).contains(&r) && c <= 4);
+                let i = grid.index(Cell::new(c, r));
+                grid.blocked[i] = !open;
+            }
+        }
+        let f = [
+            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+        ];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let path: Vec<Cell> = (0..10).map(|c| Cell::new(c, 2)).collect();
+        let along = formation_along(&grid, &path, &team, true);
+        let held: Vec<usize> = along.iter().map(|a| a.0).collect();
+        assert_eq!(held, vec![0, 0, 0, 0, 0, 1, 1, 1, 1, 1]);
+        // The shortcut 0 → 5 ends on the transition, where the line does not fit: that cell is
+        // not held to the line, so it is taken at once; then 5 → 9 in the column.
+        let (keys, transitions) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 5, 9]);
+        assert_eq!(transitions.len(), 1);
+        assert_eq!((transitions[0].from, transitions[0].to), (0, 1));
+
+        // The goal is held to the formation like any cell: east along row 5, then a diagonal
+        // step to (5, 4). Facing along that step the line's slots (6, 5) and (4, 3) are free;
+        // facing along the shortcut 0 → 4 ((4, −1)) they are (5, 5) and (5, 3), and (5, 3) is
+        // blocked: refused, k = ⌊4/2⌋ = 2; then 2 → 4 ((2, −1)) is refused the same way, and
+        // 2 → 3, 3 → 4 are single steps.
+        let mut grid = CostGrid::open(8, 8, 1.0, Vec2::ZERO);
+        let i = grid.index(Cell::new(5, 3));
+        grid.blocked[i] = true;
+        let line = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let team = GridFormations::new(&line, 0, 1.0);
+        let path = [
+            Cell::new(1, 5),
+            Cell::new(2, 5),
+            Cell::new(3, 5),
+            Cell::new(4, 5),
+            Cell::new(5, 4),
+        ];
+        let along = formation_along(&grid, &path, &team, true);
+        assert!(along.iter().all(|&a| a == (0, true)));
+        let (keys, _) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 2, 3, 4]);
+    }
+
+    #[test]
+    fn a_shortcut_lays_the_formation_along_its_own_heading() {
+        // A corridor one column wide (column 5) heading north, a column of 3: facing north its
+        // followers stand south of the leader, in the corridor, on every cell of the shortcut
+        // from the first node to the last, which is taken at once. (Facing any other way they
+        // would stand in the walls.)
+        let mut grid = CostGrid::open(11, 11, 1.0, Vec2::ZERO);
+        for c in (0..11).filter(|&c| c != 5) {
+            for r in 0..11 {
+                let i = grid.index(Cell::new(c, r));
+                grid.blocked[i] = true;
+            }
+        }
+        let f = [Formation::new(&Shape::Column, 3, 1.0).unwrap()];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let path: Vec<Cell> = (1..=8).rev().map(|r| Cell::new(5, r)).collect();
+        let along = formation_along(&grid, &path, &team, true);
+        assert!(along.iter().all(|&a| a == (0, true)));
+        let (keys, transitions) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 7]);
+        assert!(transitions.is_empty());
+    }
+
+    #[test]
+    fn a_floor_narrows_the_nodes_it_covers_and_the_shortcuts_from_them() {
+        // Open ground, a wedge and a column of 5 (spacing 1), the leader 6 cells east.
+        let grid = CostGrid::open(30, 30, 1.0, Vec2::ZERO);
+        let f = [
+            Formation::new(&Shape::Wedge, 5, 1.0).unwrap(),
+            Formation::new(&Shape::Column, 5, 1.0).unwrap(),
+        ];
+        let team = GridFormations::new(&f, 0, 1.0);
+        let path: Vec<Cell> = (10..=16).map(|c| Cell::new(c, 10)).collect();
+        let plain = formation_along(&grid, &path, &team, true);
+        assert!(plain.iter().all(|&a| a == (0, true)));
+        // Nodes 2–4 may only take the column; a floor past the list is the last formation; a
+        // floor shorter than the path leaves the rest free.
+        let floor = [0, 0, 1, 1, 7];
+        let along = formation_along_from(&grid, &path, &team, true, &floor);
+        let held: Vec<usize> = along.iter().map(|a| a.0).collect();
+        assert_eq!(held, vec![0, 0, 1, 1, 1, 0, 0]);
+        assert!(along.iter().all(|a| a.1));
+        // When the formation may not change, only the primary.
+        let strict = formation_along_from(&grid, &path, &team, false, &floor);
+        assert!(strict.iter().all(|&a| a == (0, true)));
+        // Smoothing: changes at nodes 2 and 5. From node 2 the shortcut to 5 holds only when
+        // its line takes the column too (the floor of node 2); without it, the wedge fits on
+        // the line's cells and the shortcut halves: 2 → ⌊(2 + 5)/2⌋ = 3, 3 → 4, 4 → 5.
+        let (keys, transitions) = smooth_from(&grid, &path, &along, &team, true, &floor);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 2, 5, 6]);
+        assert_eq!(
+            transitions
+                .iter()
+                .map(|t| (t.from, t.to, t.key_index))
+                .collect::<Vec<_>>(),
+            vec![(0, 1, 1), (1, 0, 2)]
+        );
+        let (keys, _) = smooth(&grid, &path, &along, &team, true);
+        let at: Vec<usize> = keys.iter().map(|k| k.path_index).collect();
+        assert_eq!(at, vec![0, 2, 3, 4, 5, 6]);
     }
 
     #[test]

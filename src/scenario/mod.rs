@@ -685,6 +685,13 @@ impl Run {
         for (k, g) in groups.iter().enumerate() {
             run.spawn_group_in(g, k as u64, &layout);
         }
+        // A leader drawn at random comes from the run's seed, not only the scenario's.
+        crate::squad::setup::redraw_leaders(
+            &run.scenario.def,
+            run.scenario.ground.as_deref(),
+            &mut run.scenario.squads,
+            seed,
+        );
         let sim = &mut run.sim;
         sim.squads = crate::squad::Squads::start(
             run.scenario.ground.clone(),

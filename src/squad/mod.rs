@@ -365,7 +365,8 @@ impl Squad {
                 .plan
                 .key_points
                 .iter()
-                .map(|k| self.order[k.formation])
+                .enumerate()
+                .map(|(j, k)| self.order[self.plan.held.get(j).copied().unwrap_or(k.formation)])
                 .collect(),
             transitions: self
                 .plan
@@ -438,7 +439,10 @@ impl Squad {
                     .distance(keys[self.progress.leg + 1].pos)
     }
 
-    /// The formation held now, as an index into [`Squad::formations`].
+    /// The formation held now, as an index into [`Squad::formations`]: the one the members'
+    /// slots take at the start of the current leg ([`Plan::held`]; at the last key point once
+    /// arrived). It is the key point's own formation except where a widening transition is held
+    /// over the leg after it: there the squad still holds the narrow formation, and so does this.
     pub fn formation_now(&self) -> usize {
         let k = &self.plan.key_points;
         let i = if self.progress.finished {
@@ -446,7 +450,8 @@ impl Squad {
         } else {
             self.progress.leg
         };
-        self.order[k[i].formation]
+        let f = self.plan.held.get(i).copied().unwrap_or(k[i].formation);
+        self.order[f]
     }
 
     /// Advances the progress from the leader's position `p`: its projection on the current
@@ -842,6 +847,7 @@ mod tests {
             leader_path: Vec::new(),
             formation_along: Vec::new(),
             member_paths: crate::formation::member_paths(&key_points, &formations, 0),
+            held: vec![0; key_points.len()],
             key_points,
             transitions: Vec::new(),
             tried: vec![(0.1, 0.9)],

@@ -13,7 +13,7 @@
 //! | `slot_dist` | horizontal distance to the slot |
 //! | `leader_pos`, `squad_goal` | Vec3 |
 //! | `at_goal` | the leader has reached the end of the path |
-//! | `formation` | name of the formation held now ("" outside a squad) |
+//! | `formation` | name of the formation the members hold now, the one their slots take at the start of the current leg ("" outside a squad) |
 //! | `key_points` | array of Vec3: the key-point table, on the ground |
 //! | `transitions` | array of maps `#{at: Vec3, from: "triangle", to: "column", key: 3}` |
 //! | `plan_path(goal, formation, task)` | plans the squad from the leader's position to `goal` (a Vec3; y is ignored) preferring `formation` ("" keeps the current order) under `task` (`"MustKeep"`, `"MayChangeRarely"`, `"ShortestFirst"`, `""` keeps the current one); returns whether a plan was found; the squad follows it from the next tick |

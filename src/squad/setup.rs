@@ -9,7 +9,7 @@ use crate::formation::Plan;
 use crate::formation::{
     Formation, FormationDef, PlanError, PlanRequest, Planner, PlanningParams, Shape, TaskClass,
 };
-use crate::scenario::{normalize, ScenarioDef};
+use crate::scenario::{normalize, ScenarioDef, SquadLeader};
 use crate::species::validate::locate;
 use crate::species::SpeciesSet;
 use crate::terrain::{load_asc, load_pgm, Features};
@@ -353,5 +353,50 @@ pub fn load(
         Ok((ground, setups))
     } else {
         Err(Diagnostics(diags))
+    }
+}
+
+/// Draws again, from a run's `seed`, the leader of every squad whose scenario says
+/// `leader: Random`, and plans again a squad whose leader changes (seed 004: a leader chosen at
+/// random, then kept for the run). [`load`] plans with the scenario's own `seed`; a run given
+/// another one (`shoal run --seed N`) draws its own leader from it, from the same per-squad
+/// stream, so the same scenario and seed always give the same leader. A squad whose plan with
+/// the new leader fails keeps the leader and plan of the load. `setups` are the squads of `def`
+/// in order, as [`load`] returns them.
+pub fn redraw_leaders(
+    def: &ScenarioDef,
+    ground: Option<&Ground>,
+    setups: &mut [SquadSetup],
+    seed: u64,
+) {
+    let Some(g) = ground else {
+        return;
+    };
+    let mut planner = Planner::new();
+    for (index, (sq, setup)) in def.squads.iter().zip(setups.iter_mut()).enumerate() {
+        if sq.leader != SquadLeader::Random {
+            continue;
+        }
+        let members = setup.formations.first().map_or(0, Formation::len);
+        let Ok(leader) = sq.leader.resolve(members, &sq.roles, seed, index) else {
+            continue;
+        };
+        let Some(grid) = g.grids.get(setup.species).cloned().flatten() else {
+            continue;
+        };
+        if leader == setup.leader {
+            continue;
+        }
+        if let Ok(plan) = planner.plan(&PlanRequest {
+            grid: &grid,
+            start: setup.start,
+            goal: setup.goal,
+            formations: &setup.formations,
+            leader,
+            weights: setup.task.weights_with(&setup.planning),
+        }) {
+            setup.leader = leader;
+            setup.plan = plan;
+        }
     }
 }
