@@ -97,6 +97,9 @@ mod tests {
         }
         assert!(Category::ALL.iter().all(|&c| Focus::ALL.contains(c)));
         assert!(Category::ALL.iter().all(|&c| !Focus::of(&[]).contains(c)));
+        // A category listed twice is still in.
+        let twice = Focus::of(&[Category::Kin, Category::Kin]);
+        assert!(twice.contains(Category::Kin) && !twice.contains(Category::Food));
     }
 
     #[test]

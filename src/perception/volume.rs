@@ -193,9 +193,9 @@ fn ellipsoid_reach(dir: Vec3, offset: f32, length: f32, side: f32, up: f32) -> f
     let uu = u.length_squared();
     let uw = u.z * w;
     let disc = uw * uw - uu * (w * w - 1.0);
-    if uu <= 0.0 || disc < 0.0 {
-        return 0.0;
-    }
+    // With the body inside (`|w| < 1`, checked at load) the discriminant is positive for every
+    // ray. A zero direction (0/0) or a body outside (a ray that misses: √ of a negative) gives
+    // NaN, which `max` turns into 0: it reaches nowhere.
     ((uw + disc.sqrt()) / uu).max(0.0)
 }
 
@@ -326,6 +326,47 @@ mod tests {
     }
 
     #[test]
+    fn the_superquadric_exponent_defaults_to_the_egg_and_no_ray_reaches_nowhere() {
+        let v: Volume =
+            ron::from_str("Superquadric(ahead: 10.0, behind: 3.0, side: 5.0, up: 4.0)").unwrap();
+        assert_eq!(
+            v,
+            Volume::Superquadric {
+                ahead: 10.0,
+                behind: 3.0,
+                side: 5.0,
+                up: 4.0,
+                exponent: 2.0,
+            }
+        );
+        // A zero direction reaches nowhere (not infinitely far).
+        let ell = Volume::Ellipsoid {
+            offset: 2.0,
+            length: 6.0,
+            side: 3.0,
+            up: 2.0,
+        };
+        let egg = Volume::Egg {
+            ahead: 10.0,
+            behind: 3.0,
+            side: 5.0,
+            up: 4.0,
+        };
+        for v in [v, ell, egg] {
+            assert_eq!(v.reach(Vec3::ZERO), 0.0, "{v:?}");
+        }
+        // A body outside its ellipsoid (refused at load): rays that miss reach nowhere.
+        let outside = Volume::Ellipsoid {
+            offset: 10.0,
+            length: 4.0,
+            side: 3.0,
+            up: 2.0,
+        };
+        assert_eq!(outside.reach(Vec3::X), 0.0);
+        assert_eq!(outside.reach(-Vec3::Z), 0.0);
+    }
+
+    #[test]
     fn a_sphere_counts_when_any_part_of_it_is_inside() {
         let egg = Volume::Egg {
             ahead: 10.0,
@@ -373,5 +414,10 @@ mod tests {
         let h = 150f32.to_radians();
         assert!(in_cone(Vec3::Z, Vec3::new(1.0, 0.0, -1.0), h)); // 135°
         assert!(!in_cone(Vec3::Z, Vec3::new(0.1, 0.0, -1.0), h)); // ~174°
+                                                                  // Exactly on the edge (90° off a ±90° cone) is inside, for both tests: the rounding
+                                                                  // tolerance leans towards seeing.
+        let edge = std::f32::consts::FRAC_PI_2;
+        assert!(in_cone(Vec3::Z, Vec3::X, edge));
+        assert!(sphere_in_cone(Vec3::Z, Vec3::X, 0.0, edge));
     }
 }
