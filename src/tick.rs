@@ -6,7 +6,7 @@
 //! and outcome slot; stage 7 applies what reaches beyond the agent (events, messages, contacts)
 //! in agent order. Results are therefore bit-identical whatever the thread count.
 
-use crate::decision::{self, scripts, Ctx, Transitions};
+use crate::decision::{self, focus, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
 use crate::events::{Cause, Event, MessageKind};
@@ -1050,7 +1050,28 @@ fn agent_pass(
 
     // 5. Steering.
     let b = &sp.behaviors[mind.current as usize];
-    let mut steer = recipe::evaluate(&b.steer, &ctx, mind, rng, scratch, 0);
+    let mut steer = match b.focus {
+        None => recipe::evaluate(&b.steer, &ctx, mind, rng, scratch, 0),
+        // Seed 000 §1's focuser: the steering of the current intention sees only what it
+        // cares about (the group sums are kin's).
+        Some(f) => {
+            let mut kept = std::mem::take(&mut scratch.focused);
+            let summaries = focus::narrow(f, percepts, summaries, &mut kept);
+            let focused = Ctx {
+                percepts: &kept,
+                summaries: &summaries,
+                group_sums: if f.contains(Category::Kin) {
+                    group_sums
+                } else {
+                    &[]
+                },
+                ..ctx
+            };
+            let s = recipe::evaluate(&b.steer, &focused, mind, rng, scratch, 0);
+            scratch.focused = kept;
+            s
+        }
+    };
     if error.is_some() || !steer.is_finite() {
         steer = mind.last_steer;
     }

@@ -583,3 +583,110 @@ fn senses_out_of_their_seed_ranges_are_located() {
         load(&dir.path().join("minnow.ron"), dir.path());
     }
 }
+
+/// The minnow with `senses` written on a line of their own (line 5).
+fn with_senses(senses: &str) -> String {
+    MINNOW.replace(
+        "    initial: \"idle\",\n",
+        &format!("    initial: \"idle\",\n    senses: {senses},\n"),
+    )
+}
+
+#[test]
+fn perception_volumes_need_positive_axes_and_the_body_inside() {
+    // Column of the value after `key` on line 5.
+    let col = |text: &str, key: &str| {
+        let line = text.lines().nth(4).unwrap();
+        line.find(&format!("{key}: ")).unwrap() + key.len() + 3
+    };
+    let bad = with_senses(
+        "(smell_radius: 0.0, volume: Some(Ellipsoid(offset: 5.0, length: 4.0, side: 1.0, up: 1.0)))",
+    );
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            5,
+            col(&bad, "offset"),
+            "`offset` (5) must lie within ±`length` (4): the body must be inside its perception volume"
+        )
+    );
+    let bad = with_senses(
+        "(smell_radius: 0.0, volume: Some(Ellipsoid(offset: 1.0, length: 4.0, side: 0.0, up: 1.0)))",
+    );
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            5,
+            col(&bad, "side"),
+            "`side` must be a finite number > 0, not 0"
+        )
+    );
+    let bad = with_senses(
+        "(smell_radius: 0.0, volume: Some(Superquadric(ahead: 8.0, behind: 2.0, side: 3.0, up: -1.0, exponent: 40.0)))",
+    );
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        vec![
+            (
+                "minnow.ron".to_string(),
+                5,
+                col(&bad, "up"),
+                "`up` must be a finite number > 0, not -1".to_string()
+            ),
+            (
+                "minnow.ron".to_string(),
+                5,
+                col(&bad, "exponent"),
+                "`exponent` must be a number from 0.5 to 16, not 40".to_string()
+            ),
+        ]
+    );
+    // Good ones load.
+    for senses in [
+        "(smell_radius: 0.0, volume: Some(Ellipsoid(offset: 3.0, length: 4.0, side: 1.0, up: 1.0)))",
+        "(smell_radius: 0.0, volume: Some(Superquadric(ahead: 8.0, behind: 2.0, side: 3.0, up: 1.0)), extent: AnyPart)",
+    ] {
+        let dir = folder(&[("minnow.ron", &with_senses(senses)), ("minnow.rhai", MINNOW_RHAI)]);
+        load(&dir.path().join("minnow.ron"), dir.path());
+    }
+}
+
+#[test]
+fn a_focus_must_keep_what_its_own_steering_targets() {
+    // `idle` seeks the nearest kin but is focused on obstacles only (line 10).
+    let bad = MINNOW.replace(
+        "            steer: Wander(),\n",
+        "            steer: Priority([AvoidStatic(), Seek(target: Nearest(Kin))]),\n            focus: Some([Obstacle]),\n",
+    );
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            10,
+            13,
+            "behavior \"idle\": `focus` leaves out `Kin`, which its `Seek` steers by: add `Kin` to the list"
+        )
+    );
+    let bad = MINNOW.replace(
+        "            steer: Wander(),\n",
+        "            steer: Wander(),\n            focus: Some([]),\n",
+    );
+    assert_eq!(
+        diagnostics(&bad, MINNOW_RHAI, &[]),
+        one(
+            "minnow.ron",
+            10,
+            13,
+            "behavior \"idle\": `focus` lists no category, so its steering would see nothing: list what it steers by, or leave `focus` out to see everything"
+        )
+    );
+    let good = MINNOW.replace(
+        "            steer: Wander(),\n",
+        "            steer: Priority([AvoidStatic(), Seek(target: Nearest(Kin))]),\n            focus: Some([Kin, Obstacle]),\n",
+    );
+    let dir = folder(&[("minnow.ron", &good), ("minnow.rhai", MINNOW_RHAI)]);
+    let sp = load(&dir.path().join("minnow.ron"), dir.path());
+    assert!(sp.behaviors[0].focus.is_some() && sp.behaviors[1].focus.is_none());
+}

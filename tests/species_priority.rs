@@ -458,3 +458,68 @@ Species(
     let next: Vec<f32> = (0..4).map(|_| rng.next_f32()).collect();
     assert!(!next.contains(&x) && !next.contains(&y), "{x} {y} {next:?}");
 }
+
+/// A cruiser that avoids moving obstacles, with `FOCUS` in place of its `focus`, and an alarm
+/// (level 1) that fires when another fish comes within 3.
+const CRUISER: &str = r#"
+Species(
+    name: "cruiser",
+    drives: (native: false, hunger: Fixed(0.0)),
+    relations: (see_others: true),
+    initial: "cruise",
+    behaviors: [
+        Behavior(name: "alarm", priority: 1, when: Within(Other, 3.0), steer: Stop, min_time: 0.0),
+        Behavior(name: "cruise", priority: 2, steer: Priority([AvoidDynamic(), Cruise(speed: 0.5)])FOCUS),
+    ],
+)
+"#;
+
+const INTRUDER: &str = r#"
+Species(
+    name: "intruder",
+    drives: (native: false, hunger: Fixed(0.0)),
+    initial: "go",
+    behaviors: [Behavior(name: "go", priority: 1, steer: Cruise(speed: 1.0))],
+)
+"#;
+
+/// A cruiser heading +z and an intruder coming head-on, a little to its left; runs until the
+/// cruiser's alarm fires (or 200 ticks). Returns the cruiser's largest |yaw| while it cruised
+/// and whether the alarm fired.
+fn head_on(focus: &str) -> (f32, bool) {
+    let cruiser = CRUISER.replace("FOCUS", focus);
+    let dir = folder(&[("cruiser.ron", &cruiser), ("intruder.ron", INTRUDER)]);
+    let species = vec![
+        load(&dir.path().join("cruiser.ron"), dir.path()),
+        load(&dir.path().join("intruder.ron"), dir.path()),
+    ];
+    let mut sim = Sim::new(species, Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let me = sim.spawn("cruiser", Vec3::ZERO, 0.0);
+    sim.spawn("intruder", Vec3::new(0.4, 0.0, 9.0), std::f32::consts::PI);
+    let mut turned = 0.0f32;
+    let alarm = sim
+        .run_until(200, |s| {
+            s.behavior(me) == "alarm" || {
+                turned = turned.max(s.agent(me).yaw.abs());
+                false
+            }
+        })
+        .is_some();
+    (turned, alarm)
+}
+
+/// Seed 000 §1's focuser: a behavior focused on obstacles steers as if the fish coming at it
+/// were not there (its heading stays exactly +z), while the same behavior unfocused turns away;
+/// the alarm, a condition, still sees the intruder in both.
+#[test]
+fn a_focused_behavior_ignores_a_moving_obstacle_but_conditions_still_see_it() {
+    let (unfocused, alarm) = head_on("");
+    assert!(unfocused > 0.1, "unfocused, it turns away: {unfocused}");
+    assert!(alarm);
+    let (focused, alarm) = head_on(", focus: Some([Obstacle])");
+    assert_eq!(focused, 0.0, "focused on obstacles, it keeps its heading");
+    assert!(alarm, "the alarm's `when` reads everything");
+    // Listing the intruder's category brings the avoidance back.
+    let (with_other, _) = head_on(", focus: Some([Other, Obstacle])");
+    assert_eq!(with_other, unfocused);
+}

@@ -8,6 +8,7 @@
 //! conditions read values cached at the species' decision rate ([`scripts`]). Every transition
 //! records its cause and the text of the condition that fired.
 
+pub mod focus;
 pub mod scripts;
 
 use crate::events::{Cause, MessageKind};

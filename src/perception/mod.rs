@@ -21,7 +21,7 @@ pub mod volume;
 pub use group::{GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
 pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
-pub use volume::Volume;
+pub use volume::{Extent, Volume};
 
 use crate::frame;
 use crate::index::{Grid, ObstacleGrid};
@@ -57,6 +57,9 @@ pub struct SenseParams {
     /// What obstacles occlude with: their own shape (default) or their bounding sphere
     /// (seed 001's form).
     pub occluders: Occluders,
+    /// What must lie in the vision field for a thing to be seen: its centre (default) or any
+    /// part of its bounding sphere (seed 001's form, [`Extent::AnyPart`]).
+    pub extent: Extent,
     /// Percepts kept per agent (the nearest ones, and always the nearest of each category), at
     /// least one per [`Category`] and at most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
     pub max_percepts: usize,
@@ -71,6 +74,7 @@ impl Default for SenseParams {
             volume: None,
             occlusion: true,
             occluders: Occluders::Shape,
+            extent: Extent::Centre,
             max_percepts: DEFAULT_PERCEPTS,
         }
     }
@@ -652,6 +656,9 @@ impl Perception {
         let near = &self.near[..];
         let tags = &self.tags[..];
         let diagonals = &self.diagonals[..];
+        // How far beyond its range a perceiver must look for a body whose edge may be in range
+        // (seed 001's "any part", `Extent::AnyPart`).
+        let body_reach = diagonals.iter().fold(0.0f32, |m, &d| m.max(d)) * 0.5;
         let slot_of = &self.slot_of[..];
         let angles = &self.angles[..];
         let positions = agents.positions();
@@ -706,6 +713,7 @@ impl Perception {
                 near,
                 tags,
                 diagonals,
+                body_reach,
                 lanes,
                 kernel: kernel_ok,
                 slot_of,
@@ -1135,6 +1143,18 @@ struct Eye {
     full_circle: bool,
 }
 
+impl Eye {
+    /// `offset` in the body frame (x left, y up, z forward).
+    #[inline(always)]
+    fn local(&self, offset: Vec3) -> Vec3 {
+        Vec3::new(
+            offset.dot(self.left),
+            offset.dot(self.up),
+            offset.dot(self.fwd),
+        )
+    }
+}
+
 /// What every perceiver reads: the world at the start of the tick and this tick's indexes.
 struct View<'a> {
     world: &'a World,
@@ -1144,6 +1164,8 @@ struct View<'a> {
     tags: &'a [Tag],
     /// Their bounding-box diagonals, in the same order.
     diagonals: &'a [f32],
+    /// Half the largest of them: the largest bounding radius.
+    body_reach: f32,
     /// The same for the kin kernel, when a species may perceive by it.
     lanes: Option<&'a kin::KinLanes>,
     /// Which species may perceive by the kin kernel.
@@ -1200,6 +1222,7 @@ fn kernel_species(s: usize, sense: &SenseParams, reads: &Reads, relations: &Rela
     let keeps_agents = reads.percepts && reads.agent_percepts && sense.slots() > 0;
     !keeps_agents
         && sense.volume.is_none()
+        && sense.extent == Extent::Centre
         && !relations.mates.get(s).copied().unwrap_or(false)
         && relations.row(s).iter().all(|c| *c == Some(Category::Kin))
         && kin::supports(&reads.groups)
@@ -1305,7 +1328,28 @@ fn perceive_one<const KEEP: bool>(
         }
         let to_center = o.shape.center() - me.pos;
         let dir = if dist > 1e-6 { offset } else { to_center };
-        if let Some(seen) = sense_of(me.pos, dir, dir.length(), dist, &eye, sense) {
+        let mut seen = sense_of(me.pos, dir, dir.length(), dist, &eye, sense);
+        if sense.extent == Extent::AnyPart && seen != Some(Sense::Vision) {
+            // Seed 001: its bounding sphere partly in the field is enough.
+            let r = o.shape.bounding_radius();
+            let any = match &sense.volume {
+                Some(v) => v.contains_sphere(eye.local(to_center), r),
+                None => {
+                    dist <= sense.vision_radius
+                        && (eye.full_circle
+                            || volume::sphere_in_cone(
+                                eye.fwd,
+                                to_center,
+                                r,
+                                sense.vision_half_angle,
+                            ))
+                }
+            };
+            if any {
+                seen = Some(Sense::Vision);
+            }
+        }
+        if let Some(seen) = seen {
             let cat = Category::Obstacle;
             fold.take(
                 cat,
@@ -1338,6 +1382,11 @@ fn perceive_one<const KEEP: bool>(
     let entries = view.agents.entries();
     // Own slot in the grid's order: a candidate there is oneself.
     let me_slot = view.slot_of.get(i).map_or(usize::MAX, |&k| k as usize);
+    // With `AnyPart`, a body whose centre lies beyond the ranges may reach into them.
+    let agent_radius = match sense.extent {
+        Extent::Centre => radius,
+        Extent::AnyPart => radius + view.body_reach,
+    };
     // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
     // volume, no mates): the neighbors go straight into the kin sums, held in registers.
     // Agents and food are kept as percepts only where the species reads them.
@@ -1358,7 +1407,7 @@ fn perceive_one<const KEEP: bool>(
     } else if plain {
         let mut kin = ACC;
         view.agents
-            .for_each_slot_within(here, radius, |k, pos, d2| {
+            .for_each_slot_within(here, agent_radius, |k, pos, d2| {
                 if k == me_slot
                     || row.get(view.tags[k].species as usize) != Some(&Some(Category::Kin))
                 {
@@ -1378,7 +1427,7 @@ fn perceive_one<const KEEP: bool>(
         fold.acc[Category::Kin as usize] = kin;
     } else {
         view.agents
-            .for_each_slot_within(here, radius, |k, pos, d2| {
+            .for_each_slot_within(here, agent_radius, |k, pos, d2| {
                 if k == me_slot {
                     return;
                 }
@@ -1500,8 +1549,11 @@ fn sense_point(
     occluders: &[Shape],
     radius: impl FnOnce() -> f32,
 ) -> Option<Sense> {
-    let vision = d2 <= sense.vision_radius * sense.vision_radius;
     let smell = d2 <= sense.smell_radius * sense.smell_radius;
+    if sense.extent == Extent::AnyPart {
+        return sense_any_part(from, offset, d2, radius(), smell, eye, sense, occluders);
+    }
+    let vision = d2 <= sense.vision_radius * sense.vision_radius;
     sense_with(
         from,
         offset,
@@ -1512,6 +1564,38 @@ fn sense_point(
         sense,
         (occluders, radius),
     )
+}
+
+/// [`sense_point`] for [`Extent::AnyPart`] (seed 001): a body of bounding radius `r` is seen
+/// when any part of its bounding sphere is in the field: `d − r ≤ v_r` and
+/// [`volume::sphere_in_cone`], or within the volume along the ray to its centre. Smell still
+/// goes by the centre.
+#[allow(clippy::too_many_arguments)]
+fn sense_any_part(
+    from: Vec3,
+    offset: Vec3,
+    d2: f32,
+    r: f32,
+    within_smell: bool,
+    eye: &Eye,
+    sense: &SenseParams,
+    occluders: &[Shape],
+) -> Option<Sense> {
+    let in_vision = match &sense.volume {
+        Some(v) => v.contains_sphere(eye.local(offset), r),
+        None => {
+            d2.sqrt() - r <= sense.vision_radius
+                && (eye.full_circle
+                    || volume::sphere_in_cone(eye.fwd, offset, r, sense.vision_half_angle))
+        }
+    };
+    if in_vision && (occluders.is_empty() || !occlusion::hidden(from, offset, || r, occluders)) {
+        Some(Sense::Vision)
+    } else if within_smell {
+        Some(Sense::Smell)
+    } else {
+        None
+    }
 }
 
 /// Decides whether an obstacle at `offset` (of length `offset_len`; `dist` is the distance the
@@ -1554,11 +1638,7 @@ fn sense_with(
     (occluders, radius): (&[Shape], impl FnOnce() -> f32),
 ) -> Option<Sense> {
     let in_vision = match &sense.volume {
-        Some(v) => v.contains(Vec3::new(
-            offset.dot(eye.left),
-            offset.dot(eye.up),
-            offset.dot(eye.fwd),
-        )),
+        Some(v) => v.contains(eye.local(offset)),
         // `volume::in_cone` with the cosine computed once per perceiver; a full circle (±180°,
         // bound below −1 by more than any rounding of a unit vector's dot product) needs no test.
         None => {
@@ -1678,6 +1758,69 @@ mod tests {
             2,
             "both fish"
         );
+    }
+
+    /// Seed 001's "visible if any part is in the field" (`Extent::AnyPart`) against the centre
+    /// test: a cone of ±60°, vision 10, no smell.
+    #[test]
+    fn any_part_in_the_field_is_enough_with_any_part() {
+        let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
+        w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
+        // A predator 6 away, 70° to the right of the heading (right is −X), of size 4 × 4 × 4:
+        // r = 2√3 = 3.464, asin(3.464/6) = 35.3°, 70 − 35.3 = 34.7 ≤ 60.
+        let a = 70f32.to_radians();
+        let mut big = agent(1, 1, Vec3::new(-a.sin(), 0.0, a.cos()) * 6.0, 0.0);
+        big.size = Vec3::splat(4.0);
+        w.agents.push(big);
+        // A second one 13 straight ahead: 13 − 3.464 = 9.54 ≤ 10.
+        let mut far = agent(2, 1, Vec3::new(0.0, 0.0, 13.0), 0.0);
+        far.size = Vec3::splat(4.0);
+        w.agents.push(far);
+        // A rock of radius 3 centred 7 away, 80° to the left: its nearest point is 80° off too,
+        // but asin(3/7) = 25.4°, 80 − 25.4 = 54.6 ≤ 60.
+        let b = 80f32.to_radians();
+        w.add_obstacle(Shape::Sphere {
+            center: Vec3::new(b.sin(), 0.0, b.cos()) * 7.0,
+            radius: 3.0,
+        });
+        // Food (no body) 11 ahead: out of range either way.
+        w.add_food(Vec3::new(0.0, 0.0, 11.0));
+        let sense = SenseParams {
+            vision_radius: 10.0,
+            vision_half_angle: 60f32.to_radians(),
+            smell_radius: 0.0,
+            occlusion: false,
+            ..SenseParams::default()
+        };
+        let centre = run(&w, &rel(), sense);
+        let sm = centre.summaries(0);
+        assert_eq!(sm[Category::Predator as usize].count, 0);
+        assert_eq!(sm[Category::Obstacle as usize].count, 0);
+        let any = run(
+            &w,
+            &rel(),
+            SenseParams {
+                extent: Extent::AnyPart,
+                ..sense
+            },
+        );
+        let sm = any.summaries(0);
+        assert_eq!(sm[Category::Predator as usize].count, 2);
+        assert_eq!(sm[Category::Predator as usize].seen, 2);
+        assert_eq!(sm[Category::Obstacle as usize].seen, 1);
+        assert_eq!(sm[Category::Food as usize].count, 0);
+        // Smaller bodies (size 1 × 1 × 1, r = 0.866) stay unseen: 70 − 8.3 > 60, 13 − 0.87 > 10.
+        w.agents[1].size = Vec3::ONE;
+        w.agents[2].size = Vec3::ONE;
+        let any = run(
+            &w,
+            &rel(),
+            SenseParams {
+                extent: Extent::AnyPart,
+                ..sense
+            },
+        );
+        assert_eq!(any.summaries(0)[Category::Predator as usize].count, 0);
     }
 
     #[test]

@@ -261,6 +261,10 @@ pub struct BehaviorDef {
     /// snaps away from a predator.
     #[serde(default)]
     pub response: Option<f32>,
+    /// The focuser of seed 000 §1: the categories this behavior's steering reads while it is
+    /// current (`None`: everything). Conditions still read everything.
+    #[serde(default)]
+    pub focus: Option<Vec<Category>>,
 }
 
 fn never() -> Cond {

@@ -147,6 +147,8 @@ pub struct Behavior {
     pub on_enter: Vec<ActionNode>,
     /// Turn response while it runs (`None`: the body's).
     pub response: Option<f32>,
+    /// What its steering reads (`None`: everything; [`crate::decision::focus`]).
+    pub focus: Option<crate::decision::focus::Focus>,
 }
 
 /// What a script slot returns.

@@ -54,6 +54,14 @@ pub fn seed_constants() -> Vec<SeedConstant> {
         "000 §1",
     )]);
 
+    // Perception volume and focus (002; the focuser of 000 §1 has no number).
+    out.extend([c(
+        "Superquadric(exponent)",
+        crate::perception::volume::DEFAULT_EXPONENT,
+        None,
+        "002",
+    )]);
+
     // Drives (000 §2, 003).
     out.extend([
         c("drives.params.p0", drives.p0, Some(0.00067), "000 §2"),

@@ -2,6 +2,7 @@
 //! Every problem is a [`Diagnostic`] naming the file, line and column and what was expected.
 
 use super::*;
+use crate::decision::focus::Focus;
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::numbers::NumberCheck;
 use crate::perception::Relations;
@@ -205,6 +206,42 @@ pub fn load_species_str(
     .build(&def, script.clone())
 }
 
+/// The categories a recipe's primitives steer by, with the primitive's name: what a `focus`
+/// must keep for the behavior to steer at all.
+fn steered_by(r: &Recipe, out: &mut Vec<(Category, &'static str)>) {
+    let target = |t: &Target| match *t {
+        Target::Nearest(c) | Target::Centroid(c) => Some(c),
+        Target::Point(_) | Target::Home => None,
+    };
+    let need = match r {
+        Recipe::Priority(v) => {
+            v.iter().for_each(|r| steered_by(r, out));
+            None
+        }
+        Recipe::Blend(v) => {
+            v.iter().for_each(|w| steered_by(&w.steer, out));
+            None
+        }
+        Recipe::Chase(c) => Some((c.target, "Chase")),
+        Recipe::Escape(e) => Some((e.from, "Escape")),
+        Recipe::EscapeMirror(e) => Some((e.from, "EscapeMirror")),
+        Recipe::Pursue(p) => Some((p.target, "Pursue")),
+        Recipe::Seek(s) => target(&s.target).map(|c| (c, "Seek")),
+        Recipe::Flee(s) => target(&s.target).map(|c| (c, "Flee")),
+        Recipe::Arrive(s) => target(&s.target).map(|c| (c, "Arrive")),
+        Recipe::AvoidStatic(_) => Some((Category::Obstacle, "AvoidStatic")),
+        Recipe::PredictCollision(_) => Some((Category::Obstacle, "PredictCollision")),
+        Recipe::Separation(_) => Some((Category::Kin, "Separation")),
+        Recipe::Alignment(_) => Some((Category::Kin, "Alignment")),
+        Recipe::Cohesion(_) => Some((Category::Kin, "Cohesion")),
+        Recipe::Zones(_) => Some((Category::Kin, "Zones")),
+        Recipe::Vicsek(_) => Some((Category::Kin, "Vicsek")),
+        // Moving obstacles are any agent; the rest read no percept.
+        _ => None,
+    };
+    out.extend(need);
+}
+
 struct Builder<'a> {
     file: &'a Path,
     text: &'a str,
@@ -306,6 +343,39 @@ impl Builder<'_> {
                 ),
             );
         }
+    }
+
+    /// A behavior's `focus` (seed 000 §1): not empty, and holding every category its own
+    /// steering targets (a `Chase(target: Food)` focused away from food would never move).
+    fn focus(&mut self, b: &BehaviorDef, list: &[Category]) -> Focus {
+        if list.is_empty() {
+            self.error_at(
+                "focus",
+                format!(
+                    "behavior \"{}\": `focus` lists no category, so its steering would see \
+                     nothing: list what it steers by, or leave `focus` out to see everything",
+                    b.name
+                ),
+            );
+        }
+        let focus = Focus::of(list);
+        let mut needs = Vec::new();
+        steered_by(&b.steer, &mut needs);
+        let mut reported = Vec::new();
+        for (c, what) in needs {
+            if !focus.contains(c) && !reported.contains(&c) {
+                reported.push(c);
+                self.error_at(
+                    "focus",
+                    format!(
+                        "behavior \"{}\": `focus` leaves out `{c:?}`, which its `{what}` \
+                         steers by: add `{c:?}` to the list",
+                        b.name
+                    ),
+                );
+            }
+        }
+        focus
     }
 
     fn value(&mut self, v: &Value) -> ValueNode {
@@ -751,18 +821,57 @@ impl Builder<'_> {
                 ),
             );
         }
-        if let Some(crate::perception::Volume::Egg {
-            ahead,
-            behind,
-            side,
-            up,
-        }) = s.volume
-        {
-            n.enter("Egg");
-            n.non_negative("ahead", ahead);
-            n.non_negative("behind", behind);
-            n.non_negative("side", side);
-            n.non_negative("up", up);
+        use crate::perception::Volume;
+        match s.volume {
+            Some(Volume::Egg {
+                ahead,
+                behind,
+                side,
+                up,
+            }) => {
+                n.enter("Egg");
+                n.non_negative("ahead", ahead);
+                n.non_negative("behind", behind);
+                n.non_negative("side", side);
+                n.non_negative("up", up);
+            }
+            // Seed 002's volume is a closed surface around the body: every axis > 0.
+            Some(Volume::Ellipsoid {
+                offset,
+                length,
+                side,
+                up,
+            }) => {
+                n.enter("Ellipsoid");
+                let axes = n.positive("length", length);
+                n.positive("side", side);
+                n.positive("up", up);
+                if n.finite("offset", offset) && axes && offset.abs() >= length {
+                    n.error(
+                        "offset",
+                        format!(
+                            "`offset` ({offset}) must lie within ±`length` ({length}): the \
+                             body must be inside its perception volume"
+                        ),
+                    );
+                }
+            }
+            Some(Volume::Superquadric {
+                ahead,
+                behind,
+                side,
+                up,
+                exponent,
+            }) => {
+                n.enter("Superquadric");
+                n.positive("ahead", ahead);
+                n.positive("behind", behind);
+                n.positive("side", side);
+                n.positive("up", up);
+                // Below 0.5 the shape thins to spikes along the axes; above 16 it is a box.
+                n.range("exponent", exponent, 0.5, 16.0);
+            }
+            None => {}
         }
         // Avoidance constants.
         n.from = 0;
@@ -900,6 +1009,7 @@ impl Builder<'_> {
             self.nums.from = self.cursor;
             self.nums.enter("steer");
             let steer = self.recipe(&b.steer);
+            let focus = b.focus.as_deref().map(|f| self.focus(b, f));
             let on_enter = b
                 .on_enter
                 .iter()
@@ -931,6 +1041,7 @@ impl Builder<'_> {
                 contact: b.contact,
                 on_enter,
                 response: b.response,
+                focus,
             });
         }
         // Two behaviors of one level with the same trigger can never be told apart.

@@ -6,7 +6,7 @@ use super::avoid::{self, MovingObstacle};
 use super::group::{self, Neighbor};
 use super::{blend_from, escape, goal, wander, Blend, Kin, Steer, Term};
 use crate::decision::{self, Ctx};
-use crate::perception::{Category, GroupQuery, GroupSum, Sense, Source};
+use crate::perception::{Category, GroupQuery, GroupSum, Percept, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
 use crate::world::{Mind, Rng};
 use glam::Vec3;
@@ -20,6 +20,8 @@ pub struct Scratch {
     moving: Vec<MovingObstacle>,
     /// Position of a planned-path target, if the agent follows a plan.
     pub plan_target: Option<Vec3>,
+    /// The percepts a focused behavior steers from ([`crate::decision::focus`]), reused.
+    pub focused: Vec<Percept>,
 }
 
 impl Scratch {
