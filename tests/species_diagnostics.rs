@@ -679,7 +679,8 @@ fn sector_conditions_are_checked() {
     assert_eq!(d.len(), 1, "{d:?}");
     assert_eq!((d[0].1, d[0].2), (14, 45), "{d:?}");
     assert!(
-        d[0].3.starts_with("unknown sector `Reer` (did you mean `Rear`?): expected one of "),
+        d[0].3
+            .starts_with("unknown sector `Reer` (did you mean `Rear`?): expected one of "),
         "{}",
         d[0].3
     );

@@ -68,9 +68,7 @@ fn a_predator_behind_is_fled_only_once_it_is_strongly_perceived() {
     assert_eq!(c.cause, Cause::Interrupted);
     assert_eq!(
         c.condition.as_deref(),
-        Some(
-            "predator in rear or left_rear or right_rear and strength of predator > 0.04"
-        )
+        Some("predator in rear or left_rear or right_rear and strength of predator > 0.04")
     );
     // Behind to the left (+x is the left of a fish heading +z), 3·√2 ≈ 4.24 away:
     // (1/4.24)² = 1/18 ≈ 0.056 > 0.04.

@@ -26,8 +26,8 @@ pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::Volume;
 
 use crate::frame;
-use crate::steering::goal::Sectors;
 use crate::index::{Grid, ObstacleGrid};
+use crate::steering::goal::Sectors;
 use crate::world::{Shape, World};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;

@@ -294,7 +294,10 @@ mod tests {
             "AtLevel(Kin, [Above, Level, Below])",
         ))
         .unwrap();
-        assert_eq!(every.behaviors[1].when, CondNode::InSector(Category::Kin, 63));
+        assert_eq!(
+            every.behaviors[1].when,
+            CondNode::InSector(Category::Kin, 63)
+        );
         assert_eq!(every.behaviors[1].done, CondNode::AtLevel(Category::Kin, 7));
         // They read the bearing of the nearest kin: the species keeps agent percepts.
         let r = reads(&sp);
