@@ -690,3 +690,121 @@ fn a_focus_must_keep_what_its_own_steering_targets() {
     let sp = load(&dir.path().join("minnow.ron"), dir.path());
     assert!(sp.behaviors[0].focus.is_some() && sp.behaviors[1].focus.is_none());
 }
+
+#[test]
+fn strength_and_sector_keys_out_of_range_are_located() {
+    let with = |senses: &str| {
+        let ron = MINNOW.replace(
+            "    initial: \"idle\",",
+            &format!("    senses: {senses},\n    initial: \"idle\","),
+        );
+        diagnostics(&ron, MINNOW_RHAI, &[])
+    };
+    // Seed 001's fall needs a power > 0 and a near distance > 0.
+    assert_eq!(
+        with("(strength: (power: 0.0, near: -1.0))"),
+        vec![
+            (
+                "minnow.ron".to_string(),
+                4,
+                32,
+                "`power` must be a finite number > 0, not 0".to_string()
+            ),
+            (
+                "minnow.ron".to_string(),
+                4,
+                43,
+                "`near` must be a finite number > 0, not -1".to_string()
+            ),
+        ]
+    );
+    assert_eq!(
+        with("(strength: (power: NaN))"),
+        one(
+            "minnow.ron",
+            4,
+            32,
+            "`power` must be a finite number > 0, not NaN"
+        )
+    );
+    // Seed 000 §4.3's bounds: front within [0, π/2], rear within [π/2, π].
+    assert_eq!(
+        with("(sectors: (front: 2.0, rear: 1.0))"),
+        vec![
+            (
+                "minnow.ron".to_string(),
+                4,
+                31,
+                "`front` must be a number from 0 to 1.5707964, not 2".to_string()
+            ),
+            (
+                "minnow.ron".to_string(),
+                4,
+                42,
+                "`rear` must be a number from 1.5707964 to 3.1415927, not 1".to_string()
+            ),
+        ]
+    );
+    // The inverse cube and the paper's bounds written out are fine.
+    let ron = MINNOW.replace(
+        "    initial: \"idle\",",
+        "    senses: (strength: (power: 3.0, near: 0.5), sectors: (front: 0.5236, rear: 2.618)),\n    initial: \"idle\",",
+    );
+    let dir = folder(&[("minnow.ron", &ron), ("minnow.rhai", MINNOW_RHAI)]);
+    load(&dir.path().join("minnow.ron"), dir.path());
+}
+
+#[test]
+fn sector_conditions_are_checked() {
+    let with = |cond: &str| {
+        let ron = MINNOW.replace("Script(\"startled\")", cond);
+        diagnostics(&ron, MINNOW_RHAI, &[])
+    };
+    // An empty list is never true.
+    assert_eq!(
+        with("InSector(Kin, [])"),
+        one(
+            "minnow.ron",
+            14,
+            19,
+            "`InSector` lists no sector, so it is never true: list one or more of Front, \
+             LeftFront, RightFront, LeftRear, RightRear, Rear"
+        )
+    );
+    assert_eq!(
+        with("AtLevel(Kin, [])"),
+        one(
+            "minnow.ron",
+            14,
+            19,
+            "`AtLevel` lists no level, so it is never true: list one or more of Above, Level, \
+             Below"
+        )
+    );
+    // A misspelt sector gets its near miss.
+    let d = with("InSector(Kin, [LeftFront, Reer])");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert_eq!((d[0].1, d[0].2), (14, 45), "{d:?}");
+    assert!(
+        d[0].3
+            .starts_with("unknown sector `Reer` (did you mean `Rear`?): expected one of "),
+        "{}",
+        d[0].3
+    );
+    let d = with("AtLevel(Kin, [Belo])");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(
+        d[0].3
+            .starts_with("unknown level `Belo` (did you mean `Below`?): expected one of "),
+        "{}",
+        d[0].3
+    );
+    // A relation the species lacks.
+    let d = with("Above(Strength(Predator), 0.1)");
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert!(
+        d[0].3.starts_with("`Strength` refers to `Predator`"),
+        "{}",
+        d[0].3
+    );
+}

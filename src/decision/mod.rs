@@ -6,14 +6,18 @@
 //!
 //! Conditions are native evaluators resolved at load time ([`crate::species::CondNode`]); script
 //! conditions read values cached at the species' decision rate ([`scripts`]). Every transition
-//! records its cause and the text of the condition that fired.
+//! records its cause and the text of the condition that fired. Besides the paper's tests they
+//! read seed 001's perceived strength of the nearest percept (`Strength`) and seed 000
+//! §4.3–4.4's fuzzy direction sectors of it (`InSector`, `AtLevel`), which the paper uses only
+//! inside move-to-goal and escape.
 
 pub mod focus;
 pub mod scripts;
 
 use crate::events::{Cause, MessageKind};
 use crate::perception::{
-    Category, GroupQueries, GroupQuery, GroupSum, Percept, Perception, Sense, Source, Summary,
+    Category, GroupQueries, GroupQuery, GroupSum, Level, Percept, Perception, Sector, Sense,
+    Source, Summary,
 };
 use crate::species::{AttrKind, CondNode, DriveKind, Species, ValueNode};
 use crate::steering::avoid::{self, PressureSource};
@@ -145,6 +149,18 @@ impl Ctx<'_> {
     }
 }
 
+/// The bit of a horizontal sector in the mask of [`CondNode::InSector`].
+#[inline]
+pub fn sector_bit(s: Sector) -> u8 {
+    1 << s as u8
+}
+
+/// The bit of a level in the mask of [`CondNode::AtLevel`].
+#[inline]
+pub fn level_bit(l: Level) -> u8 {
+    1 << l as u8
+}
+
 /// Evaluates a value.
 pub fn value(v: &ValueNode, ctx: &Ctx, mind: &Mind) -> f32 {
     match v {
@@ -161,6 +177,12 @@ pub fn value(v: &ValueNode, ctx: &Ctx, mind: &Mind) -> f32 {
         }
         ValueNode::Distance(c) => ctx.summaries[*c as usize].nearest_dist,
         ValueNode::Count(c) => ctx.summaries[*c as usize].count as f32,
+        // Seed 001: only the nearest's distance is read, and only here.
+        ValueNode::Strength(c) => ctx
+            .species
+            .senses
+            .strength
+            .at(ctx.summaries[*c as usize].nearest_dist),
         ValueNode::Speed => ctx.agent.speed,
         ValueNode::TimeInBehavior => ctx.time_in_behavior(mind),
         ValueNode::Attribute(a) => match a {
@@ -211,6 +233,14 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
         }
         CondNode::Perceives(k) => ctx.summaries[*k as usize].count > 0,
         CondNode::Within(k, d) => ctx.summaries[*k as usize].nearest_dist <= *d,
+        CondNode::InSector(k, mask) => ctx.nearest(*k).is_some_and(|p| {
+            let sector = ctx.species.senses.sectors.horizontal(p.bearing);
+            mask & sector_bit(sector) != 0
+        }),
+        CondNode::AtLevel(k, mask) => ctx.nearest(*k).is_some_and(|p| {
+            let level = ctx.species.senses.sectors.vertical(p.elevation);
+            mask & level_bit(level) != 0
+        }),
         CondNode::EscapeDone => match ctx.nearest(Category::Predator) {
             None => true,
             Some(p) => escape::escape_done(

@@ -41,6 +41,7 @@ pub fn fill_view(
     behavior: &ImmutableString,
 ) {
     let a: &Agent = ctx.agent;
+    let senses = &ctx.species.senses;
     for (cv, s) in v.cats.iter_mut().zip(ctx.summaries.iter()) {
         let near = s.nearest.map(|k| &ctx.percepts[k as usize]);
         *cv = CategoryView {
@@ -54,6 +55,9 @@ pub fn fill_view(
             nearest_pos: near.map_or(a.pos, |p| a.pos + p.offset),
             nearest_bearing: near.map_or(0.0, |p| p.bearing),
             nearest_elevation: near.map_or(0.0, |p| p.elevation),
+            nearest_sector: near.map(|p| senses.sectors.horizontal(p.bearing)),
+            nearest_level: near.map(|p| senses.sectors.vertical(p.elevation)),
+            strength: senses.strength,
             centroid: s.centroid,
             mean_heading: s.mean_heading,
             mean_velocity: s.mean_velocity,

@@ -1,5 +1,5 @@
-//! Stage 2 of the tick: perception (seed 000 §1, seed 001 vision and occlusion, seed 002
-//! non-spherical volume).
+//! Stage 2 of the tick: perception (seed 000 §1, seed 001 vision, occlusion and perceived
+//! strength, seed 002 non-spherical volume).
 //!
 //! For every agent, the spatial index yields candidates within its largest sensing range; each is
 //! classified by the species' relations (food, predator, kin, mate, other), tested against vision
@@ -15,16 +15,19 @@
 pub mod group;
 pub mod kin;
 pub mod occlusion;
+pub mod strength;
 mod types;
 pub mod volume;
 
 pub use group::{GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
+pub use strength::Strength;
 pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
 pub use volume::{Extent, Volume};
 
 use crate::frame;
 use crate::index::{Grid, ObstacleGrid};
+use crate::steering::goal::Sectors;
 use crate::world::{Shape, World};
 use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
@@ -63,6 +66,13 @@ pub struct SenseParams {
     /// Percepts kept per agent (the nearest ones, and always the nearest of each category), at
     /// least one per [`Category`] and at most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
     pub max_percepts: usize,
+    /// How perceived strength falls with distance (seed 001): read by `Strength(category)` and
+    /// scripts, never by perception itself.
+    pub strength: Strength,
+    /// Direction sector bounds (seed 000 §4.3–4.4: π/6, 5π/6) of the conditions `InSector` and
+    /// `AtLevel` and of scripts' `nearest_sector` / `nearest_level`. `Chase` and `Escape` have
+    /// their own (`front`, `rear`), with the same defaults.
+    pub sectors: Sectors,
 }
 
 impl Default for SenseParams {
@@ -76,6 +86,8 @@ impl Default for SenseParams {
             occluders: Occluders::Shape,
             extent: Extent::Centre,
             max_percepts: DEFAULT_PERCEPTS,
+            strength: Strength::default(),
+            sectors: Sectors::default(),
         }
     }
 }

@@ -75,6 +75,26 @@ pub enum Sector {
 }
 
 impl Sector {
+    /// All sectors, clockwise from the front.
+    pub const ALL: [Sector; 6] = [
+        Sector::Front,
+        Sector::RightFront,
+        Sector::RightRear,
+        Sector::Rear,
+        Sector::LeftRear,
+        Sector::LeftFront,
+    ];
+    /// Lower-case name, as scripts and transition texts read it (`"left_rear"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Sector::Front => "front",
+            Sector::LeftFront => "left_front",
+            Sector::RightFront => "right_front",
+            Sector::LeftRear => "left_rear",
+            Sector::RightRear => "right_rear",
+            Sector::Rear => "rear",
+        }
+    }
     /// Classifies a bearing (right positive).
     pub fn of(theta: f32) -> Sector {
         let five_sixths = 5.0 * FRAC_PI_6;
@@ -107,6 +127,16 @@ pub enum Level {
 }
 
 impl Level {
+    /// All levels, top down.
+    pub const ALL: [Level; 3] = [Level::Above, Level::Level, Level::Below];
+    /// Lower-case name, as scripts and transition texts read it (`"above"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Level::Above => "above",
+            Level::Level => "level",
+            Level::Below => "below",
+        }
+    }
     /// Classifies an elevation (up positive).
     pub fn of(omega: f32) -> Level {
         if omega >= FRAC_PI_6 {

@@ -2,7 +2,7 @@
 //! blackboard, deterministic random numbers, messages and steering values.
 
 use crate::events::MessageKind;
-use crate::perception::Category;
+use crate::perception::{Category, Level, Sector, Strength};
 use crate::world::{MemValue, Rng, MEMORY_CAPACITY};
 use glam::Vec3;
 use rhai::{Dynamic, Engine, EvalAltResult, ImmutableString, Position, FLOAT, INT};
@@ -23,6 +23,14 @@ pub struct CategoryView {
     pub nearest_bearing: FLOAT,
     /// Elevation of the nearest (rad, up positive).
     pub nearest_elevation: FLOAT,
+    /// Horizontal sector of the nearest (seed 000 §4.3, bounds `senses.sectors`), `None` when
+    /// none.
+    pub nearest_sector: Option<Sector>,
+    /// Level of the nearest (above, level, below), `None` when none.
+    pub nearest_level: Option<Level>,
+    /// The species' fall of perceived strength (seed 001): `nearest_strength` is computed from
+    /// `nearest_dist` only when a script reads it.
+    pub strength: Strength,
     /// Mean position.
     pub centroid: Vec3,
     /// Mean heading.
@@ -229,6 +237,19 @@ fn register_category(e: &mut Engine) {
         .register_get("nearest_bearing", |c: &mut CategoryView| c.nearest_bearing)
         .register_get("nearest_elevation", |c: &mut CategoryView| {
             c.nearest_elevation
+        })
+        .register_get("nearest_strength", |c: &mut CategoryView| {
+            if c.count > 0 {
+                c.strength.at(c.nearest_dist)
+            } else {
+                0.0
+            }
+        })
+        .register_get("nearest_sector", |c: &mut CategoryView| {
+            ImmutableString::from(c.nearest_sector.map_or("", Sector::name))
+        })
+        .register_get("nearest_level", |c: &mut CategoryView| {
+            ImmutableString::from(c.nearest_level.map_or("", Level::name))
         })
         .register_get("centroid", |c: &mut CategoryView| c.centroid)
         .register_get("mean_heading", |c: &mut CategoryView| c.mean_heading)
@@ -456,5 +477,48 @@ mod tests {
             e.diagnostic
         );
         assert_eq!(e.diagnostic.line, 2);
+    }
+
+    #[test]
+    fn scripts_read_the_strength_sector_and_level_of_the_nearest() {
+        let text = "fn strength() { this.predator.nearest_strength }
+                    fn sector() { this.predator.nearest_sector }
+                    fn level() { this.predator.nearest_level }
+                    fn none() { this.food.nearest_strength }
+                    fn no_sector() { this.food.nearest_sector + this.food.nearest_level }";
+        let s = Script::compile(
+            Path::new("probe.rhai"),
+            text,
+            Path::new("."),
+            &Limits::default(),
+        )
+        .unwrap();
+        let mut view = AgentView::default();
+        view.cats[Category::Predator as usize] = CategoryView {
+            count: 1,
+            nearest_dist: 2.0,
+            nearest_sector: Some(Sector::LeftRear),
+            nearest_level: Some(Level::Below),
+            strength: Strength {
+                power: 2.0,
+                near: 0.5,
+            },
+            ..Default::default()
+        };
+        view.cats[Category::Food as usize].nearest_dist = 1e30;
+        let mut this = Dynamic::from(view);
+        let mut scope = Scope::new();
+        // (0.5/2)² = 0.0625.
+        let r: FLOAT = s.call(&mut scope, &mut this, "strength").unwrap();
+        assert_eq!(r, 0.0625);
+        let r: ImmutableString = s.call(&mut scope, &mut this, "sector").unwrap();
+        assert_eq!(r.as_str(), "left_rear");
+        let r: ImmutableString = s.call(&mut scope, &mut this, "level").unwrap();
+        assert_eq!(r.as_str(), "below");
+        // Nothing perceived: no strength, no sector, no level.
+        let r: FLOAT = s.call(&mut scope, &mut this, "none").unwrap();
+        assert_eq!(r, 0.0);
+        let r: ImmutableString = s.call(&mut scope, &mut this, "no_sector").unwrap();
+        assert_eq!(r.as_str(), "");
     }
 }

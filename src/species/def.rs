@@ -7,7 +7,7 @@ use crate::drives::DriveParams;
 pub use crate::events::MessageKind;
 use crate::locomotion::anim::AnimParams;
 use crate::locomotion::{Limits, Mode};
-use crate::perception::{Category, SenseParams};
+use crate::perception::{Category, Level, Sector, SenseParams};
 use crate::steering::avoid::AvoidParams;
 use crate::steering::escape::EscapeRules;
 use crate::steering::goal::{GoalRules, Prediction, Sectors, VisionTurn};
@@ -333,6 +333,9 @@ pub enum Value {
     Distance(Category),
     /// Number of percepts of a category.
     Count(Category),
+    /// Perceived strength of the nearest percept of a category (seed 001): 1 within
+    /// `senses.strength.near`, `(near/d)^power` beyond, 0 when none.
+    Strength(Category),
     /// Own speed.
     Speed,
     /// Seconds in the current behavior.
@@ -383,6 +386,12 @@ pub enum Cond {
     Perceives(Category),
     /// The nearest of this category is within `d` (e.g. the catch distance d0).
     Within(Category, f32),
+    /// The nearest of this category lies in one of these horizontal sectors (seed 000 §4.3–4.4,
+    /// bounds `senses.sectors`); false when none is perceived.
+    InSector(Category, Vec<Sector>),
+    /// The nearest of this category lies at one of these levels (above, level, below; seed 000
+    /// §4.3–4.4, band `senses.sectors.front`); false when none is perceived.
+    AtLevel(Category, Vec<Level>),
     /// Seed 000 §4.4's escape completion test on the nearest predator (or none perceived).
     EscapeDone,
     /// Static obstacle pressure above M_min (seed 000 §4.1): an obstacle must be avoided.

@@ -26,6 +26,8 @@ pub enum ValueNode {
     Distance(Category),
     /// Count of a category.
     Count(Category),
+    /// Perceived strength of the nearest of a category (seed 001).
+    Strength(Category),
     /// Own speed.
     Speed,
     /// Seconds in the current behavior.
@@ -78,6 +80,10 @@ pub enum CondNode {
     Perceives(Category),
     /// Nearest within distance.
     Within(Category, f32),
+    /// Nearest in one of the horizontal sectors: bit `1 << (sector as u8)` of the mask.
+    InSector(Category, u8),
+    /// Nearest at one of the levels: bit `1 << (level as u8)` of the mask.
+    AtLevel(Category, u8),
     /// Escape completion test.
     EscapeDone,
     /// Static obstacle pressure above M_min.

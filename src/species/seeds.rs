@@ -53,6 +53,28 @@ pub fn seed_constants() -> Vec<SeedConstant> {
         Some(150f32.to_radians()),
         "000 §1",
     )]);
+    // Perceived strength (001: inverse square, or cube: power 3) and the direction sectors that
+    // conditions and scripts read (000 §4.3).
+    out.extend([
+        c(
+            "senses.strength.power",
+            senses.strength.power,
+            Some(crate::perception::strength::PAPER_POWER),
+            "001",
+        ),
+        c(
+            "senses.sectors.front",
+            senses.sectors.front,
+            Some(FRAC_PI_6),
+            "000 §4.3",
+        ),
+        c(
+            "senses.sectors.rear",
+            senses.sectors.rear,
+            Some(5.0 * FRAC_PI_6),
+            "000 §4.3",
+        ),
+    ]);
 
     // Perception volume and focus (002; the focuser of 000 §1 has no number).
     out.extend([c(

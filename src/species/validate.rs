@@ -36,6 +36,8 @@ fn designer_name(type_name: &str) -> &str {
         "Contact" => "contact",
         "Draw" => "draw",
         "Target" => "target",
+        "Sector" => "sector",
+        "Level" => "level",
         other => other,
     }
 }
@@ -394,6 +396,10 @@ impl Builder<'_> {
                 self.check_category(*c, "`Count`");
                 ValueNode::Count(*c)
             }
+            Value::Strength(c) => {
+                self.check_category(*c, "`Strength`");
+                ValueNode::Strength(*c)
+            }
             Value::Speed => ValueNode::Speed,
             Value::TimeInBehavior => ValueNode::TimeInBehavior,
             Value::Attribute(a) => ValueNode::Attribute(*a),
@@ -462,6 +468,36 @@ impl Builder<'_> {
                 self.nums.non_negative("Within", *d);
                 self.check_category(*k, "`Within`");
                 CondNode::Within(*k, *d)
+            }
+            Cond::InSector(k, sectors) => {
+                self.check_category(*k, "`InSector`");
+                if sectors.is_empty() {
+                    self.error_at(
+                        "InSector",
+                        "`InSector` lists no sector, so it is never true: list one or more of \
+                         Front, LeftFront, RightFront, LeftRear, RightRear, Rear"
+                            .into(),
+                    );
+                }
+                let mask = sectors
+                    .iter()
+                    .fold(0, |m, s| m | crate::decision::sector_bit(*s));
+                CondNode::InSector(*k, mask)
+            }
+            Cond::AtLevel(k, levels) => {
+                self.check_category(*k, "`AtLevel`");
+                if levels.is_empty() {
+                    self.error_at(
+                        "AtLevel",
+                        "`AtLevel` lists no level, so it is never true: list one or more of \
+                         Above, Level, Below"
+                            .into(),
+                    );
+                }
+                let mask = levels
+                    .iter()
+                    .fold(0, |m, l| m | crate::decision::level_bit(*l));
+                CondNode::AtLevel(*k, mask)
             }
             Cond::EscapeDone => CondNode::EscapeDone,
             Cond::ObstacleNear => CondNode::ObstacleNear,
@@ -787,7 +823,7 @@ impl Builder<'_> {
         n.positive("water_factor", m.water_factor);
         // Senses.
         n.from = 0;
-        n.enter("senses");
+        let senses = n.enter("senses");
         let s = &def.senses;
         let vision = n.non_negative("vision_radius", s.vision_radius);
         let a = s.vision_half_angle;
@@ -873,6 +909,22 @@ impl Builder<'_> {
             }
             None => {}
         }
+        // Seed 001's strength: a fall with distance (power > 0) from a distance > 0.
+        n.from = senses;
+        n.enter("strength");
+        n.positive("power", s.strength.power);
+        n.positive("near", s.strength.near);
+        // Seed 000 §4.3's sectors: the front half-width within a quarter turn, the rear from there
+        // to π.
+        n.from = senses;
+        n.enter("sectors");
+        n.range("front", s.sectors.front, 0.0, std::f32::consts::FRAC_PI_2);
+        n.range(
+            "rear",
+            s.sectors.rear,
+            std::f32::consts::FRAC_PI_2,
+            std::f32::consts::PI,
+        );
         // Avoidance constants.
         n.from = 0;
         n.enter("avoid");
@@ -1165,6 +1217,7 @@ fn value_text(v: &Value) -> String {
         Value::Drive(d) => format!("{d:?}").to_lowercase(),
         Value::Distance(c) => format!("distance to {}", c.name()),
         Value::Count(c) => format!("number of {}", c.name()),
+        Value::Strength(c) => format!("strength of {}", c.name()),
         Value::Speed => "speed".into(),
         Value::TimeInBehavior => "time in behavior".into(),
         Value::Attribute(a) => format!("{a:?}").to_lowercase(),
@@ -1226,6 +1279,14 @@ fn describe_into(c: &Cond, s: &mut String) {
         }
         Cond::Within(k, d) => {
             let _ = write!(s, "{} within {d}", k.name());
+        }
+        Cond::InSector(k, v) => {
+            let names: Vec<&str> = v.iter().map(|x| x.name()).collect();
+            let _ = write!(s, "{} in {}", k.name(), names.join(" or "));
+        }
+        Cond::AtLevel(k, v) => {
+            let names: Vec<&str> = v.iter().map(|x| x.name()).collect();
+            let _ = write!(s, "{} at {}", k.name(), names.join(" or "));
         }
         Cond::EscapeDone => s.push_str("predator behind and out of sight"),
         Cond::ObstacleNear => s.push_str("obstacle pressure above M_min"),

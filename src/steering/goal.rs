@@ -17,8 +17,11 @@ use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8};
 
 /// Sector bounds of seed 000 §4.3 / §4.4: front is `(−front, front)`, the sides run to ±π/2, the
 /// rear sectors to `±rear`, and beyond `rear` is the rear. Vertically, a target more than
-/// `front` above or below the heading is above or below.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `front` above or below the heading is above or below. As a species key (`senses.sectors`)
+/// it sets the bounds of the conditions `InSector` and `AtLevel` and of scripts'
+/// `nearest_sector` / `nearest_level`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Sectors {
     /// Half-width of the front sector (π/6).
     pub front: f32,

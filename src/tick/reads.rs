@@ -64,6 +64,8 @@ fn reads_percepts(sp: &Species) -> Kinds {
             CondNode::Latch { on, off, .. } => cond(on).max(cond(off)),
             CondNode::ObstacleNear => Kinds::Obstacles,
             CondNode::EscapeDone | CondNode::TrafficNear => Kinds::All,
+            // The bearing or elevation of the nearest of the category.
+            CondNode::InSector(c, _) | CondNode::AtLevel(c, _) => nearest(*c),
             // Summaries, the agent's own state, or scripts (which keep percepts anyway).
             CondNode::Always
             | CondNode::Never
@@ -157,6 +159,8 @@ pub fn bearing_range(sp: &Species) -> f32 {
             | CondNode::Smells(_)
             | CondNode::Perceives(_)
             | CondNode::Within(..)
+            | CondNode::InSector(..)
+            | CondNode::AtLevel(..)
             | CondNode::EscapeDone
             | CondNode::ObstacleNear
             | CondNode::Heard(_)
@@ -258,6 +262,50 @@ mod tests {
                 "separation within {radius} m reads neither sums nor percepts"
             );
         }
+    }
+
+    #[test]
+    fn sector_conditions_resolve_to_masks_and_keep_the_nearest_percepts() {
+        use crate::perception::Category;
+        let text = |when: &str, done: &str| {
+            format!(
+                r#"Species(
+    name: "fish",
+    script: None,
+    drives: (native: false),
+    initial: "rest",
+    behaviors: [
+        Behavior(name: "rest", priority: 2, steer: Stop),
+        Behavior(name: "bolt", priority: 1, when: {when}, done: {done}, steer: Stop),
+    ],
+)"#
+            )
+        };
+        let sp = species(&text(
+            "InSector(Kin, [Rear, LeftFront])",
+            "AtLevel(Kin, [Above, Below])",
+        ))
+        .unwrap();
+        // LeftFront is bit 1 (2), Rear bit 5 (32): 34. Above is bit 0 (1), Below bit 2 (4): 5.
+        assert_eq!(sp.behaviors[1].when, CondNode::InSector(Category::Kin, 34));
+        assert_eq!(sp.behaviors[1].done, CondNode::AtLevel(Category::Kin, 5));
+        let every = species(&text(
+            "InSector(Kin, [Front, LeftFront, RightFront, LeftRear, RightRear, Rear])",
+            "AtLevel(Kin, [Above, Level, Below])",
+        ))
+        .unwrap();
+        assert_eq!(
+            every.behaviors[1].when,
+            CondNode::InSector(Category::Kin, 63)
+        );
+        assert_eq!(every.behaviors[1].done, CondNode::AtLevel(Category::Kin, 7));
+        // They read the bearing of the nearest kin: the species keeps agent percepts.
+        let r = reads(&sp);
+        assert!(r.percepts && r.agent_percepts);
+        assert_eq!(r.bearing_range, Some(0.0));
+        // Strength reads the nearest distance of the summary: no percepts kept.
+        let sp = species(&text("Above(Strength(Kin), 0.5)", "Never")).unwrap();
+        assert!(!reads(&sp).percepts);
     }
 
     #[test]
