@@ -475,7 +475,7 @@ impl Pipeline {
     /// stages, clears them before the tick (spawns made between ticks stay in).
     ///
     /// From [`HELPER_FROM`] agents, another thread of the current rayon pool spins for the
-    /// length of the tick, looking for the tick's work ([`awake::with_helper`]); in a pool
+    /// length of the tick, looking for the tick's work (`awake::with_helper`); in a pool
     /// shared with other work it may pick up a job of someone else's, and the tick then ends
     /// when that job does. A panic inside a tick (a bug) leaves `world` part-way through it.
     pub fn step(&mut self, world: &mut World) {

@@ -37,7 +37,7 @@ pub fn key_poses(max_bend: f32) -> [f32; 5] {
     [-max_bend, -max_bend / 2.0, 0.0, max_bend / 2.0, max_bend]
 }
 
-/// Eased tween parameter: `tan(t·π/4)` maps [0,1] onto [0,1], slow at the start and fast at the
+/// Eased tween parameter: `tan(t·π/4)` maps \[0, 1\] onto \[0, 1\], slow at the start and fast at the
 /// end (the paper's `tan(t)` easing, normalized).
 pub fn ease(t: f32) -> f32 {
     crate::frame::tan_quarter(t.clamp(0.0, 1.0) * FRAC_PI_4)

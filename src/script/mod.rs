@@ -1,7 +1,7 @@
 //! Part of stage 4 (decision): the Rhai script host.
 //!
 //! One [`Script`] per species file, compiled once per (re)load with the imports it names compiled
-//! as static modules, each module once per load ([`imports`]), and every call it makes checked
+//! as static modules, each module once per load (`imports`), and every call it makes checked
 //! against what exists ([`calls`]). Scripts run sandboxed: no file, network, environment or
 //! clock access, and limits on operations per call (a `loop {}` is stopped), call depth, string,
 //! array and map sizes. Calls bind the agent's typed [`AgentView`] as `this`; nothing is looked

@@ -1,7 +1,7 @@
 //! Squads on terrain at run time: the runtime half of seed 004.
 //!
 //! Not a tick stage: a layer above the core that [`crate::scenario::Run`] (and the script-test
-//! world, [`crate::testing`]) drives between ticks, sequentially and in member order, so runs
+//! world, `testing`) drives between ticks, sequentially and in member order, so runs
 //! stay bit-identical whatever the thread count.
 //!
 //! - At load ([`setup`]): the terrain is read, each walking species gets its cost grid from its
