@@ -1,10 +1,12 @@
-//! The tick: the one place the world advances.
+//! The tick's stages, run by [`Pipeline::step`] (which [`crate::sim::Sim::step`], the one place
+//! the world advances, calls):
 //!
 //! `index → perception → drives → decision → steering → locomotion → world events`. Stages 3–6
 //! run per agent in parallel (rayon) from the state at the start of the tick: each agent's pass
 //! reads its own record and perception's copy of the others, then rewrites only its own record
 //! and outcome slot; stage 7 applies what reaches beyond the agent (events, messages, contacts)
-//! in agent order. Results are therefore bit-identical whatever the thread count.
+//! in agent order (`events/apply.rs`). Results are therefore bit-identical whatever the thread
+//! count.
 
 use crate::decision::{self, focus, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
@@ -12,7 +14,7 @@ use crate::drives::{self, Stimuli};
 use crate::events::{Cause, Event, MessageKind};
 use crate::index::{Grid, Layout};
 use crate::locomotion::{self, anim, Motion};
-use crate::perception::{Category, GroupQueries, Perception, Reads, Source, Summary};
+use crate::perception::{Category, GroupQueries, Perception, Reads, Source};
 use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Draw, SexDef, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
@@ -63,22 +65,22 @@ pub const HELPER_FROM: usize = 512;
 
 /// What one agent's pass produced beyond its own record (applied in agent order by stage 7).
 #[derive(Debug, Default)]
-struct Outcome {
-    contact: Option<(Contact, Source)>,
+pub(crate) struct Outcome {
+    pub(crate) contact: Option<(Contact, Source)>,
     /// Species and behavior after the tick (for the counters, read without touching the agent).
-    species: u16,
-    behavior: u16,
+    pub(crate) species: u16,
+    pub(crate) behavior: u16,
     /// Transitions, messages and errors: a few agents a tick have any, so they are boxed and
     /// the per-agent buffer stays small.
-    rare: Option<Box<Rare>>,
+    pub(crate) rare: Option<Box<Rare>>,
 }
 
 /// The parts of an outcome most agents do not have in a given tick.
 #[derive(Debug, Default)]
-struct Rare {
-    transitions: Transitions,
-    messages: [Option<(MessageKind, f32)>; 4],
-    error: Option<Diagnostic>,
+pub(crate) struct Rare {
+    pub(crate) transitions: Transitions,
+    pub(crate) messages: [Option<(MessageKind, f32)>; 4],
+    pub(crate) error: Option<Diagnostic>,
 }
 
 /// Counters a run summary reports.
@@ -144,19 +146,19 @@ impl StageTimes {
 pub struct Pipeline {
     /// The species in use (swapped on reload).
     pub species: Arc<SpeciesSet>,
-    agent_grid: Grid,
+    pub(crate) agent_grid: Grid,
     food_grid: Grid,
-    perception: Perception,
-    outcomes: Vec<Outcome>,
-    species_names: Vec<ImmutableString>,
-    behavior_names: Vec<Vec<ImmutableString>>,
-    taken_food: Vec<bool>,
-    dead: Vec<bool>,
-    mated: Vec<bool>,
-    next_inbox: Vec<Option<MessageKind>>,
+    pub(crate) perception: Perception,
+    pub(crate) outcomes: Vec<Outcome>,
+    pub(crate) species_names: Vec<ImmutableString>,
+    pub(crate) behavior_names: Vec<Vec<ImmutableString>>,
+    pub(crate) taken_food: Vec<bool>,
+    pub(crate) dead: Vec<bool>,
+    pub(crate) mated: Vec<bool>,
+    pub(crate) next_inbox: Vec<Option<MessageKind>>,
     /// Whether the last tick delivered any message (some agent's inbox may be set).
-    delivered: bool,
-    contacts: Vec<(usize, Contact, Source)>,
+    pub(crate) delivered: bool,
+    pub(crate) contacts: Vec<(usize, Contact, Source)>,
     /// Events of the last tick, in order.
     pub events: Vec<Event>,
     /// Running counters.
@@ -179,7 +181,7 @@ pub struct Pipeline {
     workers: Vec<std::sync::Mutex<Worker>>,
     times: StageTimes,
     /// Wall-time guard of the tick's script calls.
-    script_clock: Arc<crate::script::TickClock>,
+    pub(crate) script_clock: Arc<crate::script::TickClock>,
 }
 
 /// The species with the most agents in `counts` (the first of equals): its query radius sizes
@@ -568,265 +570,6 @@ impl Pipeline {
         self.stats.script_timeouts += self.script_clock.take_exceeded();
         self.times.agents += passed - start;
         self.times.events += passed.elapsed();
-    }
-
-    fn apply(&mut self, world: &mut World) {
-        // A spawn of many agents leaves a long event list behind: give the memory back once it
-        // is far larger than what ticks use.
-        if self.events.capacity() > 8 * (self.events.len() + 1024) {
-            self.events.shrink_to(2 * (self.events.len() + 1024));
-        }
-        let set = self.species.clone();
-        let n = world.agents.len();
-        self.taken_food.clear();
-        self.taken_food.resize(world.food.len(), false);
-        self.dead.clear();
-        self.dead.resize(n, false);
-        self.mated.clear();
-        self.mated.resize(n, false);
-        self.next_inbox.clear();
-        self.next_inbox.resize(n, None);
-        let tick = world.tick;
-        let mut delivered = false;
-        // In agent order (each agent's own record was rewritten by its pass), what reaches
-        // beyond the agent: counters, events, messages, contacts.
-        for i in 0..n {
-            let out = &mut self.outcomes[i];
-            let (s, current) = (out.species as usize, out.behavior as usize);
-            if let Some(row) = self.stats.behavior_ticks.get_mut(s) {
-                if let Some(c) = row.get_mut(current) {
-                    *c += 1;
-                }
-            }
-            if out.rare.is_none() && out.contact.is_none() {
-                continue;
-            }
-            let a = &mut world.agents[i];
-            let Rare {
-                transitions,
-                messages,
-                error,
-            } = out.rare.take().map(|r| *r).unwrap_or_default();
-            for t in transitions.into_iter().flatten() {
-                self.stats.transitions += 1;
-                self.events.push(Event::Transition {
-                    agent: a.id,
-                    species: s as u16,
-                    from: t.from,
-                    to: t.to,
-                    cause: t.cause,
-                    condition: t.condition,
-                    stack: a.mind.stack().to_vec(),
-                });
-            }
-            if let Some(e) = error {
-                self.stats.script_errors += 1;
-                if !a.mind.script_error_reported {
-                    a.mind.script_error_reported = true;
-                    self.events.push(Event::ScriptError {
-                        agent: a.id,
-                        species: s as u16,
-                        message: e.to_string(),
-                    });
-                }
-            }
-            let (aid, pos, sid) = (a.id, a.pos, a.species);
-            for (kind, radius) in messages.into_iter().flatten() {
-                self.events.push(Event::Message {
-                    from: aid,
-                    kind,
-                    radius,
-                });
-                let radius = radius.max(0.0);
-                let agents = &world.agents;
-                let inbox = &mut self.next_inbox;
-                let delivered = &mut delivered;
-                self.agent_grid.for_each_within(pos, radius, |j, _, _| {
-                    let j = j as usize;
-                    if j != i && agents[j].species == sid {
-                        inbox[j] = Some(MessageKind::max_priority(inbox[j], kind));
-                        *delivered = true;
-                    }
-                });
-            }
-            if let Some((contact, source)) = out.contact.take() {
-                self.contacts.push((i, contact, source));
-            }
-        }
-        // Contacts once every agent's own outcome is in place, still in agent order, so that
-        // what a contact does to a later agent (a mating partner's reset, its `on_event`) is
-        // not overwritten by that agent's outcome.
-        let contacts = std::mem::take(&mut self.contacts);
-        for &(i, contact, source) in &contacts {
-            if !self.dead[i] {
-                self.contact(world, &set, i, contact, source, tick);
-            }
-        }
-        self.contacts = contacts;
-        self.contacts.clear();
-        // Without a message this tick or the last, every inbox is and stays empty.
-        if delivered || self.delivered {
-            for (a, m) in world.agents.iter_mut().zip(self.next_inbox.iter()) {
-                a.inbox = *m;
-            }
-        }
-        self.delivered = delivered;
-        if self.dead.iter().any(|&d| d) {
-            let dead = &self.dead;
-            let mut k = 0;
-            world.agents.retain(|_| {
-                k += 1;
-                !dead[k - 1]
-            });
-        }
-        if self.taken_food.iter().any(|&t| t) {
-            let taken = &self.taken_food;
-            let mut k = 0;
-            world.food.retain(|_| {
-                k += 1;
-                !taken[k - 1]
-            });
-        }
-        world.tick += 1;
-    }
-
-    fn contact(
-        &mut self,
-        world: &mut World,
-        set: &SpeciesSet,
-        i: usize,
-        contact: Contact,
-        source: Source,
-        tick: u64,
-    ) {
-        let meal = set.species[world.agents[i].species.0 as usize]
-            .def
-            .drives
-            .meal_size;
-        match (contact, source) {
-            (Contact::Eat { .. }, Source::Food(f)) => {
-                let f = f as usize;
-                if !self.taken_food[f] {
-                    self.taken_food[f] = true;
-                    let a = &mut world.agents[i];
-                    a.drives.eaten += meal;
-                    a.drives.since_meal = 0.0;
-                    a.mind.reached = true;
-                    self.stats.meals += 1;
-                    self.events.push(Event::Meal {
-                        agent: a.id,
-                        food: world.food[f].id,
-                    });
-                    self.on_event(world, i, "meal", tick);
-                }
-            }
-            (Contact::Eat { .. }, Source::Agent(j)) => {
-                let j = j as usize;
-                if j != i && !self.dead[j] {
-                    self.dead[j] = true;
-                    let (prey, prey_species) = (world.agents[j].id, world.agents[j].species.0);
-                    let a = &mut world.agents[i];
-                    a.drives.eaten += meal;
-                    a.drives.since_meal = 0.0;
-                    a.mind.reached = true;
-                    self.stats.catches += 1;
-                    self.events.push(Event::Catch { agent: a.id, prey });
-                    self.events.push(Event::Death {
-                        agent: prey,
-                        species: prey_species,
-                        cause: "caught",
-                    });
-                    self.on_event(world, i, "catch", tick);
-                }
-            }
-            (Contact::Mate { .. }, Source::Agent(j)) => {
-                let j = j as usize;
-                if j != i && !self.mated[i] && !self.mated[j] && !self.dead[j] {
-                    self.mated[i] = true;
-                    self.mated[j] = true;
-                    for k in [i, j] {
-                        world.agents[k].drives.since_mating = 0.0;
-                        world.agents[k].drives.libido = 0.0;
-                        world.agents[k].mind.reached = true;
-                    }
-                    self.stats.matings += 1;
-                    self.events.push(Event::Mating {
-                        agent: world.agents[i].id,
-                        mate: world.agents[j].id,
-                    });
-                    // Both partners hear of it (each may note it, e.g. to leave the other).
-                    self.on_event(world, i, "mating", tick);
-                    self.on_event(world, j, "mating", tick);
-                }
-            }
-            _ => {}
-        }
-    }
-
-    /// Calls the species' `on_event(kind)` for agent `i`, if it has one (sequential: events are
-    /// rare).
-    fn on_event(&mut self, world: &mut World, i: usize, kind: &str, tick: u64) {
-        let set = self.species.clone();
-        let sp = &set.species[world.agents[i].species.0 as usize];
-        let (Some(script), true) = (&sp.script, sp.has_on_event) else {
-            return;
-        };
-        let agent = world.agents[i].clone();
-        // An agent perception has not seen (one born this tick) has perceived nothing yet.
-        const NOTHING: [Summary; Category::COUNT] = [Summary::NONE; Category::COUNT];
-        let (summaries, percepts) = if i < self.perception.len() {
-            (self.perception.summaries(i), self.perception.percepts(i))
-        } else {
-            (&NOTHING, &[][..])
-        };
-        let ctx = Ctx {
-            world,
-            perception: &self.perception,
-            species: sp,
-            agent: &agent,
-            percepts,
-            summaries,
-            group_queries: &GroupQueries::EMPTY,
-            group_sums: &[],
-            tick,
-            dt: world.dt,
-        };
-        let s = agent.species.0 as usize;
-        let view = scripts::view_of(
-            &ctx,
-            &agent.mind,
-            &self.species_names[s],
-            &self.behavior_names[s][agent.mind.current as usize],
-        );
-        let mut this = Dynamic::from(view);
-        let mut scope = Scope::new();
-        let r: Result<Dynamic, _> = crate::script::with_tick(&self.script_clock, || {
-            script.call_args(
-                &mut scope,
-                &mut this,
-                "on_event",
-                (ImmutableString::from(kind),),
-            )
-        });
-        match r {
-            Ok(_) => {
-                if let Some(v) = this.try_cast::<crate::script::AgentView>() {
-                    scripts::write_back(&v, &mut world.agents[i]);
-                }
-            }
-            Err(e) => {
-                self.stats.script_errors += 1;
-                let a = &mut world.agents[i];
-                if !a.mind.script_error_reported {
-                    a.mind.script_error_reported = true;
-                    self.events.push(Event::ScriptError {
-                        agent: a.id,
-                        species: s as u16,
-                        message: e.diagnostic.to_string(),
-                    });
-                }
-            }
-        }
     }
 }
 

@@ -3,6 +3,8 @@
 //! interaction constraints: danger > obstacle > mate), and the [`Event`] log every later layer
 //! (recording, viewers, tests) reads, with the cause of every behavior transition.
 
+mod apply;
+
 use crate::world::AgentId;
 use serde::{Deserialize, Serialize};
 
