@@ -523,3 +523,90 @@ fn a_focused_behavior_ignores_a_moving_obstacle_but_conditions_still_see_it() {
     let (with_other, _) = head_on(", focus: Some([Other, Obstacle])");
     assert_eq!(with_other, unfocused);
 }
+
+#[test]
+fn above_and_below_are_strict_and_every_latch_keeps_its_own_bit() {
+    let text = r#"
+Species(
+    name: "edge_probe",
+    drives: (native: false),
+    initial: "idle",
+    behaviors: [
+        Behavior(
+            name: "graze",
+            priority: 1,
+            when: Latch(on: Above(Drive(Hunger), 0.8), off: Below(Drive(Hunger), 0.3)),
+            done: TimeIn(0.25),
+            steer: Cruise(speed: 0.2),
+        ),
+        Behavior(
+            name: "hide",
+            priority: 2,
+            when: Latch(on: Above(Drive(Fear), 0.8), off: Below(Drive(Fear), 0.3)),
+            done: TimeIn(0.25),
+            steer: Cruise(speed: 0.2),
+        ),
+        Behavior(
+            name: "court",
+            priority: 3,
+            when: Above(Drive(Libido), 0.5),
+            done: Not(Above(Drive(Libido), 0.5)),
+            steer: Cruise(speed: 0.2),
+        ),
+        Behavior(
+            name: "doze",
+            priority: 4,
+            when: Below(Drive(Libido), 0.25),
+            done: Not(Below(Drive(Libido), 0.25)),
+            steer: Cruise(speed: 0.2),
+        ),
+        Behavior(name: "idle", priority: 5, steer: Wander()),
+    ],
+)
+"#;
+    let dir = folder(&[("edge_probe.ron", text)]);
+    let sp = load(&dir.path().join("edge_probe.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("edge_probe", Vec3::ZERO, 0.0);
+    let drives = |sim: &mut Sim, fear: f32, libido: f32| {
+        let d = &mut sim.agent_mut(id).drives;
+        (d.hunger, d.fear, d.libido) = (0.0, fear, libido);
+    };
+
+    // Exactly at a threshold is neither above nor below it.
+    drives(&mut sim, 0.0, 0.5);
+    sim.run(3);
+    assert_eq!(sim.behavior(id), "idle");
+    drives(&mut sim, 0.0, 0.25);
+    sim.run(3);
+    assert_eq!(sim.behavior(id), "idle");
+    drives(&mut sim, 0.0, 0.249_999);
+    sim.step();
+    assert_eq!(sim.behavior(id), "doze");
+    drives(&mut sim, 0.0, 0.3);
+    sim.run_until(20, |s| s.behavior(id) == "idle")
+        .expect("doze ends");
+    drives(&mut sim, 0.0, 0.500_001);
+    sim.step();
+    assert_eq!(sim.behavior(id), "court");
+    drives(&mut sim, 0.0, 0.3);
+    sim.run_until(20, |s| s.behavior(id) == "idle")
+        .expect("court ends");
+
+    // The second latch (its own bit) holds between its thresholds like the first.
+    drives(&mut sim, 0.9, 0.3);
+    sim.step();
+    assert_eq!(sim.behavior(id), "hide");
+    sim.run_until(10, |s| s.behavior(id) == "idle")
+        .expect("hide completes");
+    drives(&mut sim, 0.6, 0.3);
+    sim.step();
+    assert_eq!(sim.behavior(id), "hide", "still latched at 0.6");
+    sim.run_until(10, |s| s.behavior(id) == "idle")
+        .expect("hide completes");
+    drives(&mut sim, 0.2, 0.3);
+    sim.step();
+    drives(&mut sim, 0.6, 0.3);
+    sim.run(20);
+    assert_eq!(sim.behavior(id), "idle", "released below 0.3");
+}
