@@ -610,3 +610,34 @@ Species(
     sim.run(20);
     assert_eq!(sim.behavior(id), "idle", "released below 0.3");
 }
+
+#[test]
+fn smells_needs_something_perceived_but_not_seen() {
+    let text = r#"
+Species(
+    name: "nose_probe",
+    drives: (native: false),
+    senses: (vision_radius: 5.0, smell_radius: 20.0),
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "sniff", priority: 1, when: Smells(Kin), steer: Stop),
+        Behavior(name: "idle", priority: 2, steer: Stop),
+    ],
+)
+"#;
+    let dir = folder(&[("nose_probe.ron", text)]);
+    let sp = load(&dir.path().join("nose_probe.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let a = sim.spawn("nose_probe", Vec3::ZERO, 0.0);
+    // Alone: nothing perceived, nothing smelt.
+    sim.run(3);
+    assert_eq!(sim.behavior(a), "idle");
+    // A kin 3 ahead is seen, so it is not smelt only.
+    let b = sim.spawn("nose_probe", Vec3::new(0.0, 0.0, 3.0), 0.0);
+    sim.run(3);
+    assert_eq!(sim.behavior(a), "idle");
+    // 12 away it is beyond sight but within smell.
+    sim.teleport(b, Vec3::new(0.0, 0.0, 12.0));
+    sim.step();
+    assert_eq!(sim.behavior(a), "sniff");
+}
