@@ -1,6 +1,7 @@
 //! `shoal diff RUN_A RUN_B`: where two runs of the same scenario diverge — the first tick, which
 //! agents, which decisions differed, and which input files changed.
 
+use shoal::record::schema::{Traj, TRAJECTORY_COLUMNS};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -21,27 +22,29 @@ pub struct DiffArgs {
 type Tick = BTreeMap<u32, Vec<String>>;
 
 fn read_ticks(path: &Path) -> anyhow::Result<Vec<(u64, Tick)>> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let mut reader =
+        csv::Reader::from_path(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let mut out: Vec<(u64, Tick)> = Vec::new();
-    for (n, line) in text.lines().enumerate().skip(1) {
-        let mut f = line.split(',');
-        let (Some(t), Some(_), Some(id)) = (f.next(), f.next(), f.next()) else {
-            anyhow::bail!("{}:{}: malformed row", path.display(), n + 1);
-        };
-        let t: u64 = t
+    for record in reader.records() {
+        let r = record.map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        let line = r.position().map_or(0, |p| p.line());
+        let field = |c: Traj| r.get(c as usize).unwrap_or("");
+        let t: u64 = field(Traj::Tick)
             .parse()
-            .map_err(|_| anyhow::anyhow!("{}:{}: bad tick", path.display(), n + 1))?;
-        let id: u32 = id
+            .map_err(|_| anyhow::anyhow!("{}:{line}: bad tick", path.display()))?;
+        let id: u32 = field(Traj::Id)
             .parse()
-            .map_err(|_| anyhow::anyhow!("{}:{}: bad id", path.display(), n + 1))?;
+            .map_err(|_| anyhow::anyhow!("{}:{line}: bad id", path.display()))?;
         if out.last().is_none_or(|(lt, _)| *lt != t) {
             out.push((t, Tick::new()));
         }
-        out.last_mut()
-            .expect("pushed")
-            .1
-            .insert(id, f.map(str::to_string).collect());
+        out.last_mut().expect("pushed").1.insert(
+            id,
+            r.iter()
+                .skip(Traj::Species as usize)
+                .map(str::to_string)
+                .collect(),
+        );
     }
     Ok(out)
 }
@@ -72,23 +75,8 @@ fn read_decisions(path: &Path) -> anyhow::Result<BTreeMap<u64, Vec<(u64, String)
     Ok(out)
 }
 
-const FIELDS: [&str; 15] = [
-    "species",
-    "x",
-    "y",
-    "z",
-    "fx",
-    "fy",
-    "fz",
-    "speed",
-    "behavior",
-    "stack_depth",
-    "hunger",
-    "libido",
-    "fear",
-    "swim_phase",
-    "tail_bend",
-];
+/// Names of the fields a [`Tick`] row holds (those after `tick,time,id`).
+const FIELDS: &[&str] = TRAJECTORY_COLUMNS.split_at(Traj::Species as usize).1;
 
 /// Runs `shoal diff`.
 pub fn diff(args: DiffArgs) -> anyhow::Result<ExitCode> {
