@@ -641,3 +641,131 @@ Species(
     sim.step();
     assert_eq!(sim.behavior(a), "sniff");
 }
+
+/// A species whose only non-idle behavior, "on", starts when `WHEN` holds and ends when it
+/// does not; it and its idle behavior stand still, so a test can place it and read one tick.
+fn one_condition(when: &str, done: &str) -> (Sim, AgentId, tempfile::TempDir) {
+    let text = format!(
+        r#"
+Species(
+    name: "cond_probe",
+    drives: (native: false, hunger: Fixed(0.0)),
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "on", priority: 1, when: {when}, done: {done}, steer: Stop, min_time: 0.0),
+        Behavior(name: "idle", priority: 2, steer: Stop),
+    ],
+)
+"#
+    );
+    let dir = folder(&[("cond_probe.ron", &text)]);
+    let sp = load(&dir.path().join("cond_probe.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("cond_probe", Vec3::ZERO, 0.0);
+    (sim, id, dir)
+}
+
+/// `NearBounds(m)`: closer than `m` to any face of the world's box, on any axis, low or high;
+/// exactly `m` away is not near.
+#[test]
+fn near_bounds_is_any_face_closer_than_the_margin() {
+    let (mut sim, id, _dir) = one_condition("NearBounds(5.0)", "Not(NearBounds(5.0))");
+    // (position, near?) — the box is ±100: -96 is 4 from the low face, 96 is 4 from the high
+    // one, ±95 exactly 5 (neither), the centre 100 from every face.
+    let cases = [
+        (Vec3::ZERO, false),
+        (Vec3::new(-96.0, 0.0, 0.0), true),
+        (Vec3::new(0.0, 0.0, 96.0), true),
+        (Vec3::new(0.0, -95.0, 0.0), false),
+        (Vec3::new(95.0, 0.0, 0.0), false),
+        (Vec3::new(0.0, 96.0, 0.0), true),
+        (Vec3::new(50.0, -50.0, 50.0), false),
+    ];
+    for (pos, near) in cases {
+        sim.teleport(id, pos);
+        sim.step();
+        let want = if near { "on" } else { "idle" };
+        assert_eq!(sim.behavior(id), want, "at {pos}");
+    }
+}
+
+/// `ObstacleNear`: a rock 1.3 ahead puts the static pressure above M_min; with no rock, or one
+/// far away, the pressure is 0 and the condition does not hold.
+#[test]
+fn obstacle_near_needs_a_rock_within_reach() {
+    use shoal::world::Shape;
+    let (mut sim, id, _dir) = one_condition("ObstacleNear", "Not(ObstacleNear)");
+    sim.run(3);
+    assert_eq!(sim.behavior(id), "idle", "open water");
+    sim.world.add_obstacle(Shape::Sphere {
+        center: Vec3::new(0.0, 0.0, 60.0),
+        radius: 1.5,
+    });
+    sim.run(3);
+    assert_eq!(sim.behavior(id), "idle", "a rock 58 away");
+    sim.world.add_obstacle(Shape::Sphere {
+        center: Vec3::new(0.0, 0.0, 2.8),
+        radius: 1.5,
+    });
+    sim.step();
+    assert_eq!(sim.behavior(id), "on", "a rock 1.3 ahead");
+}
+
+/// `TrafficNear`: seed 000 §4.2's dynamic avoidance has something to answer — another fish
+/// coming head-on; a fish swimming away from it does not count.
+#[test]
+fn traffic_near_is_a_fish_on_a_collision_course() {
+    let run = |intruder_pos: Vec3, intruder_yaw: f32| {
+        let watcher = r#"
+Species(
+    name: "watcher",
+    drives: (native: false, hunger: Fixed(0.0)),
+    relations: (see_others: true),
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "on", priority: 1, when: TrafficNear, done: Not(TrafficNear), steer: Stop, min_time: 0.0),
+        Behavior(name: "idle", priority: 2, steer: Cruise(speed: 0.5)),
+    ],
+)
+"#;
+        let dir = folder(&[("watcher.ron", watcher), ("intruder.ron", INTRUDER)]);
+        let species = vec![
+            load(&dir.path().join("watcher.ron"), dir.path()),
+            load(&dir.path().join("intruder.ron"), dir.path()),
+        ];
+        let mut sim = Sim::new(species, Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+        let me = sim.spawn("watcher", Vec3::ZERO, 0.0);
+        sim.spawn("intruder", intruder_pos, intruder_yaw);
+        sim.run_until(100, |s| s.behavior(me) == "on").is_some()
+    };
+    assert!(
+        run(Vec3::new(0.4, 0.0, 9.0), std::f32::consts::PI),
+        "head-on"
+    );
+    assert!(
+        !run(Vec3::new(0.0, 0.0, 9.0), 0.0),
+        "ahead, swimming away faster"
+    );
+}
+
+/// `Chance(p)`: fires with probability p·dt per tick, i.e. about p times a second while it is
+/// looked at. At p = 2 and dt = 0.05 that is 0.1 of the idle ticks.
+#[test]
+fn chance_fires_p_times_a_second() {
+    let (mut sim, id, _dir) = one_condition("Chance(2.0)", "TimeIn(0.01)");
+    let (mut idle_ticks, mut starts) = (0u32, 0u32);
+    for _ in 0..4000 {
+        let was_idle = sim.behavior(id) == "idle";
+        sim.step();
+        if was_idle {
+            idle_ticks += 1;
+            starts += u32::from(sim.behavior(id) == "on");
+        }
+    }
+    let rate = starts as f32 / idle_ticks as f32;
+    // 0.1 ± about 4 standard deviations of a binomial over ~3,600 idle ticks (σ ≈ 0.005).
+    assert!(
+        (0.08..0.12).contains(&rate),
+        "{starts} of {idle_ticks}: {rate}"
+    );
+}
