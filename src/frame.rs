@@ -149,6 +149,32 @@ pub fn bearing_elevation(yaw: f32, pitch: f32, offset: Vec3) -> (f32, f32) {
     }
 }
 
+/// The kinematic state a primitive steers from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Kinematics {
+    /// Position.
+    pub pos: Vec3,
+    /// Yaw (rad, right positive).
+    pub yaw: f32,
+    /// Pitch (rad, up positive).
+    pub pitch: f32,
+    /// Current speed Vc.
+    pub speed: f32,
+}
+
+impl Kinematics {
+    /// Forward unit vector.
+    #[inline]
+    pub fn forward(&self) -> Vec3 {
+        forward(self.yaw, self.pitch)
+    }
+    /// Velocity.
+    #[inline]
+    pub fn velocity(&self) -> Vec3 {
+        self.forward() * self.speed
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

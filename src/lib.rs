@@ -21,6 +21,8 @@ pub mod prelude {
 
 #[cfg(feature = "tools")]
 pub mod bench;
+pub mod command;
+pub mod ctx;
 pub mod decision;
 pub mod diag;
 pub mod drives;

@@ -15,139 +15,14 @@ pub mod focus;
 pub mod scripts;
 
 use crate::events::{Cause, MessageKind};
-use crate::perception::{
-    Category, GroupQueries, GroupQuery, GroupSum, Level, Percept, Perception, Sector, Sense,
-    Source, Summary,
-};
-use crate::species::{AttrKind, CondNode, DriveKind, Species, ValueNode};
-use crate::steering::avoid::{self, PressureSource};
+use crate::perception::{Category, Level, Sector};
+use crate::species::CondNode;
+use crate::steering::avoid;
 use crate::steering::escape;
-use crate::steering::Kin;
-use crate::world::{Agent, Mind, Rng, World};
+use crate::world::{Mind, Rng};
 use std::sync::Arc;
 
-/// What a condition or value may read about one agent this tick.
-pub struct Ctx<'a> {
-    /// The world at the start of the tick (during the agent pass, without its agents: what an
-    /// agent reads of another is in `perception`).
-    pub world: &'a World,
-    /// Perception of the tick: also what every agent looked like at its start (velocity,
-    /// radius, previous position).
-    pub perception: &'a Perception,
-    /// The agent's species.
-    pub species: &'a Species,
-    /// The agent (state at the start of the tick; drives already updated).
-    pub agent: &'a Agent,
-    /// Its percepts.
-    pub percepts: &'a [Percept],
-    /// Its summaries.
-    pub summaries: &'a [Summary; Category::COUNT],
-    /// The neighborhood sums its species' group rules read ([`crate::perception::Reads`])...
-    pub group_queries: &'a GroupQueries,
-    /// ... and its sums of them, in the same order.
-    pub group_sums: &'a [GroupSum],
-    /// Current tick.
-    pub tick: u64,
-    /// Time step.
-    pub dt: f32,
-}
-
-impl Ctx<'_> {
-    /// Kinematic state.
-    pub fn kin(&self) -> Kin {
-        Kin {
-            pos: self.agent.pos,
-            yaw: self.agent.yaw,
-            pitch: self.agent.pitch,
-            speed: self.agent.speed,
-        }
-    }
-    /// The agent's sums of a group query, if perception folded them.
-    #[inline]
-    pub fn group(&self, q: &GroupQuery) -> Option<&GroupSum> {
-        self.group_queries
-            .position(q)
-            .and_then(|k| self.group_sums.get(k))
-    }
-    /// Nearest percept of a category.
-    pub fn nearest(&self, c: Category) -> Option<&Percept> {
-        self.summaries[c as usize]
-            .nearest
-            .map(|i| &self.percepts[i as usize])
-    }
-    /// Seconds the agent has been in its current behavior.
-    pub fn time_in_behavior(&self, mind: &Mind) -> f32 {
-        self.tick.saturating_sub(mind.entered_tick) as f32 * self.dt
-    }
-    /// Seen static obstacles within `params.range` as pressure sources.
-    pub fn static_sources<'p>(
-        &'p self,
-        params: &'p avoid::AvoidParams,
-    ) -> impl Iterator<Item = PressureSource> + 'p {
-        self.percepts
-            .iter()
-            .filter(move |p| {
-                p.category == Category::Obstacle
-                    && p.sense == Sense::Vision
-                    && params.in_range(p.dist)
-            })
-            .map(|p| PressureSource {
-                dist: p.dist,
-                bearing: p.bearing,
-                elevation: p.elevation,
-                size: p.size,
-                weight: 1.0,
-            })
-    }
-    /// The static-obstacle field of the seen obstacles within `params.range`: the front-half
-    /// field, or the paper's plane-angle field when `params.paper_field`.
-    pub fn static_pressures(&self, params: &avoid::AvoidParams) -> avoid::Pressures {
-        if params.paper_field {
-            return avoid::pressures(self.static_sources(params), params.m0);
-        }
-        let (yaw, pitch) = (self.agent.yaw, self.agent.pitch);
-        let seen = self.percepts.iter().filter(|p| {
-            p.category == Category::Obstacle && p.sense == Sense::Vision && params.in_range(p.dist)
-        });
-        avoid::front_pressures(
-            seen.map(|p| avoid::FrontSource::new(p.offset, p.dist, p.size, yaw, pitch)),
-            params.m0,
-        )
-    }
-    /// Seen agents within `params.range` as moving obstacles (seed 000 §4.2: the whole ±150°
-    /// field counts); kin only when `params.kin`.
-    pub fn moving_obstacles(
-        &self,
-        params: &avoid::AvoidParams,
-        out: &mut Vec<avoid::MovingObstacle>,
-    ) {
-        out.clear();
-        for p in self.percepts {
-            let kin = matches!(p.category, Category::Kin | Category::Mate);
-            if kin && !params.kin || !params.in_range(p.dist) {
-                continue;
-            }
-            if let (Source::Agent(j), Sense::Vision) = (p.source, p.sense) {
-                let j = j as usize;
-                let (Some(radius), Some(velocity)) =
-                    (self.perception.radius(j), self.perception.velocity(j))
-                else {
-                    continue;
-                };
-                out.push(avoid::MovingObstacle {
-                    source: PressureSource {
-                        dist: (p.dist - radius - self.agent.radius()).max(0.0),
-                        bearing: p.bearing,
-                        elevation: p.elevation,
-                        size: p.size,
-                        weight: 1.0,
-                    },
-                    velocity,
-                });
-            }
-        }
-    }
-}
+pub use crate::ctx::{value, Ctx};
 
 /// The bit of a horizontal sector in the mask of [`CondNode::InSector`].
 #[inline]
@@ -159,46 +34,6 @@ pub fn sector_bit(s: Sector) -> u8 {
 #[inline]
 pub fn level_bit(l: Level) -> u8 {
     1 << l as u8
-}
-
-/// Evaluates a value.
-pub fn value(v: &ValueNode, ctx: &Ctx, mind: &Mind) -> f32 {
-    match v {
-        ValueNode::Const(x) => *x,
-        ValueNode::Drive(d) => {
-            let dr = &ctx.agent.drives;
-            match d {
-                DriveKind::Hunger => dr.hunger,
-                DriveKind::Libido => dr.libido,
-                DriveKind::Fear => dr.fear,
-                DriveKind::Fatigue => dr.fatigue,
-                DriveKind::State => dr.state,
-            }
-        }
-        ValueNode::Distance(c) => ctx.summaries[*c as usize].nearest_dist,
-        ValueNode::Count(c) => ctx.summaries[*c as usize].count as f32,
-        // Seed 001: only the nearest's distance is read, and only here.
-        ValueNode::Strength(c) => ctx
-            .species
-            .senses
-            .strength
-            .at(ctx.summaries[*c as usize].nearest_dist),
-        ValueNode::Speed => ctx.agent.speed,
-        ValueNode::TimeInBehavior => ctx.time_in_behavior(mind),
-        ValueNode::Attribute(a) => match a {
-            AttrKind::Age => ctx.agent.attrs.age,
-            AttrKind::Mass => ctx.agent.attrs.mass,
-        },
-        ValueNode::KinSpeed => ctx.summaries[Category::Kin as usize].mean_velocity.length(),
-        ValueNode::OneMinus(x) => 1.0 - value(x, ctx, mind),
-        ValueNode::Mul(a, b) => value(a, ctx, mind) * value(b, ctx, mind),
-        ValueNode::Add(a, b) => value(a, ctx, mind) + value(b, ctx, mind),
-        ValueNode::Script(slot) => mind
-            .script_values
-            .get(*slot as usize)
-            .copied()
-            .unwrap_or(0.0),
-    }
 }
 
 /// Evaluates a condition. Latches and chance draws update `mind` and `rng`.

@@ -6,45 +6,8 @@
 mod apply;
 
 use crate::world::AgentId;
+pub use crate::world::MessageKind;
 use serde::{Deserialize, Serialize};
-
-/// Messages between agents (seed 003), highest priority first.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-pub enum MessageKind {
-    /// Danger (a predator).
-    Danger = 0,
-    /// An obstacle.
-    Obstacle = 1,
-    /// A mating call.
-    Mate = 2,
-}
-
-impl MessageKind {
-    /// Lower-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            MessageKind::Danger => "danger",
-            MessageKind::Obstacle => "obstacle",
-            MessageKind::Mate => "mate",
-        }
-    }
-    /// Parses a lower-case name.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "danger" => Some(MessageKind::Danger),
-            "obstacle" => Some(MessageKind::Obstacle),
-            "mate" => Some(MessageKind::Mate),
-            _ => None,
-        }
-    }
-    /// Keeps the higher-priority of two messages.
-    pub fn max_priority(a: Option<Self>, b: Self) -> Self {
-        match a {
-            Some(a) if a < b => a,
-            _ => b,
-        }
-    }
-}
 
 /// Why a behavior transition happened (seed 000 §3 arbitration).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

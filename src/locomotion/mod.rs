@@ -21,7 +21,7 @@ pub mod solid;
 pub use rigid::RigidParams;
 
 use crate::frame;
-use crate::steering::{Kin, Steer};
+use crate::steering::{Kinematics, Steer};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::f32::consts::FRAC_PI_4;
@@ -126,7 +126,7 @@ pub fn step(
     current: Vec3,
     dt: f32,
 ) -> StepInfo {
-    let kin = Kin {
+    let kin = Kinematics {
         pos: m.pos,
         yaw: m.yaw,
         pitch: m.pitch,

@@ -9,7 +9,9 @@
 //! default (the same number for a 150° view), and `m_min_factor: Some(1.866)` keeps the paper's
 //! fixed constant whatever the view.
 
-use super::{Kin, Steer};
+use super::{Kinematics, Steer};
+use crate::ctx::Ctx;
+use crate::perception::{Category, Sense, Source};
 use crate::world::Aabb;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -261,7 +263,7 @@ fn turn_rule(p: &Pressures, m_min: f32, turn: f32) -> (f32, f32) {
 /// With the front-half field an obstacle level with the heading does not make the body pitch:
 /// it turns, rather than climbing toward the pitch limit.
 pub fn avoid_static(
-    kin: &Kin,
+    kin: &Kinematics,
     p: Pressures,
     vision_radius: f32,
     fish_size: f32,
@@ -312,7 +314,7 @@ pub fn head_on_weight(own: Vec3, other: Vec3) -> f32 {
 /// Speed: `Vc` when all pressures `≤ M_min` (then the result is [`Steer::None`]), `0` when any
 /// exceeds `M_max`, else `V_min`.
 pub fn avoid_dynamic(
-    kin: &Kin,
+    kin: &Kinematics,
     obstacles: &[MovingObstacle],
     vision_radius: f32,
     vision_half_angle: f32,
@@ -377,7 +379,7 @@ pub fn path_test(pos: Vec3, look_ahead: Vec3, center: Vec3, radius: f32) -> Opti
 /// sideways away from it (away from `b`; straight ahead hits turn to the left). `obstacles`
 /// yields `(centre, radius)`.
 pub fn predict_collision(
-    kin: &Kin,
+    kin: &Kinematics,
     obstacles: impl IntoIterator<Item = (Vec3, f32)>,
     horizon: f32,
     margin: f32,
@@ -407,13 +409,19 @@ pub fn predict_collision(
 /// Boundary containment (seed 001: "the world boundary is avoided the same way"): when the point
 /// `horizon` seconds ahead leaves `bounds` shrunk by `margin`, steer toward the nearest point
 /// inside it.
-pub fn contain(kin: &Kin, bounds: &Aabb, margin: f32, horizon: f32, max_speed: f32) -> Steer {
+pub fn contain(
+    kin: &Kinematics,
+    bounds: &Aabb,
+    margin: f32,
+    horizon: f32,
+    max_speed: f32,
+) -> Steer {
     contain_facing(kin, kin.forward(), bounds, margin, horizon, max_speed)
 }
 
 /// [`contain`] for a body whose forward vector (`kin.forward()`) is already known.
 pub fn contain_facing(
-    kin: &Kin,
+    kin: &Kinematics,
     forward: Vec3,
     bounds: &Aabb,
     margin: f32,
@@ -442,6 +450,74 @@ pub fn contain_facing(
     }
 }
 
+/// The agent's percepts as avoidance inputs.
+impl Ctx<'_> {
+    /// Seen static obstacles within `params.range` as pressure sources.
+    pub fn static_sources<'p>(
+        &'p self,
+        params: &'p AvoidParams,
+    ) -> impl Iterator<Item = PressureSource> + 'p {
+        self.percepts
+            .iter()
+            .filter(move |p| {
+                p.category == Category::Obstacle
+                    && p.sense == Sense::Vision
+                    && params.in_range(p.dist)
+            })
+            .map(|p| PressureSource {
+                dist: p.dist,
+                bearing: p.bearing,
+                elevation: p.elevation,
+                size: p.size,
+                weight: 1.0,
+            })
+    }
+    /// The static-obstacle field of the seen obstacles within `params.range`: the front-half
+    /// field, or the paper's plane-angle field when `params.paper_field`.
+    pub fn static_pressures(&self, params: &AvoidParams) -> Pressures {
+        if params.paper_field {
+            return pressures(self.static_sources(params), params.m0);
+        }
+        let (yaw, pitch) = (self.agent.yaw, self.agent.pitch);
+        let seen = self.percepts.iter().filter(|p| {
+            p.category == Category::Obstacle && p.sense == Sense::Vision && params.in_range(p.dist)
+        });
+        front_pressures(
+            seen.map(|p| FrontSource::new(p.offset, p.dist, p.size, yaw, pitch)),
+            params.m0,
+        )
+    }
+    /// Seen agents within `params.range` as moving obstacles (seed 000 §4.2: the whole ±150°
+    /// field counts); kin only when `params.kin`.
+    pub fn moving_obstacles(&self, params: &AvoidParams, out: &mut Vec<MovingObstacle>) {
+        out.clear();
+        for p in self.percepts {
+            let kin = matches!(p.category, Category::Kin | Category::Mate);
+            if kin && !params.kin || !params.in_range(p.dist) {
+                continue;
+            }
+            if let (Source::Agent(j), Sense::Vision) = (p.source, p.sense) {
+                let j = j as usize;
+                let (Some(radius), Some(velocity)) =
+                    (self.perception.radius(j), self.perception.velocity(j))
+                else {
+                    continue;
+                };
+                out.push(MovingObstacle {
+                    source: PressureSource {
+                        dist: (p.dist - radius - self.agent.radius()).max(0.0),
+                        bearing: p.bearing,
+                        elevation: p.elevation,
+                        size: p.size,
+                        weight: 1.0,
+                    },
+                    velocity,
+                });
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -450,8 +526,8 @@ mod tests {
     /// The paper's ±150° view.
     const VIEW_150: f32 = 5.0 * FRAC_PI_6;
 
-    fn kin(speed: f32) -> Kin {
-        Kin {
+    fn kin(speed: f32) -> Kinematics {
+        Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,

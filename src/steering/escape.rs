@@ -16,7 +16,7 @@
 //! `Vc/2` and the speed `V_max/2` beyond vision.
 
 use super::goal::Sectors;
-use super::{seek, Kin, Steer};
+use super::{seek, Kinematics, Steer};
 use crate::perception::{Level, Sector};
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8};
@@ -190,7 +190,13 @@ pub fn escape_leveled(
 /// Escape is done (seed 000 §4.4) when the predator is behind in both planes — horizontally
 /// |θ| > π/2, and in the body's vertical plane behind the fish (offset · forward < 0) — and
 /// farther than `v_r`.
-pub fn escape_done(kin: &Kin, bearing: f32, offset: Vec3, dist: f32, vision_radius: f32) -> bool {
+pub fn escape_done(
+    kin: &Kinematics,
+    bearing: f32,
+    offset: Vec3,
+    dist: f32,
+    vision_radius: f32,
+) -> bool {
     bearing.abs() > FRAC_PI_2 && offset.dot(kin.forward()) < 0.0 && dist > vision_radius
 }
 
@@ -200,7 +206,7 @@ pub fn mirror_point(me: Vec3, threat: Vec3) -> Vec3 {
 }
 
 /// Escape by seeking the mirrored point (seed 002).
-pub fn escape_mirror(kin: &Kin, threat: Vec3, v_max: f32) -> Steer {
+pub fn escape_mirror(kin: &Kinematics, threat: Vec3, v_max: f32) -> Steer {
     let target = mirror_point(kin.pos, threat);
     match seek(kin, target, v_max) {
         Steer::None => Steer::Turn {
@@ -440,7 +446,7 @@ mod tests {
         // Predator behind horizontally (θ = π) but high above: offset (0, 20, −5), d = 20.6 >
         // v_r = 10. offset·forward = 20·0.932 − 5·0.362 = 16.8 > 0: ahead in the vertical
         // plane → not done.
-        let up = Kin {
+        let up = Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 1.2,
@@ -450,7 +456,7 @@ mod tests {
         let d = offset.length();
         assert!(!escape_done(&up, std::f32::consts::PI, offset, d, 10.0));
         // Level fish, same predator: offset·forward = −5 < 0 → behind in both planes → done.
-        let level = Kin { pitch: 0.0, ..up };
+        let level = Kinematics { pitch: 0.0, ..up };
         assert!(escape_done(&level, std::f32::consts::PI, offset, d, 10.0));
         // Behind in the vertical plane but beside horizontally (θ = π/2 exactly) → not done.
         assert!(!escape_done(&level, FRAC_PI_2, offset, d, 10.0));
@@ -475,7 +481,7 @@ mod tests {
 
     #[test]
     fn done_when_behind_and_out_of_sight() {
-        let k = Kin {
+        let k = Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,
@@ -500,7 +506,7 @@ mod tests {
             mirror_point(Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 0.0, 3.0)),
             Vec3::new(-2.0, 4.0, 3.0)
         );
-        let k = Kin {
+        let k = Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,

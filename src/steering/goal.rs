@@ -9,7 +9,7 @@
 //! reads the rule (a target within the clamp is turned to, not passed by);
 //! [`VisionTurn::KeepHeading`] is 000 as printed.
 
-use super::{seek, Kin, Steer};
+use super::{seek, Kinematics, Steer};
 use crate::perception::{Level, Sector};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -222,7 +222,7 @@ pub enum Prediction {
 /// Pursuit: seek the predicted position of a target now at `now` that was at `before` one tick
 /// ago (`dt` seconds).
 pub fn pursue(
-    kin: &Kin,
+    kin: &Kinematics,
     now: Vec3,
     before: Vec3,
     dt: f32,
@@ -453,7 +453,7 @@ mod tests {
 
     #[test]
     fn pursuit_aims_at_the_prediction() {
-        let k = Kin {
+        let k = Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,
@@ -509,7 +509,7 @@ mod tests {
 
     #[test]
     fn pursuit_by_none_and_intercept() {
-        let k = Kin {
+        let k = Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,

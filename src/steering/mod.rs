@@ -22,130 +22,10 @@ pub mod wander;
 #[cfg(test)]
 mod props;
 
-use crate::frame;
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
-/// The kinematic state a primitive steers from.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Kin {
-    /// Position.
-    pub pos: Vec3,
-    /// Yaw (rad, right positive).
-    pub yaw: f32,
-    /// Pitch (rad, up positive).
-    pub pitch: f32,
-    /// Current speed Vc.
-    pub speed: f32,
-}
-
-impl Kin {
-    /// Forward unit vector.
-    #[inline]
-    pub fn forward(&self) -> Vec3 {
-        frame::forward(self.yaw, self.pitch)
-    }
-    /// Velocity.
-    #[inline]
-    pub fn velocity(&self) -> Vec3 {
-        self.forward() * self.speed
-    }
-}
-
-/// A steering command.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub enum Steer {
-    /// Nothing to do: in a priority list the next entry is tried.
-    #[default]
-    None,
-    /// Turn by `yaw` and `pitch` (rad, relative to the current heading; right and up positive)
-    /// and aim for `speed`.
-    Turn {
-        /// Relative yaw.
-        yaw: f32,
-        /// Relative pitch.
-        pitch: f32,
-        /// Target speed.
-        speed: f32,
-    },
-    /// Aim for this world-space velocity.
-    Velocity(Vec3),
-}
-
-impl Steer {
-    /// No command.
-    pub const NONE: Steer = Steer::None;
-
-    /// Keep heading and speed.
-    pub fn keep(kin: &Kin) -> Steer {
-        Steer::Turn {
-            yaw: 0.0,
-            pitch: 0.0,
-            speed: kin.speed,
-        }
-    }
-
-    /// Whether this is [`Steer::None`].
-    pub fn is_none(&self) -> bool {
-        matches!(self, Steer::None)
-    }
-
-    /// Whether every component is finite.
-    pub fn is_finite(&self) -> bool {
-        match *self {
-            Steer::None => true,
-            Steer::Turn { yaw, pitch, speed } => {
-                yaw.is_finite() && pitch.is_finite() && speed.is_finite()
-            }
-            Steer::Velocity(v) => v.is_finite(),
-        }
-    }
-
-    /// The desired world velocity this command stands for, from `kin`.
-    pub fn desired_velocity(&self, kin: &Kin) -> Vec3 {
-        match *self {
-            Steer::None => kin.velocity(),
-            Steer::Turn { yaw, pitch, speed } => {
-                let p = (kin.pitch + pitch).clamp(-frame::PITCH_LIMIT, frame::PITCH_LIMIT);
-                frame::forward(kin.yaw + yaw, p) * speed
-            }
-            Steer::Velocity(v) => v,
-        }
-    }
-
-    /// The same command as relative turn angles and a target speed (unclamped: locomotion
-    /// applies the limits). A zero desired velocity keeps the heading and stops.
-    pub fn as_turn(&self, kin: &Kin) -> (f32, f32, f32) {
-        match *self {
-            Steer::None => (0.0, 0.0, kin.speed),
-            Steer::Turn { yaw, pitch, speed } => (yaw, pitch, speed),
-            Steer::Velocity(v) => match frame::heading_of(v) {
-                Some((y, p)) => {
-                    let horizontal = v.x * v.x + v.z * v.z > 1e-12;
-                    let dyaw = if horizontal {
-                        frame::wrap(y - kin.yaw)
-                    } else {
-                        0.0
-                    };
-                    (dyaw, p - kin.pitch, v.length())
-                }
-                None => (0.0, 0.0, 0.0),
-            },
-        }
-    }
-}
-
-/// One term of a script-built steering value: evaluated natively every tick until the script
-/// runs again.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub enum Term {
-    /// One of the species' named recipes, by index.
-    Recipe(u16),
-    /// A fixed desired velocity.
-    Velocity(Vec3),
-    /// A relative turn and a target speed.
-    Turn(f32, f32, f32),
-}
+pub use crate::command::{Steer, Term};
+pub use crate::frame::Kinematics;
 
 /// Strict priority: the first command that is not [`Steer::None`] wins.
 pub fn first_of(cmds: impl IntoIterator<Item = Steer>) -> Steer {
@@ -158,12 +38,16 @@ pub fn first_of(cmds: impl IntoIterator<Item = Steer>) -> Steer {
 /// vector `desired − current`, the vectors are summed with their weights and added to the current
 /// velocity. Commands that are [`Steer::None`] or have a zero weight do not count; with none left
 /// the result is [`Steer::None`]. A single command with weight 1 gives back its own velocity.
-pub fn blend(kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
+pub fn blend(kin: &Kinematics, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
     blend_from(kin.velocity(), kin, cmds)
 }
 
 /// [`blend`] around a known current velocity (`kin.velocity()`).
-pub fn blend_from(current: Vec3, kin: &Kin, cmds: impl IntoIterator<Item = (f32, Steer)>) -> Steer {
+pub fn blend_from(
+    current: Vec3,
+    kin: &Kinematics,
+    cmds: impl IntoIterator<Item = (f32, Steer)>,
+) -> Steer {
     let mut b = Blend::new(current, kin);
     for (w, c) in cmds {
         b.add(w, c);
@@ -175,7 +59,7 @@ pub fn blend_from(current: Vec3, kin: &Kin, cmds: impl IntoIterator<Item = (f32,
 #[derive(Debug, Clone, Copy)]
 pub struct Blend<'a> {
     current: Vec3,
-    kin: &'a Kin,
+    kin: &'a Kinematics,
     sum: Vec3,
     any: bool,
 }
@@ -183,7 +67,7 @@ pub struct Blend<'a> {
 impl<'a> Blend<'a> {
     /// Nothing blended yet, around the current velocity `current` (`kin.velocity()`).
     #[inline]
-    pub fn new(current: Vec3, kin: &'a Kin) -> Self {
+    pub fn new(current: Vec3, kin: &'a Kinematics) -> Self {
         Blend {
             current,
             kin,
@@ -215,7 +99,7 @@ impl<'a> Blend<'a> {
 }
 
 /// Seek: full speed toward `target`.
-pub fn seek(kin: &Kin, target: Vec3, max_speed: f32) -> Steer {
+pub fn seek(kin: &Kinematics, target: Vec3, max_speed: f32) -> Steer {
     match (target - kin.pos).try_normalize() {
         Some(d) => Steer::Velocity(d * max_speed),
         None => Steer::None,
@@ -223,7 +107,7 @@ pub fn seek(kin: &Kin, target: Vec3, max_speed: f32) -> Steer {
 }
 
 /// Flee: full speed away from `threat`.
-pub fn flee(kin: &Kin, threat: Vec3, max_speed: f32) -> Steer {
+pub fn flee(kin: &Kinematics, threat: Vec3, max_speed: f32) -> Steer {
     match (kin.pos - threat).try_normalize() {
         Some(d) => Steer::Velocity(d * max_speed),
         None => Steer::Turn {
@@ -235,7 +119,7 @@ pub fn flee(kin: &Kin, threat: Vec3, max_speed: f32) -> Steer {
 }
 
 /// Arrive: seek that slows down linearly inside `slow_radius` and stops on the target.
-pub fn arrive(kin: &Kin, target: Vec3, max_speed: f32, slow_radius: f32) -> Steer {
+pub fn arrive(kin: &Kinematics, target: Vec3, max_speed: f32, slow_radius: f32) -> Steer {
     let off = target - kin.pos;
     let d = off.length();
     if d < 1e-6 {
@@ -253,8 +137,8 @@ pub fn arrive(kin: &Kin, target: Vec3, max_speed: f32, slow_radius: f32) -> Stee
 mod tests {
     use super::*;
 
-    fn kin() -> Kin {
-        Kin {
+    fn kin() -> Kinematics {
+        Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.0,
             pitch: 0.0,
@@ -294,7 +178,7 @@ mod tests {
 
     #[test]
     fn velocity_to_turn_round_trip() {
-        let k = Kin {
+        let k = Kinematics {
             pos: Vec3::ZERO,
             yaw: 0.3,
             pitch: 0.1,

@@ -4,7 +4,7 @@
 use super::avoid::{self, AvoidParams, MovingObstacle, PressureSource};
 use super::group::{self, Neighbor, Zones};
 use super::wander::{self, WanderParams};
-use super::{arrive, blend, escape, flee, goal, seek, Kin, Steer};
+use super::{arrive, blend, escape, flee, goal, seek, Kinematics, Steer};
 use crate::world::Aabb;
 use glam::Vec3;
 use proptest::prelude::*;
@@ -24,14 +24,14 @@ fn angle() -> impl Strategy<Value = f32> {
     -10.0f32..10.0
 }
 
-fn kin() -> impl Strategy<Value = Kin> {
+fn kin() -> impl Strategy<Value = Kinematics> {
     (
         vec3(),
         angle(),
         -1.5f32..1.5,
         prop_oneof![0.0f32..10.0, Just(0.0)],
     )
-        .prop_map(|(pos, yaw, pitch, speed)| Kin {
+        .prop_map(|(pos, yaw, pitch, speed)| Kinematics {
             pos,
             yaw,
             pitch,

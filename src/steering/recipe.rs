@@ -4,8 +4,8 @@
 
 use super::avoid::{self, MovingObstacle};
 use super::group::{self, Neighbor};
-use super::{blend_from, escape, goal, wander, Blend, Kin, Steer, Term};
-use crate::decision::{self, Ctx};
+use super::{blend_from, escape, goal, wander, Blend, Kinematics, Steer, Term};
+use crate::ctx::{self, Ctx};
 use crate::perception::{Category, GroupQuery, GroupSum, Percept, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
 use crate::world::{Mind, Rng};
@@ -36,7 +36,7 @@ impl Scratch {
         self.own_velocity = v;
     }
     /// The agent's own velocity (`kin.velocity()`, two `sin_cos`), computed once per agent.
-    fn velocity(&mut self, kin: &Kin) -> Vec3 {
+    fn velocity(&mut self, kin: &Kinematics) -> Vec3 {
         *self.own_velocity.get_or_insert_with(|| kin.velocity())
     }
     fn kin<'a>(&'a mut self, ctx: &Ctx) -> &'a [Neighbor] {
@@ -297,7 +297,7 @@ pub fn evaluate(
             let current = scratch.velocity(&kin);
             let mut blend = Blend::new(current, &kin);
             for (w, by, r) in v.iter().take(16) {
-                let f = by.as_ref().map_or(1.0, |b| decision::value(b, ctx, mind));
+                let f = by.as_ref().map_or(1.0, |b| ctx::value(b, ctx, mind));
                 let weight = w * f;
                 if weight != 0.0 {
                     blend.add(weight, evaluate(r, ctx, mind, rng, scratch, depth + 1));

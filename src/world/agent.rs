@@ -1,9 +1,8 @@
 //! One agent's state: kinematics, drives, attributes, decision state and animation channel.
 
 use super::Rng;
-use crate::events::MessageKind;
+use crate::command::{Steer, Term};
 use crate::frame;
-use crate::steering::{Steer, Term};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -302,5 +301,43 @@ impl Agent {
     #[inline]
     pub fn radius(&self) -> f32 {
         self.size.length() * 0.5
+    }
+}
+
+/// Messages between agents (seed 003), highest priority first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum MessageKind {
+    /// Danger (a predator).
+    Danger = 0,
+    /// An obstacle.
+    Obstacle = 1,
+    /// A mating call.
+    Mate = 2,
+}
+
+impl MessageKind {
+    /// Lower-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            MessageKind::Danger => "danger",
+            MessageKind::Obstacle => "obstacle",
+            MessageKind::Mate => "mate",
+        }
+    }
+    /// Parses a lower-case name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "danger" => Some(MessageKind::Danger),
+            "obstacle" => Some(MessageKind::Obstacle),
+            "mate" => Some(MessageKind::Mate),
+            _ => None,
+        }
+    }
+    /// Keeps the higher-priority of two messages.
+    pub fn max_priority(a: Option<Self>, b: Self) -> Self {
+        match a {
+            Some(a) if a < b => a,
+            _ => b,
+        }
     }
 }

@@ -7,8 +7,8 @@ mod agent;
 mod rng;
 
 pub use agent::{
-    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, MemValue, Mind, Sex, SpeciesId,
-    MEMORY_CAPACITY, STACK_CAPACITY,
+    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, MemValue, MessageKind, Mind, Sex,
+    SpeciesId, MEMORY_CAPACITY, STACK_CAPACITY,
 };
 pub use rng::Rng;
 
