@@ -3,7 +3,7 @@
 //! simulation thread and swaps new versions of the species and scenario in at tick boundaries
 //! (seed 000 §3's behavior stack and the agents' drives and memory carry over by name).
 //!
-//! Three parts: the simulation thread ([`sim`]), the loader ([`loader`]: a debounced watcher on
+//! Three parts: the simulation thread (`sim.rs`), the loader (`loader.rs`: a debounced watcher on
 //! the folders of every file in use, and a worker thread that parses, validates, compiles and
 //! dry-runs off the simulation thread, replaced if it hangs) and, optionally, the viewer's HTTP
 //! server ([`server`]). What a viewer is sent lives in a

@@ -132,12 +132,13 @@ pub(crate) fn located(
     d.into()
 }
 
-/// The fields of one CSV line, with their 1-based columns for error messages.
+/// The fields of one CSV line; columns for error messages are worked out only when one is due.
 pub(crate) struct Fields<'a> {
     path: &'a Path,
     line: usize,
     record: &'a csv::ByteRecord,
-    fields: Vec<(usize, &'a str)>,
+    /// The record's fields back to back, checked as UTF-8 once.
+    all: &'a str,
 }
 
 impl<'a> Fields<'a> {
@@ -148,17 +149,10 @@ impl<'a> Fields<'a> {
         record: &'a csv::ByteRecord,
         names: &[&str],
     ) -> Result<Fields<'a>, ViewError> {
-        let mut fields = Vec::with_capacity(names.len());
-        let mut start = 0;
         // One UTF-8 check for the whole record; fields are slices of it.
         let all = std::str::from_utf8(record.as_slice())
             .map_err(|_| located(path, line, 1, "not UTF-8 text", &line_text(record)))?;
-        for i in 0..record.len() {
-            let part = record.range(i).map_or("", |r| &all[r]);
-            fields.push((start + 1, part));
-            start += part.len() + 1;
-        }
-        if fields.len() != names.len() {
+        if record.len() != names.len() {
             return Err(located(
                 path,
                 line,
@@ -167,7 +161,7 @@ impl<'a> Fields<'a> {
                     "expected {} comma-separated fields ({}), found {}",
                     names.len(),
                     names.join(","),
-                    fields.len()
+                    record.len()
                 ),
                 &line_text(record),
             ));
@@ -176,23 +170,28 @@ impl<'a> Fields<'a> {
             path,
             line,
             record,
-            fields,
+            all,
         })
+    }
+
+    /// The 1-based column where field `i` starts on its line.
+    fn col(&self, i: usize) -> usize {
+        1 + (0..i).map(|k| self.str(k).len() + 1).sum::<usize>()
     }
 
     /// Field `i` as text.
     pub(crate) fn str(&self, i: usize) -> &'a str {
-        self.fields[i].1
+        self.record.range(i).map_or("", |r| &self.all[r])
     }
 
     /// Field `i` parsed as `T`; `what` names the field and its expected type in the error.
     pub(crate) fn parse<T: std::str::FromStr>(&self, i: usize, what: &str) -> Result<T, ViewError> {
-        let (col, s) = self.fields[i];
+        let s = self.str(i);
         s.trim().parse::<T>().map_err(|_| {
             located(
                 self.path,
                 self.line,
-                col,
+                self.col(i),
                 format!("expected {what}, found `{s}`"),
                 &line_text(self.record),
             )
@@ -201,13 +200,19 @@ impl<'a> Fields<'a> {
 
     /// Field `i` as a finite number.
     pub(crate) fn num(&self, i: usize, name: &str) -> Result<f32, ViewError> {
-        let v: f32 = self.parse(i, &format!("a number for `{name}`"))?;
+        // The message is formatted only on error: this runs for every number of a replay.
+        let Ok(v) = self.str(i).trim().parse::<f32>() else {
+            return Err(self.error(
+                i,
+                format!("expected a number for `{name}`, found `{}`", self.str(i)),
+            ));
+        };
         if !v.is_finite() {
-            let (col, s) = self.fields[i];
+            let s = self.str(i);
             return Err(located(
                 self.path,
                 self.line,
-                col,
+                self.col(i),
                 format!("expected a finite number for `{name}`, found `{s}`"),
                 &line_text(self.record),
             ));
@@ -220,7 +225,7 @@ impl<'a> Fields<'a> {
         located(
             self.path,
             self.line,
-            self.fields[i].0,
+            self.col(i),
             message,
             &line_text(self.record),
         )
