@@ -13,10 +13,10 @@
 //! percepts kept (and, in the pipeline, only on those a behavior can read).
 //!
 //! This file holds the result rows ([`Perception`]) and the stage's orchestration
-//! ([`Perception::run`]): gather the tick's copies (`gather.rs`), index the obstacles, then walk
-//! every perceiver in parallel (`view.rs`, `walk.rs`). A species' senses, relations and reads are in
-//! `senses.rs`, the sense test in `eye.rs`, the kept percepts in `keep.rs`, the summaries in
-//! `fold.rs`.
+//! ([`Perception::run`]): gather the tick's copies (`gather.rs`), index the obstacles, then
+//! walk every perceiver in parallel (`view.rs`, `walk.rs`). A species' senses, relations and
+//! reads are in `senses.rs`, the sense test in `eye.rs`, the kept percepts in `keep.rs`, the
+//! summaries in `fold.rs`.
 
 mod eye;
 mod fold;
