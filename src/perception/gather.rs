@@ -1,0 +1,267 @@
+//! The per-tick copy of what perceivers read of each other (stage 2): every agent's record read
+//! once, in agent order, into a small [`Gathered`] record, then copied into the agent grid's
+//! order (headings and speeds, species and sex, sizes), so that a neighbor costs one small
+//! sequential read. Also sizes each agent's share of the output rows. Reads the world and the
+//! agent grid; writes only the stage's own buffers.
+
+use super::keep::EMPTY;
+use super::walk::kernel_species;
+use super::{GroupSum, Perception, Reads, Relations, SenseParams, SummaryRow};
+use crate::index::Grid;
+use crate::world::World;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// What others read of an agent at the start of the tick.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Gathered {
+    pub(super) body: Body,
+    pub(super) tag: Tag,
+    pub(super) diagonal: f32,
+    /// Its position a tick before (pursuers read their target's).
+    pub(super) prev_pos: Vec3,
+    /// Its heading's angles (copied to the perceivers' rows in the grid's order).
+    pub(super) yaw: f32,
+    pub(super) pitch: f32,
+}
+
+/// What a perceiver reads of itself.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Me {
+    pub(super) pos: Vec3,
+    pub(super) yaw: f32,
+    pub(super) pitch: f32,
+    /// Forward unit vector.
+    pub(super) heading: Vec3,
+    pub(super) tag: Tag,
+}
+
+/// The part of an agent its neighbors read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Body {
+    /// Forward unit vector.
+    pub(super) heading: Vec3,
+    /// Speed (`heading * speed` is `Agent::velocity`, bit for bit).
+    pub(super) speed: f32,
+}
+
+impl Body {
+    #[inline(always)]
+    pub(super) fn velocity(&self) -> Vec3 {
+        self.heading * self.speed
+    }
+}
+
+/// Who an agent is, as its neighbors' relations see it (kept apart from [`Body`]: every
+/// candidate's is read, only those perceived have their body read).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Tag {
+    pub(super) species: u16,
+    pub(super) sex: crate::world::Sex,
+}
+
+impl Default for Body {
+    fn default() -> Self {
+        Body {
+            heading: Vec3::ZERO,
+            speed: 0.0,
+        }
+    }
+}
+
+/// What stands in for an agent the grid lacks.
+const UNKNOWN: Gathered = Gathered {
+    body: Body {
+        heading: Vec3::ZERO,
+        speed: 0.0,
+    },
+    tag: Tag {
+        species: u16::MAX,
+        sex: crate::world::Sex::Female,
+    },
+    diagonal: 0.0,
+    prev_pos: Vec3::ZERO,
+    yaw: 0.0,
+    pitch: 0.0,
+};
+
+impl Perception {
+    /// Gathers, for this tick, what perceivers read of each other (see [`Gathered`]) and
+    /// sizes every agent's share of the output rows; decides the walk's order (`by_grid`) and
+    /// which species may perceive by the kin kernel (`kernel`). Returns whether some agent's
+    /// species has no senses (it then perceives with the defaults).
+    pub(super) fn gather(
+        &mut self,
+        world: &World,
+        agents: &Grid,
+        senses: &[SenseParams],
+        relations: &Relations,
+        reads: &[Reads],
+    ) -> bool {
+        let n = world.agents.len();
+        let default = SenseParams::default();
+        let everything = Reads::default();
+        // Each agent's share of the output buffers (by its species).
+        let share = |s: usize| {
+            let r = reads.get(s).unwrap_or(&everything);
+            let slots = if r.percepts {
+                senses.get(s).unwrap_or(&default).slots() as u32
+            } else {
+                0
+            };
+            (slots, r.groups.len() as u32)
+        };
+        let unsensed = std::sync::atomic::AtomicBool::new(false);
+        let entries = agents.entries();
+        // Species that may perceive by the kin kernel.
+        self.kernel.clear();
+        self.kernel
+            .extend((0..senses.len().max(reads.len())).map(|s| {
+                let r = reads.get(s).unwrap_or(&everything);
+                kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
+            }));
+        let kernel = self.kernel.iter().any(|&k| k);
+        // The walk's order: the grid's when it indexes exactly these agents (its inverse is
+        // then the row of each) and perceivers take the general path, else agent order.
+        // The general path reads each neighbor's scattered records, which perceivers next to
+        // each other in space share; the kin kernel reads compact lanes that stay in cache, and
+        // the agent pass then reads the outputs faster in agent order.
+        let by_grid = !kernel && agents.slots().len() == n && entries.len() == n;
+        // The walk in the grid's order reads each perceiver's position from the grid: it must
+        // be the grid of these agents' positions (as `Pipeline::perceive` builds it).
+        debug_assert!(
+            !by_grid
+                || n == 0
+                || agents.positions()[agents.slots()[0] as usize] == world.agents[0].pos.into(),
+            "the agent grid indexes other positions than the world's agents"
+        );
+        // Every agent's record read once, in order, on the thread that last wrote it; in agent
+        // order, its share of the buffers with it.
+        self.gathered.resize(n, UNKNOWN);
+        self.slot_starts.resize(n + 1, 0);
+        self.sum_starts.resize(n + 1, 0);
+        world
+            .agents
+            .par_iter()
+            .zip(self.gathered[..n].par_iter_mut())
+            .zip(self.slot_starts[..n].par_iter_mut())
+            .zip(self.sum_starts[..n].par_iter_mut())
+            .with_min_len(256)
+            .for_each(|(((a, g), slots), sums)| {
+                if a.species.0 as usize >= senses.len() {
+                    unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
+                }
+                if !by_grid {
+                    (*slots, *sums) = share(a.species.0 as usize);
+                }
+                *g = Gathered {
+                    body: Body {
+                        heading: a.forward(),
+                        speed: a.speed,
+                    },
+                    tag: Tag {
+                        species: a.species.0,
+                        sex: a.attrs.sex,
+                    },
+                    diagonal: a.diagonal(),
+                    prev_pos: a.prev_pos,
+                    yaw: a.yaw,
+                    pitch: a.pitch,
+                };
+            });
+        let unsensed = unsensed.into_inner();
+        self.by_grid = by_grid;
+        self.angles.clear();
+        let gathered = &self.gathered[..];
+        if by_grid {
+            // In the grid's order, each row's heading angles, and its share of the buffers.
+            self.angles.resize(n, [0.0; 2]);
+            self.angles
+                .par_iter_mut()
+                .zip(self.slot_starts[..n].par_iter_mut())
+                .zip(self.sum_starts[..n].par_iter_mut())
+                .zip(entries.par_iter())
+                .with_min_len(256)
+                .for_each(|(((angles, slots), sums), &i)| {
+                    let g = &gathered[i as usize];
+                    *angles = [g.yaw, g.pitch];
+                    (*slots, *sums) = share(g.tag.species as usize);
+                });
+        }
+        self.size_rows(n);
+        self.copy_by_slot(agents, kernel);
+        self.cos_mins.clear();
+        self.cos_mins
+            .extend(senses.iter().map(|s| s.vision_half_angle.cos() - 1e-6));
+        unsensed
+    }
+
+    /// Turns every row's share of the output buffers into running starts and sizes the
+    /// buffers to hold them all.
+    fn size_rows(&mut self, n: usize) {
+        let running = |starts: &mut [u32]| {
+            let mut total = 0;
+            for v in &mut starts[..n] {
+                (*v, total) = (total, total + *v);
+            }
+            starts[n] = total;
+            total
+        };
+        let slots = running(&mut self.slot_starts);
+        let sums = running(&mut self.sum_starts);
+        self.percepts.resize(slots as usize, EMPTY);
+        self.sums.resize(sums as usize, GroupSum::default());
+        self.counts.resize(n, 0);
+        self.summaries.resize(n, SummaryRow::default());
+    }
+
+    /// Copies the gathered records into the agent grid's order (`near`, `tags`, `diagonals`,
+    /// and the kin kernel's lanes when `kernel`: a species may perceive by it), and works out
+    /// the slot of each agent in that order.
+    fn copy_by_slot(&mut self, agents: &Grid, kernel: bool) {
+        let n = self.gathered.len();
+        let entries = agents.entries();
+        let gathered = &self.gathered[..];
+        let of_slot =
+            |k: usize| -> &Gathered { gathered.get(entries[k] as usize).unwrap_or(&UNKNOWN) };
+        self.near.resize(entries.len(), Body::default());
+        // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
+        if kernel {
+            self.lanes.fill(agents.positions(), &mut self.near, |k, b| {
+                *b = of_slot(k).body;
+                (b.heading, b.velocity())
+            });
+        } else {
+            self.lanes
+                .fill(&[], &mut [], |_, _: &mut Body| (Vec3::ZERO, Vec3::ZERO));
+            self.near
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(256)
+                .for_each(|(k, b)| *b = of_slot(k).body);
+        }
+        self.tags.resize(entries.len(), UNKNOWN.tag);
+        self.diagonals.resize(entries.len(), UNKNOWN.diagonal);
+        self.tags
+            .par_iter_mut()
+            .zip(self.diagonals.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .for_each(|(k, (t, d))| {
+                let g = of_slot(k);
+                (*t, *d) = (g.tag, g.diagonal);
+            });
+        self.slot_of.clear();
+        if agents.slots().len() == n {
+            // The grid indexes exactly these agents: its inverse is the slot of each.
+            self.slot_of.extend_from_slice(agents.slots());
+        } else {
+            self.slot_of.resize(n, u32::MAX);
+            for (k, &j) in entries.iter().enumerate() {
+                if let Some(s) = self.slot_of.get_mut(j as usize) {
+                    *s = k as u32;
+                }
+            }
+        }
+    }
+}

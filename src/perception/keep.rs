@@ -1,0 +1,175 @@
+//! The percepts an agent keeps in its fixed slots (stage 2): the nearest ones, as many as its
+//! species keeps, and always the nearest of each category, even when nearer percepts of other
+//! categories fill the slots. Works on percepts already built; reads nothing of the world.
+
+use super::{Category, Percept, Sense, Source, Summary, MAX_PERCEPTS};
+use glam::Vec3;
+
+/// An unused percept slot.
+pub(super) const EMPTY: Percept = Percept {
+    source: Source::Food(0),
+    category: Category::Other,
+    sense: Sense::Smell,
+    offset: Vec3::ZERO,
+    dist: 0.0,
+    bearing: 0.0,
+    elevation: 0.0,
+    size: 0.0,
+};
+
+/// The nearest percepts of one agent, as many as it has slots: appends while there is room,
+/// else replaces the farthest when nearer. The farthest slot (the first one of the largest
+/// distance) is remembered between offers and looked for again only after a replacement.
+pub(super) struct Kept<'a> {
+    pub(super) slots: &'a mut [Percept],
+    /// Distances of `slots`, contiguous for the search of the farthest; −∞ past the slots.
+    dists: [f32; MAX_PERCEPTS],
+    pub(super) len: usize,
+    /// The first slot of the largest distance, when `far_valid`.
+    far: usize,
+    far_valid: bool,
+    /// The largest distance (when `far_valid`) or an upper bound of it.
+    bound: f32,
+}
+
+impl<'a> Kept<'a> {
+    /// Nothing kept yet; `slots` receive the kept percepts.
+    pub(super) fn new(slots: &'a mut [Percept]) -> Self {
+        Kept {
+            slots,
+            dists: [f32::NEG_INFINITY; MAX_PERCEPTS],
+            len: 0,
+            far: 0,
+            far_valid: false,
+            bound: f32::INFINITY,
+        }
+    }
+
+    /// The first slot of the largest distance, once every slot is used (distances are finite:
+    /// positions are kept inside the world bounds).
+    #[inline]
+    fn find_far(&mut self) {
+        // Four independent running maxima and a mask of the slots equal to the largest: no
+        // serial chain of compares and branches. Entries past the slots are −∞.
+        // Only the chunks that hold slots (entries past them are −∞).
+        let used = self.slots.len().div_ceil(4) * 4;
+        let d = &self.dists[..used.min(MAX_PERCEPTS)];
+        let mut m = [f32::NEG_INFINITY; 4];
+        for c in d.chunks_exact(4) {
+            for l in 0..4 {
+                m[l] = if c[l] > m[l] { c[l] } else { m[l] };
+            }
+        }
+        let m01 = if m[1] > m[0] { m[1] } else { m[0] };
+        let m23 = if m[3] > m[2] { m[3] } else { m[2] };
+        let max = if m23 > m01 { m23 } else { m01 };
+        let mut mask = 0u32;
+        for (k, &x) in d.iter().enumerate() {
+            mask |= ((x == max) as u32) << k;
+        }
+        self.far = (mask.trailing_zeros() as usize).min(self.len.saturating_sub(1));
+    }
+
+    /// Offers the percept `make()` builds, at distance `dist`; `make` runs only when it is kept.
+    /// After a replacement the farthest slot is looked for again only when an offer could beat
+    /// the distance just replaced (an upper bound of the new largest one).
+    #[inline(always)]
+    pub(super) fn offer(&mut self, dist: f32, make: impl FnOnce() -> Percept) {
+        let cap = self.slots.len();
+        if self.len < cap {
+            self.slots[self.len] = make();
+            self.dists[self.len] = dist;
+            self.len += 1;
+            if self.len == cap {
+                self.find_far();
+                self.bound = self.dists[self.far];
+                self.far_valid = true;
+            }
+            return;
+        }
+        if cap == 0 || dist >= self.bound {
+            return;
+        }
+        if !self.far_valid {
+            self.find_far();
+            self.bound = self.dists[self.far];
+            self.far_valid = true;
+            if dist >= self.bound {
+                return;
+            }
+        }
+        // `far` is the first slot of the largest distance, and `dist` is nearer.
+        self.slots[self.far] = make();
+        self.dists[self.far] = dist;
+        self.far_valid = false;
+    }
+}
+
+/// Puts back the nearest percept of each category (`candidates`, by category; the summaries
+/// give the counts and nearest distances) that nearer percepts of other categories pushed out of
+/// `slots[..len]`, in place of the farthest percept that is nobody's nearest; returns the new
+/// length and the nearest kept of each category. Only categories in `offered` (a bit per
+/// category) have a candidate. With at least [`Category::COUNT`] slots every category perceived keeps its nearest.
+pub(super) fn restore_nearest(
+    slots: &mut [Percept],
+    mut len: usize,
+    summary: &[Summary; Category::COUNT],
+    candidates: &[Percept; Category::COUNT],
+    offered: u8,
+) -> (usize, [Option<(u16, f32)>; Category::COUNT]) {
+    const ORDER: [Category; Category::COUNT] = [
+        Category::Food,
+        Category::Predator,
+        Category::Mate,
+        Category::Kin,
+        Category::Obstacle,
+        Category::Other,
+    ];
+    let mut best = nearest_kept(&slots[..len]);
+    for c in ORDER {
+        let sm = &summary[c as usize];
+        // Categories folded without percepts (kin of a species that reads none) stay so.
+        if sm.count == 0
+            || offered & (1 << c as u8) == 0
+            || best[c as usize].is_some_and(|(_, d)| d <= sm.nearest_dist)
+        {
+            continue;
+        }
+        if len < slots.len() {
+            slots[len] = candidates[c as usize];
+            len += 1;
+        } else {
+            let protected = best.iter().flatten().fold(0u32, |m, &(k, _)| m | 1 << k);
+            let far = (0..len).filter(|&k| protected & (1 << k) == 0).fold(
+                None,
+                |f: Option<usize>, k| match f {
+                    Some(f) if slots[f].dist >= slots[k].dist => Some(f),
+                    _ => Some(k),
+                },
+            );
+            match far {
+                Some(k) => slots[k] = candidates[c as usize],
+                None => continue,
+            }
+        }
+        best = nearest_kept(&slots[..len]);
+    }
+    (len, best)
+}
+
+/// For each category, the first kept slot of the smallest distance (mates also count as kin).
+fn nearest_kept(slots: &[Percept]) -> [Option<(u16, f32)>; Category::COUNT] {
+    let mut best: [Option<(u16, f32)>; Category::COUNT] = [None; Category::COUNT];
+    for (k, p) in slots.iter().enumerate() {
+        let mut offer = |c: usize| {
+            if best[c].is_none_or(|(_, d)| p.dist < d) {
+                best[c] = Some((k as u16, p.dist));
+            }
+        };
+        offer(p.category as usize);
+        if p.category == Category::Mate {
+            offer(Category::Kin as usize);
+        }
+    }
+    best
+}

@@ -1,0 +1,452 @@
+//! The walks of stage 2 (seed 000 §1, seed 001, seed 002): for one perceiver, the obstacles
+//! near it (percepts and occluders), then the agents within its largest range by one of three
+//! walks — the kin kernel ([`kin`]) for a plain flocker, a plain walk straight into the kin
+//! sums, or the general walk that classifies, senses and offers every candidate — then the
+//! food, and finally the bearings of the percepts kept. Reads the tick's [`View`]; writes only
+//! the perceiver's own share of the outputs.
+
+use super::eye::{sense_of, sense_point, Eye, MAX_OCCLUDERS, NO_OCCLUDER};
+use super::fold::{kin_only, Acc, Fold, ACC};
+use super::gather::Me;
+use super::view::View;
+use super::{kin, volume, SummaryRow};
+use super::{Category, Extent, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams};
+use super::{Sense, Source};
+use crate::frame;
+use crate::world::Shape;
+use glam::{Vec3, Vec3A};
+
+/// What the kin kernel needs of a perceiver at `here`, in grid slot `me_slot`.
+fn probe(here: Vec3, me_slot: u32, sense: &SenseParams, eye: &Eye, reads: &Reads) -> kin::Probe {
+    kin::Probe {
+        here,
+        me: me_slot as usize,
+        vision2: sense.vision_radius * sense.vision_radius,
+        smell2: sense.smell_radius * sense.smell_radius,
+        cone: (!eye.full_circle).then_some((eye.fwd, eye.cos_min)),
+        headings: reads.headings,
+    }
+}
+
+/// The kin kernel over the grid rows within `radius` of the probe: the kin sums, and the group
+/// sums into `sums`.
+fn kernel(
+    view: &View,
+    lanes: &kin::KinLanes,
+    probe: kin::Probe,
+    radius: f32,
+    groups: &GroupQueries,
+    sums: &mut [GroupSum],
+) -> Acc {
+    let mut k = kin::KinFold::new(lanes, probe, groups.iter());
+    view.agents
+        .for_each_row_within(probe.here, radius, |s, e| k.row(s, e));
+    let sums_k = k.finish(sums);
+    Acc {
+        pos: sums_k.pos,
+        heading: sums_k.heading,
+        vel: sums_k.vel,
+        count: sums_k.count,
+        seen: sums_k.seen,
+        key: sums_k.nearest2,
+        nearest: sums_k.nearest2.sqrt(),
+        inv_dist: 0.0,
+    }
+}
+
+/// Whether agents of species `s` may perceive by the kin kernel (an agent with an occluder near
+/// it still takes the general path).
+pub(super) fn kernel_species(
+    s: usize,
+    sense: &SenseParams,
+    reads: &Reads,
+    relations: &Relations,
+) -> bool {
+    let keeps_agents = reads.percepts && reads.agent_percepts && sense.slots() > 0;
+    !keeps_agents
+        && sense.volume.is_none()
+        && sense.extent == Extent::Centre
+        && !relations.mates(s)
+        && relations.row(s).iter().all(|c| *c == Some(Category::Kin))
+        && kin::supports(&reads.groups)
+}
+
+/// One perceiver and what it perceives with, for its walks.
+struct Perceiver<'p, 'a> {
+    view: &'p View<'a>,
+    /// Its agent index.
+    i: usize,
+    me: &'p Me,
+    /// Its species.
+    s: usize,
+    sense: &'p SenseParams,
+    reads: &'p Reads,
+    eye: Eye,
+    /// The reach of its senses.
+    radius: f32,
+}
+
+/// Perceives for agent `i`: fills its slots, summaries and group sums; returns the number of
+/// percepts kept.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn perceive_one<const KEEP: bool>(
+    i: usize,
+    me: &Me,
+    view: &View,
+    sense: &SenseParams,
+    cos_min: f32,
+    reads: &Reads,
+    slots: &mut [Percept],
+    summary: &mut SummaryRow,
+    sums: &mut [GroupSum],
+) -> u16 {
+    let p = Perceiver {
+        view,
+        i,
+        me,
+        s: me.tag.species as usize,
+        sense,
+        reads,
+        eye: Eye::new(me.heading, me.yaw, cos_min, sense),
+        radius: sense.query_radius(),
+    };
+    if p.kernel_alone(summary, sums) {
+        return 0;
+    }
+    let mut fold = Fold::<KEEP>::new(slots);
+    sums.fill(GroupSum::default());
+    // Nearby obstacles first: they are percepts and occluders.
+    let mut occluders = [NO_OCCLUDER; MAX_OCCLUDERS];
+    let n_occ = p.obstacles(&mut fold, &mut occluders);
+    let occ = &occluders[..n_occ];
+    // Agents and food are kept as percepts only where the species reads them.
+    let agent_percepts = KEEP && reads.agent_percepts;
+    p.agents(occ, agent_percepts, &mut fold, sums);
+    if view.relations.eats_items(p.s) {
+        p.food(occ, agent_percepts, &mut fold);
+    }
+    summary.only_kin = false;
+    let (slots, nearest) = fold.finish(&mut summary.by);
+    bearings(slots, nearest, reads, me.yaw, me.pitch);
+    slots.len() as u16
+}
+
+impl Perceiver<'_, '_> {
+    /// A plain flocker with nothing but kin around (no obstacle, no food): the kin kernel
+    /// alone, its sums written straight into the summaries. Returns whether it took it.
+    #[inline(always)]
+    fn kernel_alone(&self, summary: &mut SummaryRow, sums: &mut [GroupSum]) -> bool {
+        let (view, me, s) = (self.view, self.me, self.s);
+        if let (Some(lanes), Some(&me_slot), true) = (
+            view.lanes,
+            view.slot_of.get(self.i),
+            view.kernel.get(s).copied().unwrap_or(false),
+        ) {
+            if !view.relations.eats_items(s) && view.obstacle_grid.near(me.pos).is_empty() {
+                let probe = probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
+                let acc = kernel(view, lanes, probe, self.radius, &self.reads.groups, sums);
+                kin_only(summary, &acc);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Folds the active obstacles within range into `fold` and, where the species' vision is
+    /// occluded, puts them among the `occluders`; returns how many occluders it put.
+    #[inline(always)]
+    fn obstacles<const KEEP: bool>(
+        &self,
+        fold: &mut Fold<'_, KEEP>,
+        occluders: &mut [Shape; MAX_OCCLUDERS],
+    ) -> usize {
+        let (world, me, sense, eye, radius) =
+            (self.view.world, self.me, self.sense, &self.eye, self.radius);
+        let mut n_occ = 0;
+        // The grid lists, in index order, every active obstacle that may be within `radius`.
+        for &k in self.view.obstacle_grid.near(me.pos) {
+            let o = &world.obstacles[k as usize];
+            if !o.active {
+                continue;
+            }
+            let surface = o.shape.closest_point(me.pos);
+            let offset = surface - me.pos;
+            let dist = offset.length();
+            if dist > radius {
+                continue;
+            }
+            if sense.occlusion && n_occ < MAX_OCCLUDERS {
+                occluders[n_occ] = super::occlusion::occluder(&o.shape, sense.occluders);
+                n_occ += 1;
+            }
+            let to_center = o.shape.center() - me.pos;
+            let dir = if dist > 1e-6 { offset } else { to_center };
+            let mut seen = sense_of(me.pos, dir, dir.length(), dist, eye, sense);
+            if sense.extent == Extent::AnyPart && seen != Some(Sense::Vision) {
+                // Seed 001: its bounding sphere partly in the field is enough.
+                let r = o.shape.bounding_radius();
+                let any = match &sense.volume {
+                    Some(v) => v.contains_sphere(eye.local(to_center), r),
+                    None => {
+                        dist <= sense.vision_radius
+                            && (eye.full_circle
+                                || volume::sphere_in_cone(
+                                    eye.fwd,
+                                    to_center,
+                                    r,
+                                    sense.vision_half_angle,
+                                ))
+                    }
+                };
+                if any {
+                    seen = Some(Sense::Vision);
+                }
+            }
+            if let Some(seen) = seen {
+                let cat = Category::Obstacle;
+                fold.take(
+                    cat,
+                    seen,
+                    dist * dist,
+                    || dist,
+                    (me.pos + offset).into(),
+                    Vec3A::ZERO,
+                    Vec3A::ZERO,
+                    |dist| {
+                        percept(
+                            Source::Obstacle(k),
+                            cat,
+                            seen,
+                            dir,
+                            dist,
+                            o.shape.diagonal(),
+                        )
+                    },
+                );
+            }
+        }
+        n_occ
+    }
+
+    /// Folds the agents within range into `fold` and the group sums, by the kin kernel, the
+    /// plain walk or the general one. `agent_percepts`: whether agents are kept as percepts.
+    #[inline(always)]
+    fn agents<const KEEP: bool>(
+        &self,
+        occ: &[Shape],
+        agent_percepts: bool,
+        fold: &mut Fold<'_, KEEP>,
+        sums: &mut [GroupSum],
+    ) {
+        let (view, sense, radius) = (self.view, self.sense, self.radius);
+        let groups = &self.reads.groups;
+        let mates = view.relations.mates(self.s);
+        let row = view.relations.row(self.s);
+        // With `AnyPart`, a body whose centre lies beyond the ranges may reach into them.
+        let agent_radius = match sense.extent {
+            Extent::Centre => radius,
+            Extent::AnyPart => radius + view.body_reach,
+        };
+        // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
+        // volume, no mates): the neighbors go straight into the kin sums, held in registers.
+        let plain = !agent_percepts
+            && sense.volume.is_none()
+            && !mates
+            && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
+        let lanes = view.lanes.filter(|_| {
+            plain
+                && occ.is_empty()
+                && row.iter().all(|c| *c == Some(Category::Kin))
+                && kin::supports(groups)
+        });
+        if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(self.i)) {
+            let probe = probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
+            fold.set_kin(kernel(view, lanes, probe, radius, groups, sums));
+        } else if plain {
+            fold.set_kin(self.plain_walk(occ, row, agent_radius, sums));
+        } else {
+            self.general_walk(occ, row, mates, agent_radius, agent_percepts, fold, sums);
+        }
+    }
+
+    /// Own slot in the grid's order: a candidate there is oneself.
+    #[inline(always)]
+    fn me_slot(&self) -> usize {
+        self.view
+            .slot_of
+            .get(self.i)
+            .map_or(usize::MAX, |&k| k as usize)
+    }
+
+    /// The kin within `agent_radius` (`row`: what each species is to the perceiver), summed
+    /// straight into the kin sums and the group sums.
+    #[inline(always)]
+    fn plain_walk(
+        &self,
+        occ: &[Shape],
+        row: &[Option<Category>],
+        agent_radius: f32,
+        sums: &mut [GroupSum],
+    ) -> Acc {
+        let (view, eye, sense) = (self.view, &self.eye, self.sense);
+        let groups = &self.reads.groups;
+        let here = self.me.pos;
+        let here_a = Vec3A::from(here);
+        let me_slot = self.me_slot();
+        let mut kin = ACC;
+        view.agents
+            .for_each_slot_within(here, agent_radius, |k, pos, d2| {
+                if k == me_slot
+                    || row.get(view.tags[k].species as usize) != Some(&Some(Category::Kin))
+                {
+                    return;
+                }
+                let offset = pos - here_a;
+                let radius = || view.diagonals[k] * 0.5;
+                let Some(seen) = sense_point(here, offset.into(), d2, eye, sense, occ, radius)
+                else {
+                    return;
+                };
+                let other = &view.near[k];
+                let vel = Vec3A::from(other.velocity());
+                groups.add(sums, offset, d2, vel);
+                kin.note(seen, d2, || d2.sqrt(), pos, other.heading.into(), vel);
+            });
+        kin
+    }
+
+    /// Every agent within `agent_radius` classified by `row` (kin of the other sex are mates
+    /// when `mates`), sensed, and folded: offered as a percept when `agent_percepts`, else
+    /// summed; kin and mates also go into the group sums.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn general_walk<const KEEP: bool>(
+        &self,
+        occ: &[Shape],
+        row: &[Option<Category>],
+        mates: bool,
+        agent_radius: f32,
+        agent_percepts: bool,
+        fold: &mut Fold<'_, KEEP>,
+        sums: &mut [GroupSum],
+    ) {
+        let (view, eye, sense) = (self.view, &self.eye, self.sense);
+        let groups = &self.reads.groups;
+        let (here, my_sex) = (self.me.pos, self.me.tag.sex);
+        let here_a = Vec3A::from(here);
+        let entries = view.agents.entries();
+        let me_slot = self.me_slot();
+        view.agents
+            .for_each_slot_within(here, agent_radius, |k, pos, d2| {
+                if k == me_slot {
+                    return;
+                }
+                let tag = view.tags[k];
+                let Some(mut cat) = row.get(tag.species as usize).copied().flatten() else {
+                    return;
+                };
+                if cat == Category::Kin && mates && tag.sex != my_sex {
+                    cat = Category::Mate;
+                }
+                let offset_a = pos - here_a;
+                let offset = Vec3::from(offset_a);
+                let radius = || view.diagonals[k] * 0.5;
+                let Some(seen) = sense_point(here, offset, d2, eye, sense, occ, radius) else {
+                    return;
+                };
+                let other = &view.near[k];
+                let vel = Vec3A::from(other.velocity());
+                if matches!(cat, Category::Kin | Category::Mate) {
+                    groups.add(sums, offset_a, d2, vel);
+                }
+                // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+                let dist = || d2.sqrt();
+                if !agent_percepts {
+                    fold.sum(cat, seen, d2, dist, pos, other.heading.into(), vel);
+                    return;
+                }
+                fold.take(
+                    cat,
+                    seen,
+                    d2,
+                    dist,
+                    pos,
+                    other.heading.into(),
+                    vel,
+                    |dist| {
+                        percept(
+                            Source::Agent(entries[k]),
+                            cat,
+                            seen,
+                            offset,
+                            dist,
+                            view.diagonals[k],
+                        )
+                    },
+                );
+            });
+    }
+
+    /// Folds the food items within range into `fold`: offered as percepts when `keep`, else
+    /// summed.
+    #[inline(always)]
+    fn food<const KEEP: bool>(&self, occ: &[Shape], keep: bool, fold: &mut Fold<'_, KEEP>) {
+        let (eye, sense) = (&self.eye, self.sense);
+        let here = self.me.pos;
+        self.view
+            .food
+            .for_each_within(here, self.radius, |j, pos, d2| {
+                let offset = pos - here;
+                if let Some(seen) = sense_point(here, offset, d2, eye, sense, occ, || 0.0) {
+                    let cat = Category::Food;
+                    let at = Vec3A::from(pos);
+                    let dist = || d2.sqrt();
+                    if !keep {
+                        fold.sum(cat, seen, d2, dist, at, Vec3A::ZERO, Vec3A::ZERO);
+                        return;
+                    }
+                    fold.take(cat, seen, d2, dist, at, Vec3A::ZERO, Vec3A::ZERO, |dist| {
+                        percept(Source::Food(j), cat, seen, offset, dist, 0.0)
+                    });
+                }
+            });
+    }
+}
+
+/// Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
+/// those the species reads: within its bearing range, obstacles, and each category's nearest
+/// (`nearest`: a bit per slot).
+#[inline(always)]
+fn bearings(slots: &mut [Percept], nearest: u32, reads: &Reads, yaw: f32, pitch: f32) {
+    for (k, p) in slots.iter_mut().enumerate() {
+        let wanted = match reads.bearing_range {
+            None => true,
+            Some(r) => nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r,
+        };
+        if wanted {
+            (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
+        }
+    }
+}
+
+/// A percept without bearing and elevation (filled in for the percepts kept).
+#[inline(always)]
+fn percept(
+    source: Source,
+    category: Category,
+    sense: Sense,
+    offset: Vec3,
+    dist: f32,
+    size: f32,
+) -> Percept {
+    Percept {
+        source,
+        category,
+        sense,
+        offset,
+        dist,
+        bearing: 0.0,
+        elevation: 0.0,
+        size,
+    }
+}
