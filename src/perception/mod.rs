@@ -38,7 +38,7 @@ pub use group::{GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
 pub use senses::{Reads, Relations, SenseParams};
 pub use strength::Strength;
-pub use types::{Category, Level, Percept, Sector, Sense, Source, Summary};
+pub use types::{Category, Level, Percept, Sector, Sectors, Sense, Source, Summary};
 pub use volume::{Extent, Volume};
 
 use crate::index::{Grid, ObstacleGrid};

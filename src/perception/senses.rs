@@ -3,9 +3,9 @@
 //! what every other species is to it ([`Relations`]), and what its behaviors read of the stage
 //! ([`Reads`]). Plain data: the walks read it, nothing here reads the world.
 
+use super::Sectors;
 use super::{Category, Extent, GroupQueries, Occluders, Strength, Volume};
 use super::{DEFAULT_PERCEPTS, MAX_PERCEPTS};
-use crate::steering::goal::Sectors;
 use serde::{Deserialize, Serialize};
 
 /// A species' senses (defaults from seed 000: vision ±150°, smell farther than vision).

@@ -240,3 +240,56 @@ impl Default for Summary {
         Summary::NONE
     }
 }
+
+/// Sector bounds of seed 000 §4.3 / §4.4: front is `(−front, front)`, the sides run to ±π/2, the
+/// rear sectors to `±rear`, and beyond `rear` is the rear. Vertically, a target more than
+/// `front` above or below the heading is above or below. As a species key (`senses.sectors`)
+/// it sets the bounds of the conditions `InSector` and `AtLevel` and of scripts'
+/// `nearest_sector` / `nearest_level`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Sectors {
+    /// Half-width of the front sector (π/6).
+    pub front: f32,
+    /// Where the rear sector begins (5π/6).
+    pub rear: f32,
+}
+
+impl Default for Sectors {
+    fn default() -> Self {
+        Sectors {
+            front: FRAC_PI_6,
+            rear: 5.0 * FRAC_PI_6,
+        }
+    }
+}
+
+impl Sectors {
+    /// The horizontal sector of a bearing θ (right positive).
+    pub fn horizontal(&self, theta: f32) -> Sector {
+        if theta > -self.front && theta < self.front {
+            Sector::Front
+        } else if theta <= -self.front && theta > -FRAC_PI_2 {
+            Sector::LeftFront
+        } else if theta >= self.front && theta < FRAC_PI_2 {
+            Sector::RightFront
+        } else if theta <= -FRAC_PI_2 && theta > -self.rear {
+            Sector::LeftRear
+        } else if theta >= FRAC_PI_2 && theta < self.rear {
+            Sector::RightRear
+        } else {
+            Sector::Rear
+        }
+    }
+
+    /// The vertical sector of an elevation ω (up positive).
+    pub fn vertical(&self, omega: f32) -> Level {
+        if omega >= self.front {
+            Level::Above
+        } else if omega <= -self.front {
+            Level::Below
+        } else {
+            Level::Level
+        }
+    }
+}

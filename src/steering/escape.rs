@@ -15,8 +15,8 @@
 //! the turns π/8 (smell) and π/4 (vision), the front sector's bound π/6, the smell-mode braking
 //! `Vc/2` and the speed `V_max/2` beyond vision.
 
-use super::goal::Sectors;
 use super::{seek, Kinematics, Steer};
+use crate::perception::Sectors;
 use crate::perception::{Level, Sector};
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8};
