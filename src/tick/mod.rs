@@ -31,6 +31,8 @@ mod reads;
 mod remap;
 mod spawn;
 mod stats;
+#[cfg(test)]
+mod tests;
 use agent_pass::Worker;
 pub(crate) use agent_pass::{Outcome, Rare};
 pub use reads::{bearing_range, reads};
