@@ -1,0 +1,508 @@
+//! Stages 3–6 of the tick, the agent pass: per agent, in parallel (rayon), drives (seeds 000 §2,
+//! 003), decision (scripts at the decision rate, then arbitration, seed 000 §3), steering (seed
+//! 000 §4, the focuser of §1) and locomotion with animation (seeds 001, 002). Each agent's pass
+//! reads its own record and perception's copy of the others from the start of the tick, then
+//! rewrites only its own record and its [`Outcome`] slot; what reaches beyond the agent is
+//! applied in agent order by stage 7 (`events/apply.rs`), so results do not depend on the
+//! thread count.
+
+use super::Pipeline;
+use crate::decision::{self, focus, scripts, Ctx, Transitions};
+use crate::diag::Diagnostic;
+use crate::drives::{self, Stimuli};
+use crate::events::MessageKind;
+use crate::locomotion::{self, anim, Motion};
+use crate::perception::{
+    Category, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary,
+};
+use crate::script::AgentView;
+use crate::species::{ActionNode, Contact, Species, SpeciesSet};
+use crate::steering::recipe::{self, Scratch};
+use crate::steering::Steer;
+use crate::world::{Agent, ForwardCache, Mind, World};
+use glam::Vec3;
+use rayon::prelude::*;
+use rhai::{Dynamic, ImmutableString, Scope};
+
+/// An empty mind: what an agent's record holds while its pass has its mind.
+impl Default for Mind {
+    fn default() -> Self {
+        Mind::new(0, 0, 0)
+    }
+}
+
+/// One worker thread's reusable buffers for stages 3–6.
+pub(super) struct Worker {
+    scope: Scope<'static>,
+    scratch: Scratch,
+    /// The script view, refilled in place for each call.
+    view: Dynamic,
+}
+
+impl Default for Worker {
+    fn default() -> Self {
+        Worker {
+            scope: Scope::new(),
+            scratch: Scratch::default(),
+            view: Dynamic::from(AgentView::default()),
+        }
+    }
+}
+
+/// What one agent's pass produced beyond its own record (applied in agent order by stage 7).
+#[derive(Debug, Default)]
+pub(crate) struct Outcome {
+    pub(crate) contact: Option<(Contact, Source)>,
+    /// Species and behavior after the tick (for the counters, read without touching the agent).
+    pub(crate) species: u16,
+    pub(crate) behavior: u16,
+    /// Transitions, messages and errors: a few agents a tick have any, so they are boxed and
+    /// the per-agent buffer stays small.
+    pub(crate) rare: Option<Box<Rare>>,
+}
+
+/// The parts of an outcome most agents do not have in a given tick.
+#[derive(Debug, Default)]
+pub(crate) struct Rare {
+    pub(crate) transitions: Transitions,
+    pub(crate) messages: [Option<(MessageKind, f32)>; 4],
+    pub(crate) error: Option<Diagnostic>,
+}
+
+/// What every agent's pass reads of the tick besides its own record: the same for all agents.
+#[derive(Clone, Copy)]
+struct Inputs<'a> {
+    /// The world at the start of the tick, without its agents (their records are out of it for
+    /// the pass: what an agent reads of another is perception's copy).
+    world: &'a World,
+    set: &'a SpeciesSet,
+    perception: &'a Perception,
+    /// Script-visible names of the species and, by species, of their behaviors.
+    species_names: &'a [ImmutableString],
+    behavior_names: &'a [Vec<ImmutableString>],
+    /// Targets of planned paths, by agent index.
+    plan_targets: &'a [Option<Vec3>],
+    /// Per species: what its behaviors read of perception.
+    reads: &'a [Reads],
+    /// Every agent's own best food position at the start of the tick, by agent index.
+    known_food: &'a [Option<Vec3>],
+    scripts_every_tick: bool,
+}
+
+/// What one agent's stages read besides its own record, looked up once per pass: a [`Ctx`]
+/// without the agent, whose record the pass rewrites between stages.
+#[derive(Clone, Copy)]
+struct Seen<'a> {
+    world: &'a World,
+    perception: &'a Perception,
+    species: &'a Species,
+    percepts: &'a [Percept],
+    summaries: &'a [Summary; Category::COUNT],
+    group_queries: &'a GroupQueries,
+    group_sums: &'a [GroupSum],
+    tick: u64,
+    dt: f32,
+}
+
+impl<'a> Seen<'a> {
+    /// The context of a stage: this and the agent's record as it stands now.
+    fn ctx<'b>(&self, agent: &'b Agent) -> Ctx<'b>
+    where
+        'a: 'b,
+    {
+        Ctx {
+            world: self.world,
+            perception: self.perception,
+            species: self.species,
+            agent,
+            percepts: self.percepts,
+            summaries: self.summaries,
+            group_queries: self.group_queries,
+            group_sums: self.group_sums,
+            tick: self.tick,
+            dt: self.dt,
+        }
+    }
+}
+
+impl Pipeline {
+    /// Stages 3–6 for every agent, in parallel. Each agent's pass reads and then rewrites its
+    /// own record; the records are out of the world meanwhile, and what an agent reads of
+    /// another is perception's copy from the start of the tick.
+    pub(super) fn agent_pass(&mut self, world: &mut World) {
+        let n = world.agents.len();
+        let set = self.species.clone();
+        self.outcomes.resize_with(n, Outcome::default);
+        self.known_food.clear();
+        self.known_food
+            .extend(world.agents.iter().map(|a| a.mind.best_food));
+        let mut agents = std::mem::take(&mut world.agents);
+        let threads = rayon::current_num_threads();
+        if self.workers.len() < threads {
+            self.workers.resize_with(threads, Default::default);
+        }
+        let inputs = Inputs {
+            world,
+            set: &set,
+            perception: &self.perception,
+            species_names: &self.species_names,
+            behavior_names: &self.behavior_names,
+            plan_targets: &self.plan_targets,
+            reads: &self.reads,
+            known_food: &self.known_food,
+            scripts_every_tick: self.scripts_every_tick,
+        };
+        let outcomes = &mut self.outcomes;
+        let workers = &self.workers;
+        let clock = &self.script_clock;
+        clock.reset();
+        // A panic in the pass (a bug) still gives the world its agents back before it unwinds.
+        let pass = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            agents
+                .par_iter_mut()
+                .zip(outcomes.par_iter_mut())
+                .enumerate()
+                .with_min_len(32)
+                .for_each_init(
+                    || {
+                        crate::script::budget::install(clock);
+                        // This thread's buffers, kept from tick to tick; a fresh set only if they
+                        // are somehow in use.
+                        let own = rayon::current_thread_index()
+                            .and_then(|t| workers.get(t))
+                            .and_then(|w| w.try_lock().ok());
+                        let fresh = own.is_none().then(Worker::default);
+                        (own, fresh)
+                    },
+                    |(own, fresh), (i, (agent, out))| {
+                        let w = match (own.as_deref_mut(), fresh.as_mut()) {
+                            (Some(w), _) => w,
+                            (None, Some(w)) => w,
+                            (None, None) => unreachable!("one of the two is set"),
+                        };
+                        pass_one(&inputs, i, agent, out, w);
+                    },
+                );
+        }));
+        world.agents = agents;
+        if let Err(panic) = pass {
+            std::panic::resume_unwind(panic);
+        }
+    }
+}
+
+/// Seed 003's foraging memory, particle-swarm style. The own best food position is where the
+/// agent last perceived food (the nearest item or prey), forgotten once the place is within
+/// its vision radius and no food is perceived (eaten or gone). The school's best is the own
+/// best of a perceived kin nearest to it (their values from the start of the tick); none when
+/// no perceived kin knows food, so a school without food has no foraging target.
+fn remember_food(
+    mind: &mut Mind,
+    pos: Vec3,
+    percepts: &[Percept],
+    vision_radius: f32,
+    known_food: &[Option<Vec3>],
+) {
+    let food = percepts
+        .iter()
+        .filter(|p| p.category == Category::Food)
+        .min_by(|a, b| a.dist.total_cmp(&b.dist));
+    match food {
+        Some(f) => mind.best_food = Some(pos + f.offset),
+        None => {
+            if mind
+                .best_food
+                .is_some_and(|b| b.distance_squared(pos) <= vision_radius * vision_radius)
+            {
+                mind.best_food = None;
+            }
+        }
+    }
+    mind.school_best = percepts
+        .iter()
+        .filter(|p| p.category == Category::Kin)
+        .filter_map(|p| match p.source {
+            Source::Agent(j) => known_food.get(j as usize).copied().flatten(),
+            _ => None,
+        })
+        .min_by(|a, b| a.distance_squared(pos).total_cmp(&b.distance_squared(pos)));
+}
+
+/// Stages 3–6 for agent `i` (drives, decide, steer, move): `agent` is its record, `out` its
+/// outcome slot, `w` this thread's buffers.
+fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mut Worker) {
+    let Inputs {
+        world,
+        set,
+        perception,
+        species_names,
+        behavior_names,
+        plan_targets,
+        reads,
+        known_food,
+        scripts_every_tick,
+    } = *inp;
+    let Worker {
+        scope,
+        scratch,
+        view,
+    } = w;
+    scratch.reset();
+    scratch.set_velocity(perception.velocity(i));
+    scratch.plan_target = plan_targets.get(i).copied().flatten();
+    // The mind is out of the record until the end of the pass (the record is read through
+    // `Ctx` meanwhile); the random stream is the pass's own copy.
+    let mut mind = std::mem::take(&mut agent.mind);
+    let mind = &mut mind;
+    let mut rng = agent.rng;
+    let rng = &mut rng;
+    let s = agent.species.0 as usize;
+    let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
+    let sp = &set.species[s];
+    let def = &sp.def;
+    let percepts = perception.percepts(i);
+    let summaries = perception.summaries(i);
+    let group_sums = perception.group_sums(i);
+    let dt = world.dt;
+    let tick = world.tick;
+    // What every stage reads besides the agent's record, looked up once; each stage's `Ctx`
+    // adds the record as it stands then (the stages before it rewrite it).
+    let seen = Seen {
+        world,
+        perception,
+        species: sp,
+        percepts,
+        summaries,
+        group_queries,
+        group_sums,
+        tick,
+        dt,
+    };
+
+    // 3. Drives, in the agent's own record (what others read of it is perception's copy from
+    // the start of the tick).
+    let me = agent;
+    if def.drives.native {
+        let stim = |c: Category| {
+            drives::stimulus(summaries[c as usize].nearest_dist, sp.senses.smell_radius)
+        };
+        let stimuli = Stimuli {
+            food: stim(Category::Food),
+            mate: stim(Category::Mate),
+        };
+        // Every predator perceived, not only the kept percepts.
+        let sm = &summaries[Category::Predator as usize];
+        let predators = drives::PredatorSums {
+            count: sm.count,
+            nearest: sm.nearest_dist,
+            inv_dist_sum: sm.inv_dist_sum,
+        };
+        drives::update(&mut me.drives, &def.drives.params, stimuli, &predators, dt);
+    } else {
+        me.drives.since_meal += dt;
+        me.drives.since_mating += dt;
+        let q = &def.drives.params;
+        me.drives.state = drives::internal_state(me.drives.since_meal, q.s_max, q.delta);
+    }
+    remember_food(mind, me.pos, percepts, sp.senses.vision_radius, known_food);
+    let mut error = None;
+    let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];
+
+    // 4. Decision: scripts at the decision rate, then arbitration.
+    let script = sp
+        .script
+        .as_deref()
+        .filter(|_| !sp.slots.is_empty() || sp.has_on_tick);
+    if let Some(script) = script {
+        // Right after a contact (a meal, a mating) the script's last answers predate what just
+        // happened (its `on_event` may have changed the blackboard): its conditions are asked
+        // again now, so the behavior that ends on the contact hands over to the right next one
+        // at once instead of to a stale choice that the next scheduled call overturns a few
+        // ticks later.
+        let due = scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval);
+        if due || mind.reached {
+            let ctx = seen.ctx(me);
+            // The worker's view is refilled in place (no allocation per call). The blackboard
+            // is copied in and back out, not moved: a script that replaces `this` leaves the
+            // agent's own blackboard as it was.
+            if !view.is::<AgentView>() {
+                *view = Dynamic::from(AgentView::default());
+            }
+            if let Some(mut v) = view.write_lock::<AgentView>() {
+                let behavior = &behavior_names[s][mind.current as usize];
+                scripts::fill_view(&mut v, &ctx, mind, &species_names[s], behavior);
+                v.rng = *rng;
+            }
+            let r = if due {
+                scripts::run_slots(sp, script, mind, view, scope)
+            } else {
+                scripts::run_conditions(sp, script, mind, view, scope)
+            };
+            if let Some(mut v) = view.write_lock::<AgentView>() {
+                scripts::write_back(&v, me);
+                *rng = v.rng;
+                for (k, m) in v.outbox.drain(..).take(2).enumerate() {
+                    messages[2 + k] = Some(m);
+                }
+            }
+            if let Err(e) = r {
+                error = Some(e);
+            }
+        }
+    }
+    let ctx = seen.ctx(me);
+    let transitions = decision::arbitrate(&ctx, mind, rng);
+    let mut pending = None;
+    if let Some(t) = transitions.iter().flatten().last() {
+        let b = &sp.behaviors[t.to as usize];
+        let mut k = 0;
+        for a in &b.on_enter {
+            match a {
+                ActionNode::Send(kind, r) if k < 2 => {
+                    let quiet = &mut mind.quiet_until[*kind as usize];
+                    if tick >= *quiet {
+                        *quiet =
+                            tick.saturating_add((def.resend_after.max(0.0) / dt).ceil() as u64);
+                        messages[k] = Some((*kind, *r));
+                        k += 1;
+                    }
+                }
+                ActionNode::Call(f) => {
+                    if let Some(script) = sp.script.as_deref() {
+                        let mut view = scripts::view_of(
+                            &ctx,
+                            mind,
+                            &species_names[s],
+                            &behavior_names[s][mind.current as usize],
+                        );
+                        // The stream as arbitration left it (the record's is the tick's start).
+                        view.rng = *rng;
+                        let mut this = Dynamic::from(view);
+                        match script.call::<Dynamic>(scope, &mut this, f) {
+                            Ok(_) => pending = this.try_cast::<crate::script::AgentView>(),
+                            Err(e) => error = Some(*e.diagnostic),
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    if let Some(v) = pending {
+        scripts::write_back(&v, me);
+        *rng = v.rng;
+    }
+    let ctx = seen.ctx(me);
+
+    // 5. Steering.
+    let b = &sp.behaviors[mind.current as usize];
+    let mut steer = match b.focus {
+        None => recipe::evaluate(&b.steer, &ctx, mind, rng, scratch, 0),
+        // Seed 000 §1's focuser: the steering of the current intention sees only what it
+        // cares about (the group sums are kin's).
+        Some(f) => {
+            let mut kept = std::mem::take(&mut scratch.focused);
+            let summaries = focus::narrow(f, percepts, summaries, &mut kept);
+            let focused = Ctx {
+                percepts: &kept,
+                summaries: &summaries,
+                group_sums: if f.contains(Category::Kin) {
+                    group_sums
+                } else {
+                    &[]
+                },
+                ..ctx
+            };
+            let s = recipe::evaluate(&b.steer, &focused, mind, rng, scratch, 0);
+            scratch.focused = kept;
+            s
+        }
+    };
+    if error.is_some() || !steer.is_finite() {
+        steer = mind.last_steer;
+    }
+    if steer.is_none() {
+        steer = Steer::keep(&ctx.kin());
+    }
+    mind.last_steer = steer;
+
+    // 6. Locomotion and animation.
+    let mut motion = Motion {
+        pos: me.pos,
+        yaw: me.yaw,
+        pitch: me.pitch,
+        speed: me.speed,
+        yaw_rate: me.yaw_rate,
+        pitch_rate: me.pitch_rate,
+    };
+    // A behavior may turn faster or slower than the body does by default.
+    let body = &def.body.limits;
+    let limits = &match sp
+        .behaviors
+        .get(mind.current as usize)
+        .and_then(|b| b.response)
+    {
+        Some(response) => locomotion::Limits { response, ..*body },
+        None => *body,
+    };
+    let info = locomotion::step(
+        &mut motion,
+        steer,
+        limits,
+        &def.body.locomotion,
+        world.current,
+        dt,
+    );
+    locomotion::solid::keep_solid(&mut motion.pos, i, me, percepts, world, perception);
+    let mut an = me.anim;
+    let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
+    anim::advance(
+        &mut an,
+        &def.body.anim,
+        motion.speed,
+        def.body.size.z,
+        accel,
+        info.dyaw,
+        limits.max_turn,
+        dt,
+    );
+
+    // Contact intent (resolved in agent order by stage 7).
+    out.contact = match b.contact {
+        Some(c @ Contact::Eat { reach }) => ctx
+            .nearest(Category::Food)
+            .filter(|p| p.dist <= reach)
+            .map(|p| (c, p.source)),
+        Some(c @ Contact::Mate { reach }) => ctx
+            .nearest(Category::Mate)
+            .filter(|p| p.dist <= reach)
+            .map(|p| (c, p.source)),
+        None => None,
+    };
+    let rare = transitions.iter().any(Option::is_some)
+        || messages.iter().any(Option::is_some)
+        || error.is_some();
+    out.rare = rare.then(|| {
+        Box::new(Rare {
+            transitions,
+            messages,
+            error,
+        })
+    });
+    out.species = me.species.0;
+    out.behavior = mind.current;
+
+    // The agent's new state, in its own record.
+    let a = me;
+    a.prev_pos = a.pos;
+    a.pos = world.bounds.closest_point(motion.pos);
+    a.yaw = motion.yaw;
+    a.pitch = motion.pitch;
+    a.speed = motion.speed;
+    a.yaw_rate = motion.yaw_rate;
+    a.pitch_rate = motion.pitch_rate;
+    a.forward_cache = ForwardCache::new(a.yaw, a.pitch, info.forward);
+    a.anim = an;
+    a.mind = std::mem::take(mind);
+    a.rng = *rng;
+}

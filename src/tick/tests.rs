@@ -1,0 +1,79 @@
+//! Unit tests of the pipeline's own promises: what a step leaves and replaces, spawning's draws,
+//! the stage times. The stages' results are checked end to end in `tests/` (determinism,
+//! species, scenarios).
+
+use super::*;
+use crate::species::Species;
+use std::time::Duration;
+
+/// One species that drifts ahead, in a 100 × 40 × 100 m world.
+fn drifters() -> (Pipeline, World) {
+    let text = r#"(
+        name: "drifter",
+        initial: "drift",
+        behaviors: [Behavior(name: "drift", priority: 1, steer: Cruise(speed: 0.5))],
+    )"#;
+    let species = Species::parse("drifter.ron", text).unwrap();
+    let set = SpeciesSet::new(vec![species.into()]).unwrap();
+    let bounds = Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 40.0, 50.0));
+    (Pipeline::new(Arc::new(set)), World::new(bounds, 0.05, 7))
+}
+
+#[test]
+fn a_step_appends_to_the_events_and_leaves_them() {
+    let (mut p, mut w) = drifters();
+    let id = p.spawn(&mut w, 0, Vec3::new(0.0, 10.0, 0.0), 0.0, 0.0);
+    p.step(&mut w);
+    p.step(&mut w);
+    assert!(matches!(p.events.first(), Some(Event::Spawn { agent, .. }) if *agent == id));
+    assert_eq!(w.tick, 2);
+    assert_eq!(p.stats.behavior_ticks, vec![vec![2]]);
+    assert_eq!(p.stage_times().ticks, 2);
+}
+
+#[test]
+fn a_delivered_message_is_heard_for_one_tick() {
+    let (mut p, mut w) = drifters();
+    let id = p.spawn(&mut w, 0, Vec3::new(0.0, 10.0, 0.0), 0.0, 0.0);
+    assert!(!p.deliver(&mut w, AgentId(id.0 + 1), MessageKind::Mate));
+    assert!(p.deliver(&mut w, id, MessageKind::Mate));
+    assert!(p.deliver(&mut w, id, MessageKind::Danger));
+    assert_eq!(w.agents[0].inbox, Some(MessageKind::Danger));
+    p.step(&mut w);
+    assert_eq!(w.agents[0].inbox, None);
+}
+
+#[test]
+fn spawns_draw_from_each_agent_own_stream() {
+    let (mut p, mut w) = drifters();
+    let (mut q, mut v) = drifters();
+    let at = Vec3::new(1.0, 10.0, -2.0);
+    // Another agent spawned first takes nothing from the second one's stream.
+    p.spawn(&mut w, 0, at, 0.3, 0.0);
+    let a = p.spawn(&mut w, 0, at, 0.3, 0.0);
+    v.next_agent_id = a.0;
+    let b = q.spawn(&mut v, 0, at, 0.3, 0.0);
+    assert_eq!(a, b);
+    let (x, y) = (&w.agents[1], &v.agents[0]);
+    assert_eq!(x.attrs.sex, y.attrs.sex);
+    assert_eq!(x.attrs.age.to_bits(), y.attrs.age.to_bits());
+    assert_eq!(x.drives.hunger.to_bits(), y.drives.hunger.to_bits());
+    assert_eq!(x.rng, y.rng);
+}
+
+#[test]
+fn stage_times_are_read_per_tick() {
+    let t = StageTimes {
+        index: Duration::from_millis(4),
+        perception: Duration::from_millis(8),
+        agents: Duration::from_millis(12),
+        events: Duration::from_millis(2),
+        ticks: 4,
+    };
+    let ms = t.ms_per_tick();
+    assert_eq!(ms.map(|(name, _)| name), StageTimes::NAMES);
+    for ((_, m), want) in ms.into_iter().zip([1.0, 2.0, 3.0, 0.5]) {
+        assert!((m - want).abs() < 1e-9, "{m} against {want}");
+    }
+    assert_eq!(StageTimes::default().ms_per_tick()[0].1, 0.0);
+}
