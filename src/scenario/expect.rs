@@ -8,10 +8,9 @@
 //! when the scenario declares any.
 
 use super::{Expectation, Scenario};
-use crate::diag::{Diagnostic, Diagnostics};
 use crate::events::Event;
 use crate::health::{self, Health, Monitor, SpeciesHealth};
-use crate::species::validate::locate;
+use crate::load::{locate, Diagnostic, Diagnostics};
 use crate::tick::Pipeline;
 use crate::world::World;
 use glam::Vec3;

@@ -2,14 +2,20 @@
 //! (re)load into the runtime [`Species`] the decision stage runs. Nothing in the tick parses or
 //! looks up by string what is resolved here.
 
+mod conditions;
 pub mod def;
+pub mod describe;
+mod params;
+mod recipes;
 pub mod seeds;
+pub mod set;
 pub mod validate;
 
 pub use def::*;
-pub use validate::{load_species, load_species_str, SpeciesSet};
+pub use set::SpeciesSet;
+pub use validate::{load_species, load_species_str};
 
-use crate::diag::Diagnostics;
+use crate::load::Diagnostics;
 use crate::perception::{Category, SenseParams};
 use crate::script::Script;
 use std::path::{Path, PathBuf};
