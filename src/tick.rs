@@ -340,7 +340,7 @@ impl Pipeline {
         let id = AgentId(world.next_agent_id);
         world.next_agent_id += 1;
         let mut rng = Rng::new(world.seed, id.0 as u64);
-        let d = &sp.def;
+        let d = &**sp;
         let sex = match d.attributes.sex {
             SexDef::Random => {
                 if rng.next_f32() < 0.5 {
@@ -636,7 +636,7 @@ fn agent_pass(
     let s = agent.species.0 as usize;
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
-    let def = &sp.def;
+    let def = &**sp;
     let percepts = perception.percepts(i);
     let summaries = perception.summaries(i);
     let group_sums = perception.group_sums(i);

@@ -198,7 +198,7 @@ impl Run {
         self.sim.pipeline.events.reserve(count);
         // Each agent's draws, from the group's stream in the order the group lists them.
         let solid = self.solid_shapes();
-        let clearance = self.scenario.species.species[s].def.body.size.length() * 0.5;
+        let clearance = self.scenario.species.species[s].body.size.length() * 0.5;
         let place = |rng: &mut Rng| {
             let pos = free_in(&g.region, rng, &solid, clearance);
             let yaw = match g.heading {
@@ -233,7 +233,7 @@ impl Run {
             })
             .collect();
         order.sort_unstable();
-        let params = &self.scenario.species.species[s].def.drives.params;
+        let params = &self.scenario.species.species[s].drives.params;
         for p in order.into_iter().map(|o| place(&mut Rng(o as u64))) {
             let id = self
                 .sim
