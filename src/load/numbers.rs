@@ -10,7 +10,7 @@ use super::diag::Diagnostic;
 use super::locate::find_key;
 use std::path::Path;
 
-/// Where `key`'s value is written; kept here too for the loaders that check numbers.
+// Loaders that check numbers also locate keys by this path.
 pub use super::locate::locate_key;
 
 /// The most agents a scenario may create in all (groups, timed spawns and squads together).

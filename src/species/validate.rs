@@ -3,16 +3,15 @@
 //!
 //! This file holds the walk over the species (behaviors, initial behavior, named recipes) and
 //! the script slots; conditions, recipes and the species' own constants are checked in
-//! [`super::conditions`], [`super::recipes`] and [`super::params`].
+//! `conditions.rs`, `recipes.rs` and `params.rs` beside it.
 
 use super::*;
-use crate::load::NumberCheck;
-use crate::load::{Diagnostic, Diagnostics};
+use crate::load::{Diagnostic, Diagnostics, NumberCheck};
 use crate::script::{Limits, Script};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-// The loader helpers' old home: paths through `species::validate` keep working.
+// Paths through `species::validate` from before these moved keep working.
 pub use super::describe::describe;
 pub use super::set::SpeciesSet;
 pub use crate::load::{did_you_mean, locate, ron_diag, ron_options};
