@@ -43,6 +43,8 @@ fn steered_by(r: &Recipe, out: &mut Vec<(Category, &'static str)>) {
 }
 
 impl Builder<'_> {
+    /// A behavior's `focus` (seed 000 §1): not empty, and holding every category its own
+    /// steering targets (a `Chase(target: Food)` focused away from food would never move).
     pub(super) fn focus(&mut self, b: &BehaviorDef, list: &[Category]) -> Focus {
         if list.is_empty() {
             self.error_at(

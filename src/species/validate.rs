@@ -171,9 +171,6 @@ impl Builder<'_> {
         }
     }
 
-    /// A behavior's `focus` (seed 000 §1): not empty, and holding every category its own
-    /// steering targets (a `Chase(target: Food)` focused away from food would never move).
-
     fn build(
         mut self,
         def: &SpeciesDef,
