@@ -3,7 +3,7 @@
 //!
 //! - [`diag`]: located diagnostics, and the one reader of users' files (regular files, UTF-8);
 //! - [`parse`]: the RON options every file is read with, and RON's errors as diagnostics;
-//! - [`locate`]: the line and column where a name or a key's value is written;
+//! - [`locate`](mod@locate): the line and column where a name or a key's value is written;
 //! - [`hints`]: "did you mean" suggestions for misspelt names;
 //! - [`numbers`]: load-time number checks (finite, ranges, orders) and the size limits.
 

@@ -4,7 +4,7 @@
 //!
 //! Not a tick stage: the loaders (species, scenarios, squads) run these checks so that the tick
 //! loop can trust every number it reads (no `clamp` with NaN bounds, no loop whose progress
-//! depends on float precision). Keys are located with [`super::locate`].
+//! depends on float precision). Keys are located with [`super::locate`](mod@super::locate).
 
 use super::diag::Diagnostic;
 use super::locate::find_key;
