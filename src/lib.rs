@@ -7,10 +7,15 @@
 
 pub use sim::Sim;
 
+/// Located diagnostics and the file reader ([`load::diag`]), under their short path.
+pub use load::diag;
+/// Load-time number checks and size limits ([`load::numbers`]), under their short path.
+pub use load::numbers;
+
 /// What an embedding program needs, in one import: `use shoal::prelude::*;`.
 pub mod prelude {
-    pub use crate::diag::{Diagnostic, Diagnostics};
     pub use crate::events::{Event, MessageKind};
+    pub use crate::load::{Diagnostic, Diagnostics};
     pub use crate::perception::{Category, Percept};
     pub use crate::scenario::{Overrides, Run, Scenario};
     pub use crate::sim::{Sim, UnknownSpecies};
@@ -24,7 +29,6 @@ pub mod bench;
 pub mod command;
 pub mod ctx;
 pub mod decision;
-pub mod diag;
 pub mod drives;
 pub mod events;
 pub mod formation;
@@ -33,8 +37,8 @@ pub mod health;
 pub mod index;
 #[cfg(feature = "tools")]
 pub mod live;
+pub mod load;
 pub mod locomotion;
-pub mod numbers;
 pub mod perception;
 pub mod record;
 pub mod scenario;

@@ -711,3 +711,47 @@ fn drive_and_group_numbers_are_refused_at_their_keys() {
     let (code, out) = shoal(d, &["check", "behaviors/probe.ron"]);
     assert_eq!(code, 0, "{out}");
 }
+
+#[test]
+fn expectation_bounds_that_are_not_numbers_in_range_are_refused_at_their_key() {
+    let w = world();
+    let d = w.path();
+    let f = "scenarios/school_formation.ron";
+    // A polarization is |mean heading|, in [0, 1]: NaN would fail every run, 1.5 could never
+    // be met.
+    for bad in ["NaN", "-0.5", "1.5"] {
+        edit(
+            d,
+            f,
+            "MinPolarization(\"sardine\", 0.7)",
+            &format!("MinPolarization(\"sardine\", {bad})"),
+        );
+        let (code, out) = shoal(d, &["test", f]);
+        assert_eq!(code, 1, "{out}");
+        let here = at(d, f, "expect: [");
+        assert!(
+            out.contains(&format!(
+                "{here}: `MinPolarization` expects a polarization between 0 and 1, not {bad}"
+            )),
+            "{here}\n{out}"
+        );
+        edit(
+            d,
+            f,
+            &format!("MinPolarization(\"sardine\", {bad})"),
+            "MinPolarization(\"sardine\", 0.7)",
+        );
+    }
+    // A window that never closes.
+    let f = "scenarios/predator_attack.ron";
+    edit(d, f, "within: 10.0", "within: inf");
+    let (code, out) = shoal(d, &["test", f]);
+    assert_eq!(code, 1, "{out}");
+    let here = at(d, f, "after: 5.0, ");
+    assert!(
+        out.contains(&format!(
+            "{here}: `after` and `within` must be finite numbers of seconds ≥ 0, not 5 and inf"
+        )),
+        "{here}\n{out}"
+    );
+}

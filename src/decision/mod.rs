@@ -87,7 +87,7 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
             ),
         },
         CondNode::ObstacleNear => {
-            let params = &ctx.species.def.avoid;
+            let params = &ctx.species.avoid;
             let p = ctx.static_pressures(params);
             p.max() > avoid::static_m_min(ctx.species.senses.vision_radius, params.m0)
         }
@@ -97,7 +97,7 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
                 static MOVING: std::cell::RefCell<Vec<avoid::MovingObstacle>> =
                     const { std::cell::RefCell::new(Vec::new()) };
             }
-            let params = &ctx.species.def.avoid;
+            let params = &ctx.species.avoid;
             MOVING.with(|v| {
                 let mut v = v.borrow_mut();
                 ctx.moving_obstacles(params, &mut v);

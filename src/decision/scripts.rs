@@ -74,7 +74,7 @@ pub fn fill_view(
     v.vel = a.velocity();
     v.fwd = frame::forward(a.yaw, a.pitch);
     v.speed = a.speed;
-    v.max_speed = ctx.species.def.body.limits.max_speed;
+    v.max_speed = ctx.species.body.limits.max_speed;
     v.hunger = a.drives.hunger;
     v.libido = a.drives.libido;
     v.fear = a.drives.fear;
@@ -111,7 +111,7 @@ pub fn fill_view(
     }
     v.drives_written = false;
     v.terrain = ctx.world.terrain.clone();
-    v.eye_height = ctx.species.def.body.size.y;
+    v.eye_height = ctx.species.body.size.y;
     v.squad = ctx.world.squads.as_ref().and_then(|b| b.view(a.id));
 }
 

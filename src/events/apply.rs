@@ -149,7 +149,6 @@ impl Pipeline {
         tick: u64,
     ) {
         let meal = set.species[world.agents[i].species.0 as usize]
-            .def
             .drives
             .meal_size;
         match (contact, source) {

@@ -388,8 +388,8 @@ impl Team {
     /// RON; a validation error is located at the key it concerns.
     pub fn parse(text: &str, file: impl AsRef<Path>) -> Result<Team, Diagnostics> {
         let file = file.as_ref();
-        let def: TeamDef = ron::from_str(text)
-            .map_err(|e| crate::terrain::features::ron_diagnostic(file, text, &e))?;
+        let def: TeamDef =
+            ron::from_str(text).map_err(|e| crate::load::ron_diag(file, text, &e))?;
         def.validate().map_err(|e| {
             let (line, col) = key_position(text, e.key()).unwrap_or((0, 0));
             Diagnostics::from(Diagnostic::new(file, line, col, e.to_string(), Some(text)))

@@ -8,10 +8,9 @@
 //! when the scenario declares any.
 
 use super::{Expectation, Scenario};
-use crate::diag::{Diagnostic, Diagnostics};
 use crate::events::Event;
 use crate::health::{self, Health, Monitor, SpeciesHealth};
-use crate::species::validate::locate;
+use crate::load::{locate, Diagnostic, Diagnostics};
 use crate::tick::Pipeline;
 use crate::world::World;
 use glam::Vec3;
@@ -189,8 +188,9 @@ fn pct(x: f32) -> String {
 }
 
 impl Tracker {
-    /// Resolves the expectations of `scenario`; unknown species or behavior names and fractions
-    /// outside [0, 1] are located errors in the scenario file.
+    /// Resolves the expectations of `scenario`; unknown species or behavior names, fractions
+    /// and polarizations outside [0, 1] and times that are not finite and ≥ 0 are located errors
+    /// in the scenario file.
     pub fn new(scenario: &Scenario) -> Result<Tracker, Diagnostics> {
         let text = &scenario.text;
         let file = &scenario.file;
@@ -253,11 +253,17 @@ impl Tracker {
                             format!("`fraction` must be between 0 and 1, not {fraction}"),
                         );
                     }
-                    if !(*within >= 0.0 && *after >= 0.0) {
+                    // Finite too: `after + within` bounds the window, and an infinite one never
+                    // closes.
+                    let seconds = |x: f32| x.is_finite() && x >= 0.0;
+                    if !(seconds(*within) && seconds(*after)) {
                         error(
                             "within",
                             cursor,
-                            "`after` and `within` must be ≥ 0 seconds".to_string(),
+                            format!(
+                                "`after` and `within` must be finite numbers of seconds ≥ 0, \
+                                 not {after} and {within}"
+                            ),
                         );
                     }
                     let s = species_of(species, cursor, &mut error);
@@ -324,6 +330,17 @@ impl Tracker {
                     )
                 }
                 Expectation::MinPolarization(sp, p) => {
+                    // Polarization is |mean heading|: a NaN bound would fail every run, one
+                    // above 1 could never be met.
+                    if !(0.0..=1.0).contains(p) {
+                        error(
+                            variant,
+                            cursor,
+                            format!(
+                                "`MinPolarization` expects a polarization between 0 and 1, not {p}"
+                            ),
+                        );
+                    }
                     let Some(s) = species_of(sp, cursor, &mut error) else {
                         continue;
                     };

@@ -5,9 +5,8 @@
 //! step may not change: the run's clock is counted in ticks of it.
 
 use super::{Run, Scenario};
-use crate::diag::Diagnostic;
+use crate::load::{locate, Diagnostic};
 use crate::sim::Sim;
-use crate::species::validate::locate;
 use crate::tick::{Pipeline, Remap};
 use crate::world::Obstacle;
 

@@ -2,16 +2,23 @@
 //! (re)load into the runtime [`Species`] the decision stage runs. Nothing in the tick parses or
 //! looks up by string what is resolved here.
 
+mod conditions;
 pub mod def;
+pub mod describe;
+mod params;
+mod recipes;
 pub mod seeds;
+pub mod set;
 pub mod validate;
 
 pub use def::*;
-pub use validate::{load_species, load_species_str, SpeciesSet};
+pub use set::SpeciesSet;
+pub use validate::{load_species, load_species_str};
 
-use crate::diag::Diagnostics;
+use crate::load::Diagnostics;
 use crate::perception::{Category, SenseParams};
 use crate::script::Script;
+use crate::steering::avoid::AvoidParams;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -179,17 +186,33 @@ pub struct ScriptSlot {
     pub index: u16,
 }
 
-/// A validated species, ready to run.
+/// A validated species, ready to run. The tick reads only the checked fields below, never
+/// [`Species::def`].
 #[derive(Debug, Clone)]
 pub struct Species {
     /// Name.
     pub name: String,
     /// The species file.
     pub file: PathBuf,
-    /// The definition as read.
+    /// The definition as read, for tools and viewers (color, relations); the tick does not read
+    /// it.
     pub def: SpeciesDef,
+    /// Body: size, limits, locomotion, animation, terrain mobility; every number checked.
+    pub body: BodyDef,
     /// Senses.
     pub senses: SenseParams,
+    /// Avoidance constants (seed 000 §4.1–§4.2) of `ObstacleNear` / `TrafficNear` and of
+    /// `AvoidStatic()` / `AvoidDynamic()` written without parameters; checked.
+    pub avoid: AvoidParams,
+    /// Attribute distributions drawn at spawn; checked.
+    pub attributes: AttributesDef,
+    /// Drive constants and initial draws; checked.
+    pub drives: DrivesDef,
+    /// Script conditions and weights are re-evaluated every this many ticks (at least 1).
+    pub decision_interval: u32,
+    /// Seconds before an agent sends a message of the same kind again on entering a behavior
+    /// (≥ 0).
+    pub resend_after: f32,
     /// Behaviors.
     pub behaviors: Vec<Behavior>,
     /// Index of the initial behavior.

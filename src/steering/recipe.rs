@@ -106,7 +106,7 @@ fn group_sum(ctx: &Ctx, scratch: &mut Scratch, q: &GroupQuery) -> GroupSum {
 /// Evaluates a leaf primitive.
 fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
     let kin = ctx.kin();
-    let limits = &ctx.species.def.body.limits;
+    let limits = &ctx.species.body.limits;
     let vmax = limits.max_speed;
     let vr = ctx.species.senses.vision_radius;
     match r {

@@ -12,8 +12,7 @@ use glam::Vec2;
 use std::collections::VecDeque;
 use std::path::Path;
 
-/// The most diagnostics one load reports before it stops looking.
-pub const MAX_DIAGNOSTICS: usize = 20;
+pub use crate::load::diag::MAX_DIAGNOSTICS;
 
 const HEADER_KEYS: &str =
     "ncols, nrows, xllcorner, xllcenter, yllcorner, yllcenter, cellsize, NODATA_value";

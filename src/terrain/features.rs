@@ -144,7 +144,8 @@ impl Features {
     /// fields or variants and out-of-range values are located at their line and column.
     pub fn parse(text: &str, file: impl AsRef<Path>) -> Result<Features, Diagnostics> {
         let file = file.as_ref();
-        let features: Features = ron::from_str(text).map_err(|e| ron_diagnostic(file, text, &e))?;
+        let features: Features =
+            ron::from_str(text).map_err(|e| crate::load::ron_diag(file, text, &e))?;
         let problems: Vec<Diagnostic> = features
             .items
             .iter()
@@ -215,17 +216,6 @@ impl Feature {
             }
         }
     }
-}
-
-/// Turns a RON error into a diagnostic at its start position.
-pub(crate) fn ron_diagnostic(file: &Path, text: &str, e: &ron::error::SpannedError) -> Diagnostic {
-    Diagnostic::new(
-        file,
-        e.span.start.line,
-        e.span.start.col,
-        e.code.to_string(),
-        Some(text),
-    )
 }
 
 /// Line and column of the `n`th element of the first `[ … ]` list after `items`, found by a

@@ -259,7 +259,6 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let s = agent.species.0 as usize;
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
-    let def = &sp.def;
     let percepts = perception.percepts(i);
     let summaries = perception.summaries(i);
     let group_sums = perception.group_sums(i);
@@ -282,7 +281,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     // 3. Drives, in the agent's own record (what others read of it is perception's copy from
     // the start of the tick).
     let me = agent;
-    if def.drives.native {
+    if sp.drives.native {
         let stim = |c: Category| {
             drives::stimulus(summaries[c as usize].nearest_dist, sp.senses.smell_radius)
         };
@@ -297,11 +296,11 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             nearest: sm.nearest_dist,
             inv_dist_sum: sm.inv_dist_sum,
         };
-        drives::update(&mut me.drives, &def.drives.params, stimuli, &predators, dt);
+        drives::update(&mut me.drives, &sp.drives.params, stimuli, &predators, dt);
     } else {
         me.drives.since_meal += dt;
         me.drives.since_mating += dt;
-        let q = &def.drives.params;
+        let q = &sp.drives.params;
         me.drives.state = drives::internal_state(me.drives.since_meal, q.s_max, q.delta);
     }
     remember_food(mind, me.pos, percepts, sp.senses.vision_radius, known_food);
@@ -319,7 +318,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         // again now, so the behavior that ends on the contact hands over to the right next one
         // at once instead of to a stale choice that the next scheduled call overturns a few
         // ticks later.
-        let due = scripts_every_tick || scripts::due(tick, me.id.0, def.decision_interval);
+        let due = scripts_every_tick || scripts::due(tick, me.id.0, sp.decision_interval);
         if due || mind.reached {
             let ctx = seen.ctx(me);
             // The worker's view is refilled in place (no allocation per call). The blackboard
@@ -362,7 +361,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
                     let quiet = &mut mind.quiet_until[*kind as usize];
                     if tick >= *quiet {
                         *quiet =
-                            tick.saturating_add((def.resend_after.max(0.0) / dt).ceil() as u64);
+                            tick.saturating_add((sp.resend_after.max(0.0) / dt).ceil() as u64);
                         messages[k] = Some((*kind, *r));
                         k += 1;
                     }
@@ -436,7 +435,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         pitch_rate: me.pitch_rate,
     };
     // A behavior may turn faster or slower than the body does by default.
-    let body = &def.body.limits;
+    let body = &sp.body.limits;
     let limits = &match sp
         .behaviors
         .get(mind.current as usize)
@@ -449,7 +448,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         &mut motion,
         steer,
         limits,
-        &def.body.locomotion,
+        &sp.body.locomotion,
         world.current,
         dt,
     );
@@ -458,9 +457,9 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
     anim::advance(
         &mut an,
-        &def.body.anim,
+        &sp.body.anim,
         motion.speed,
-        def.body.size.z,
+        sp.body.size.z,
         accel,
         info.dyaw,
         limits.max_turn,

@@ -117,10 +117,7 @@ fn reads_percepts(sp: &Species) -> Kinds {
             | Recipe::FollowPlan(_) => Kinds::None,
         }
     }
-    if sp.script.is_some()
-        || sp.def.drives.native
-        || sp.behaviors.iter().any(|b| b.contact.is_some())
-    {
+    if sp.script.is_some() || sp.drives.native || sp.behaviors.iter().any(|b| b.contact.is_some()) {
         return Kinds::All;
     }
     let mut kinds = Kinds::None;
@@ -144,7 +141,7 @@ pub fn bearing_range(sp: &Species) -> f32 {
     }
     fn cond(c: &CondNode, sp: &Species) -> f32 {
         match c {
-            CondNode::TrafficNear => of(&sp.def.avoid),
+            CondNode::TrafficNear => of(&sp.avoid),
             CondNode::All(v) | CondNode::Any(v) => {
                 v.iter().map(|c| cond(c, sp)).fold(0.0, f32::max)
             }

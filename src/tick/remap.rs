@@ -173,7 +173,7 @@ impl Pipeline {
                 });
             }
             a.species = SpeciesId(ns as u16);
-            a.size = nsp.def.body.size;
+            a.size = nsp.body.size;
         }
         if remap.removed > 0 {
             let mut k = 0;

@@ -32,7 +32,7 @@ impl Pipeline {
         let id = AgentId(world.next_agent_id);
         world.next_agent_id += 1;
         let mut rng = Rng::new(world.seed, id.0 as u64);
-        let d = &sp.def;
+        let d = &**sp;
         let sex = match d.attributes.sex {
             SexDef::Random => {
                 if rng.next_f32() < 0.5 {

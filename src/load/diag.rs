@@ -16,6 +16,9 @@ pub const MAX_ECHO: usize = 200;
 /// The most characters of a message a diagnostic shows (messages may quote the user's text).
 pub const MAX_MESSAGE: usize = 1000;
 
+/// The most diagnostics one load reports before it stops looking.
+pub const MAX_DIAGNOSTICS: usize = 20;
+
 /// One located problem in a user's file.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Diagnostic {
