@@ -1,0 +1,171 @@
+//! The core's layers, checked from the source: each core module imports only the modules below it
+//! in [`LAYERS`], so the core has no import cycle and the tick reads bottom to top. Only
+//! non-test code counts (a file's `#[cfg(test)]` part may reach anywhere). The layers above the
+//! core (species, script, scenario, squad, terrain, the tools) are not ordered here: the core
+//! reads runtime species through `species`, which is built from the stages' parameter types.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Core modules, lowest first. `events::apply` (stage 7) stands apart from the event types: it is
+/// written as a method of the tick's `Pipeline`, which calls it without importing it.
+const LAYERS: &[&str] = &[
+    "frame",
+    "command",
+    "world",
+    "events",
+    "index",
+    "perception",
+    "drives",
+    "ctx",
+    "steering",
+    "decision",
+    "locomotion",
+    "tick",
+    "events::apply",
+    "sim",
+];
+
+fn rank(node: &str) -> Option<usize> {
+    LAYERS.iter().position(|l| *l == node)
+}
+
+/// The core node a source file belongs to.
+fn node_of(src: &Path, file: &Path) -> String {
+    let rel = file.strip_prefix(src).unwrap();
+    let parts: Vec<String> = rel
+        .iter()
+        .map(|p| p.to_string_lossy().trim_end_matches(".rs").to_string())
+        .collect();
+    if parts.len() >= 2 && parts[0] == "events" && parts[1] == "apply" {
+        return "events::apply".into();
+    }
+    parts[0].clone()
+}
+
+/// The core node a `crate::…` path names.
+fn node_of_path(path: &str) -> String {
+    if path.starts_with("events::apply") {
+        return "events::apply".into();
+    }
+    path.split("::").next().unwrap_or("").to_string()
+}
+
+fn files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// Every import of a core module by one below it, as "a imports b, which is above it (file:line)".
+fn upward_imports(src: &Path, sources: &[(PathBuf, String)]) -> Vec<String> {
+    // (from, to) → first place it happens.
+    let mut upward: BTreeMap<(String, String), String> = BTreeMap::new();
+    for (file, text) in sources {
+        let from = node_of(src, file);
+        let Some(r_from) = rank(&from) else { continue };
+        let mut skip_next = false;
+        let mut lines = text.lines().enumerate().peekable();
+        while let Some((n, line)) = lines.next() {
+            let line = line.trim_start();
+            if std::mem::take(&mut skip_next) || line.starts_with("//") {
+                continue;
+            }
+            if line.trim_end() == "#[cfg(test)]" {
+                // An inline test module runs to the end of the file; any other test-only item
+                // is the next line.
+                match lines.peek() {
+                    Some((_, next)) if next.trim().starts_with("mod ") && next.ends_with('{') => {
+                        break
+                    }
+                    _ => skip_next = true,
+                }
+                continue;
+            }
+            let mut targets = Vec::new();
+            for (i, _) in line.match_indices("crate::") {
+                targets.push(node_of_path(&line[i + "crate::".len()..]));
+            }
+            for to in targets {
+                let Some(r_to) = rank(&to) else { continue };
+                if to != from && r_to > r_from {
+                    let at = format!("{}:{}", file.strip_prefix(src).unwrap().display(), n + 1);
+                    upward.entry((from.clone(), to)).or_insert(at);
+                }
+            }
+        }
+    }
+    upward
+        .iter()
+        .map(|((a, b), at)| format!("{a} imports {b}, which is above it ({at})"))
+        .collect()
+}
+
+#[test]
+fn each_core_module_imports_only_the_ones_below_it() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut all = Vec::new();
+    files(&src, &mut all);
+    all.sort();
+    let mut sources: Vec<(PathBuf, String)> = all
+        .into_iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(&f).unwrap();
+            (f, text)
+        })
+        .collect();
+    // Files that are test modules (`#[cfg(test)] mod x;` in their parent) may reach anywhere.
+    let mut test_only = Vec::new();
+    for (file, text) in &sources {
+        let dir = file.parent().unwrap();
+        let mut lines = text.lines().map(str::trim);
+        while let Some(l) = lines.next() {
+            if l == "#[cfg(test)]" {
+                if let Some(m) = lines.next().and_then(|n| n.strip_prefix("mod ")) {
+                    test_only.push(dir.join(format!("{}.rs", m.trim_end_matches(';'))));
+                }
+            }
+        }
+    }
+    sources.retain(|(f, _)| !test_only.contains(f));
+    let report = upward_imports(&src, &sources);
+    assert!(report.is_empty(), "\n{}", report.join("\n"));
+}
+
+/// The check itself bites: a core module reaching up is reported, a reach down, a comment or a
+/// test module is not.
+#[test]
+fn an_import_from_above_is_found() {
+    let src = Path::new("/x/src");
+    let file = |p: &str, text: &str| (src.join(p), text.to_string());
+    let report = upward_imports(
+        src,
+        &[
+            file(
+                "world/agent.rs",
+                "use crate::frame;\n// crate::tick\nuse crate::steering::Steer;\n",
+            ),
+            file(
+                "events/apply.rs",
+                "use crate::decision::Ctx;\nuse crate::sim::Sim;\n",
+            ),
+            file(
+                "events/mod.rs",
+                "use crate::world::AgentId;\n#[cfg(test)]\nuse crate::sim::Sim;\n",
+            ),
+            file("species/mod.rs", "use crate::tick::Pipeline;\n"),
+        ],
+    );
+    assert_eq!(
+        report,
+        [
+            "events::apply imports sim, which is above it (events/apply.rs:2)",
+            "world imports steering, which is above it (world/agent.rs:3)",
+        ]
+    );
+}
