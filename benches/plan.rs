@@ -4,7 +4,7 @@
 
 use divan::Bencher;
 use shoal::bench::plan::{self, hills};
-use shoal::formation::{Formation, PlanRequest, Planner, Shape, TaskClass, Weights};
+use shoal::formation::{Formation, FormationShape, PlanRequest, Planner, TaskClass, Weights};
 use shoal::terrain::{Cell, CostGrid, Mobility, Terrain};
 
 fn main() {
@@ -20,8 +20,8 @@ fn free_near(grid: &CostGrid, c: Cell) -> Cell {
 fn plan<const MEMBERS: usize>(bencher: Bencher, n: usize) {
     let grid = hills(n);
     let formations = [
-        Formation::new(&Shape::Wedge, MEMBERS, 4.0).unwrap(),
-        Formation::new(&Shape::Column, MEMBERS, 3.0).unwrap(),
+        Formation::new(&FormationShape::Wedge, MEMBERS, 4.0).unwrap(),
+        Formation::new(&FormationShape::Column, MEMBERS, 3.0).unwrap(),
     ];
     let start = free_near(&grid, Cell::new(n / 16, n / 16));
     let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12));
@@ -59,8 +59,8 @@ fn plan_uniform_cost(bencher: Bencher, n: usize) {
     };
     let grid = Terrain::procedural(n, n, 2.0, 60.0, 2007).cost_grid(&mobility);
     let formations = [
-        Formation::new(&Shape::Wedge, 5, 4.0).unwrap(),
-        Formation::new(&Shape::Column, 5, 3.0).unwrap(),
+        Formation::new(&FormationShape::Wedge, 5, 4.0).unwrap(),
+        Formation::new(&FormationShape::Column, 5, 3.0).unwrap(),
     ];
     let start = free_near(&grid, Cell::new(n / 16, n / 16));
     let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12));
@@ -82,7 +82,7 @@ fn plan_uniform_cost(bencher: Bencher, n: usize) {
 #[divan::bench(args = [1024], sample_count = 10, sample_size = 1)]
 fn leader_search_only(bencher: Bencher, n: usize) {
     let grid = hills(n);
-    let formations = [Formation::new(&Shape::Wedge, 5, 4.0).unwrap()];
+    let formations = [Formation::new(&FormationShape::Wedge, 5, 4.0).unwrap()];
     let team = shoal::formation::GridFormations::new(&formations, 0, grid.cell_size);
     let start = free_near(&grid, Cell::new(n / 16, n / 16));
     let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12));

@@ -5,7 +5,7 @@
 mod live_support;
 
 use live_support::*;
-use shoal::live::http::Limits;
+use shoal::live::http::HttpLimits;
 use shoal::live::server::{live_page, Server};
 use shoal::live::{LiveEvent, LiveOptions, Session};
 use std::io::{BufRead, BufReader, Read, Write};
@@ -54,7 +54,7 @@ fn rss_kb() -> u64 {
     line.split_whitespace().nth(1).unwrap().parse().unwrap()
 }
 
-fn start(p: &Project, limits: Limits) -> (Session, Server) {
+fn start(p: &Project, limits: HttpLimits) -> (Session, Server) {
     let s = Session::start(&p.scenario(), LiveOptions::default()).unwrap_or_else(|d| panic!("{d}"));
     let server = Server::start_with(s.handle(), live_page(), 0, limits).unwrap();
     (s, server)
@@ -63,7 +63,7 @@ fn start(p: &Project, limits: Limits) -> (Session, Server) {
 #[test]
 fn two_hundred_hostile_connections_neither_block_a_good_request_nor_grow_memory() {
     let p = Project::new();
-    let (s, server) = start(&p, Limits::default());
+    let (s, server) = start(&p, HttpLimits::default());
     let addr = server.addr();
     assert_eq!(get(addr, "/status").0, 200);
     let rss0 = rss_kb();
@@ -168,7 +168,7 @@ fn two_hundred_hostile_connections_neither_block_a_good_request_nor_grow_memory(
         rss1 < rss0 + 48 * 1024,
         "memory grew from {rss0} kB to {rss1} kB"
     );
-    assert!(server.open_connections() <= Limits::default().connections);
+    assert!(server.open_connections() <= HttpLimits::default().connections);
     assert!(!s.status().paused, "a foreign request paused the session");
     drop(held);
 }
@@ -176,7 +176,7 @@ fn two_hundred_hostile_connections_neither_block_a_good_request_nor_grow_memory(
 #[test]
 fn oversized_requests_are_refused_with_their_status() {
     let p = Project::new();
-    let (_s, server) = start(&p, Limits::default());
+    let (_s, server) = start(&p, HttpLimits::default());
     let addr = server.addr();
     let long = "a".repeat(9 * 1024);
     let (code, _) = exchange(
@@ -205,7 +205,7 @@ fn oversized_requests_are_refused_with_their_status() {
 #[test]
 fn foreign_hosts_and_origins_are_refused_and_change_nothing() {
     let p = Project::new();
-    let (s, server) = start(&p, Limits::default());
+    let (s, server) = start(&p, HttpLimits::default());
     let addr = server.addr();
     let port = addr.port();
     let pause = r#"{"cmd":"pause"}"#;
@@ -247,10 +247,10 @@ fn foreign_hosts_and_origins_are_refused_and_change_nothing() {
 #[test]
 fn over_the_connection_cap_the_oldest_unfinished_request_makes_room_then_503() {
     let p = Project::new();
-    let limits = Limits {
+    let limits = HttpLimits {
         connections: 4,
         streams: 4,
-        ..Limits::default()
+        ..HttpLimits::default()
     };
     let (_s, server) = start(&p, limits);
     let addr = server.addr();
@@ -286,9 +286,9 @@ fn over_the_connection_cap_the_oldest_unfinished_request_makes_room_then_503() {
 #[test]
 fn a_request_sent_too_slowly_times_out_with_408() {
     let p = Project::new();
-    let limits = Limits {
+    let limits = HttpLimits {
         request_timeout: Duration::from_secs(1),
-        ..Limits::default()
+        ..HttpLimits::default()
     };
     let (_s, server) = start(&p, limits);
     let addr = server.addr();

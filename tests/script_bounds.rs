@@ -7,7 +7,7 @@ mod common;
 use common::{folder, Sim};
 use glam::Vec3;
 use shoal::scenario::script_limits;
-use shoal::script::{calls, AgentView, Exceeded, Limits, Script, TickClock, TimeBudget};
+use shoal::script::{calls, AgentView, Exceeded, SandboxLimits, Script, TickClock, TimeBudget};
 use shoal::species::load_species;
 use shoal::world::Aabb;
 use std::path::Path;
@@ -113,8 +113,12 @@ fn a_diamond_of_imports_compiles_each_module_once_and_runs() {
         .collect();
     let dir = folder(&refs);
     let start = Instant::now();
-    let script = Script::load(&dir.path().join("m0.rhai"), dir.path(), &Limits::default())
-        .unwrap_or_else(|e| panic!("{e}"));
+    let script = Script::load(
+        &dir.path().join("m0.rhai"),
+        dir.path(),
+        &SandboxLimits::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     assert!(
         start.elapsed() < Duration::from_secs(5),
         "took {:?}",
@@ -179,7 +183,7 @@ fn nothing_a_script_can_call_reads_the_clock() {
         assert!(found.is_empty(), "`{name}` is callable: {found:?}");
     }
     // And at run time, even through a function pointer.
-    let engine = shoal::script::new_engine(&Limits::default());
+    let engine = shoal::script::new_engine(&SandboxLimits::default());
     for src in ["timestamp()", "sleep(0)", "Fn(\"timestamp\").call()"] {
         assert!(engine.eval::<rhai::Dynamic>(src).is_err(), "{src} ran");
     }
@@ -340,9 +344,9 @@ fn spinner() -> (tempfile::TempDir, Script) {
         "spin.rhai",
         "fn spin() {\n    let m = #{};\n    for i in 0..10000000 { m[\"k\"] = i; }\n    true\n}\nfn quick() { 1 }\n",
     )]);
-    let limits = Limits {
+    let limits = SandboxLimits {
         max_operations: 1_000_000_000,
-        ..Limits::default()
+        ..SandboxLimits::default()
     };
     let s = Script::load(&dir.path().join("spin.rhai"), dir.path(), &limits)
         .unwrap_or_else(|e| panic!("{e}"));
@@ -419,9 +423,9 @@ fn a_slow_on_tick_in_a_run_is_reported_and_counted_apart() {
     let rhai = "fn never() { false }\n\
                 fn on_tick() {\n    let m = #{};\n    for i in 0..100000 { m[\"k\"] = i; }\n}\n";
     let dir = folder(&[("slow.ron", &ron), ("slow.rhai", rhai)]);
-    let limits = Limits {
+    let limits = SandboxLimits {
         max_operations: 100_000_000,
-        ..Limits::default()
+        ..SandboxLimits::default()
     };
     let sp = load_species(&dir.path().join("slow.ron"), dir.path(), &limits)
         .unwrap_or_else(|e| panic!("{e}"));

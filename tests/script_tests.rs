@@ -2,7 +2,7 @@
 //! the library runner, so CI covers them, and checks what failures and errors print using the
 //! fixtures kept for that (`*/tests/fixtures/`, excluded from the default run).
 
-use shoal::testing::{self, Options, Report, Status, TestResult};
+use shoal::testing::{self, Options, Report, TestResult, TestStatus};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -30,7 +30,7 @@ fn every_shipped_script_and_scenario_test_passes() {
     let failures: Vec<String> = report
         .results
         .iter()
-        .filter(|r| r.status != Status::Passed)
+        .filter(|r| r.status != TestStatus::Passed)
         .map(|r| format!("{} {}\n{}", r.id, r.details, ""))
         .collect();
     assert!(
@@ -109,7 +109,7 @@ fn a_failing_test_prints_where_what_and_the_last_decisions() {
         r.id,
         "behaviors/tests/fixtures/failing.rhai::test_a_fish_ignores_a_shark"
     );
-    assert_eq!(r.status, Status::Failed);
+    assert_eq!(r.status, TestStatus::Failed);
     let lines: Vec<&str> = r.details.lines().collect();
     assert_eq!(
         lines[0],
@@ -144,7 +144,7 @@ fn a_syntax_error_is_located_in_the_test_file() {
     );
     let r = only(&report);
     assert_eq!(r.id, "behaviors/tests/fixtures/syntax_error.rhai");
-    assert_eq!(r.status, Status::Error);
+    assert_eq!(r.status, TestStatus::Error);
     assert_eq!(
         r.details,
         "behaviors/tests/fixtures/syntax_error.rhai:5:19: Unexpected ';'\n5 |     let w = world(;\n  |                   ^"
@@ -162,7 +162,7 @@ fn tests_that_never_end_are_stopped_by_a_limit() {
         &report,
         "behaviors/tests/fixtures/endless.rhai::test_loops_forever",
     );
-    assert_eq!(loops.status, Status::Error);
+    assert_eq!(loops.status, TestStatus::Error);
     assert!(
         loops.details.starts_with(
             "behaviors/tests/fixtures/endless.rhai:4:1: test exceeded its limit of 5000000 operations"
@@ -174,7 +174,7 @@ fn tests_that_never_end_are_stopped_by_a_limit() {
         &report,
         "behaviors/tests/fixtures/endless.rhai::test_waits_forever",
     );
-    assert_eq!(waits.status, Status::Error);
+    assert_eq!(waits.status, TestStatus::Error);
     assert!(
         waits.details.starts_with(
             "behaviors/tests/fixtures/endless.rhai:15:7: test exceeded its limit of 20000 ticks"
@@ -201,7 +201,7 @@ fn an_unknown_behavior_name_is_an_error_at_the_assertion() {
         &Options::default(),
     );
     let r = only(&report);
-    assert_eq!(r.status, Status::Error);
+    assert_eq!(r.status, TestStatus::Error);
     assert_eq!(
         r.details.lines().next().unwrap(),
         "behaviors/tests/fixtures/unknown_behavior.rhai:8:5: unknown behavior \"escpae\" of species \"reef_fish\": expected one of avoid_static, escape, avoid_dynamic, eat, chase, mate, leave, school, wander"
@@ -212,7 +212,7 @@ fn an_unknown_behavior_name_is_an_error_at_the_assertion() {
 fn scenario_expectations_fail_with_what_was_observed() {
     let report = run(&["scenarios/tests/fixtures/unmet.ron"], &Options::default());
     let r = only(&report);
-    assert_eq!(r.status, Status::Failed);
+    assert_eq!(r.status, TestStatus::Failed);
     assert_eq!(
         r.details,
         "FAIL expected at least 1 catch: 0 catches\nok   expected no script errors: none\n"
@@ -222,7 +222,7 @@ fn scenario_expectations_fail_with_what_was_observed() {
         &Options::default(),
     );
     let r = only(&report);
-    assert_eq!(r.status, Status::Error);
+    assert_eq!(r.status, TestStatus::Error);
     assert!(
         r.details.starts_with(
             "scenarios/tests/fixtures/bad_expect.ron:8:56: species \"shark\" has no behavior \"sleep\": expected one of avoid_static, hunt, stalk, rest, patrol"
@@ -246,7 +246,7 @@ fn the_filter_selects_tests_by_name() {
         r.id,
         "behaviors/tests/reef_fish.rhai::test_the_stack_unwinds_in_order"
     );
-    assert_eq!(r.status, Status::Passed);
+    assert_eq!(r.status, TestStatus::Passed);
 }
 
 #[test]

@@ -18,7 +18,8 @@ use crate::decision::{self, scripts, Ctx};
 use crate::diag::Diagnostics;
 use crate::perception::Category;
 use crate::scenario::{
-    FoodDef, GroupDef, HeadingDef, ObstacleDef, Overrides, RecordDef, Run, Scenario, ScenarioDef,
+    FoodDef, HeadingDef, ObstacleDef, Overrides, RecordDef, Run, Scenario, ScenarioDef,
+    SpawnGroupDef,
 };
 use crate::species::{load_species, load_species_str, SpeciesSet};
 use crate::world::{Aabb, Mind, Rng};
@@ -191,8 +192,8 @@ fn scenario_def(bounds: Aabb, species: Vec<String>) -> ScenarioDef {
     }
 }
 
-fn group(species: &str, count: usize, region: Aabb) -> GroupDef {
-    GroupDef {
+fn group(species: &str, count: usize, region: Aabb) -> SpawnGroupDef {
+    SpawnGroupDef {
         species: species.into(),
         count: count as i64,
         region,

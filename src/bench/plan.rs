@@ -4,7 +4,7 @@
 //! size, `ticks` the number of plans timed and `updates` the search nodes expanded.
 
 use super::Sample;
-use crate::formation::{Formation, PlanRequest, Planner, Shape, TaskClass};
+use crate::formation::{Formation, FormationShape, PlanRequest, Planner, TaskClass};
 use crate::terrain::{Cell, CostGrid, Mobility, Terrain};
 use std::time::Instant;
 
@@ -41,8 +41,8 @@ pub fn measure(passes: u64) -> Option<Sample> {
     let n = TERRAIN_SIDE;
     let grid = hills(n);
     let formations = [
-        Formation::new(&Shape::Wedge, MEMBERS, 4.0).ok()?,
-        Formation::new(&Shape::Column, MEMBERS, 3.0).ok()?,
+        Formation::new(&FormationShape::Wedge, MEMBERS, 4.0).ok()?,
+        Formation::new(&FormationShape::Column, MEMBERS, 3.0).ok()?,
     ];
     let start = free_near(&grid, Cell::new(n / 16, n / 16))?;
     let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12))?;

@@ -1,7 +1,7 @@
 //! `shoal diff RUN_A RUN_B`: where two runs of the same scenario diverge — the first tick, which
 //! agents, which decisions differed, and which input files changed.
 
-use shoal::record::schema::{Traj, TRAJECTORY_COLUMNS};
+use shoal::record::schema::{TrajColumn, TRAJECTORY_COLUMNS};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -28,11 +28,11 @@ fn read_ticks(path: &Path) -> anyhow::Result<Vec<(u64, Tick)>> {
     for record in reader.records() {
         let r = record.map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
         let line = r.position().map_or(0, |p| p.line());
-        let field = |c: Traj| r.get(c as usize).unwrap_or("");
-        let t: u64 = field(Traj::Tick)
+        let field = |c: TrajColumn| r.get(c as usize).unwrap_or("");
+        let t: u64 = field(TrajColumn::Tick)
             .parse()
             .map_err(|_| anyhow::anyhow!("{}:{line}: bad tick", path.display()))?;
-        let id: u32 = field(Traj::Id)
+        let id: u32 = field(TrajColumn::Id)
             .parse()
             .map_err(|_| anyhow::anyhow!("{}:{line}: bad id", path.display()))?;
         if out.last().is_none_or(|(lt, _)| *lt != t) {
@@ -41,7 +41,7 @@ fn read_ticks(path: &Path) -> anyhow::Result<Vec<(u64, Tick)>> {
         out.last_mut().expect("pushed").1.insert(
             id,
             r.iter()
-                .skip(Traj::Species as usize)
+                .skip(TrajColumn::Species as usize)
                 .map(str::to_string)
                 .collect(),
         );
@@ -76,7 +76,7 @@ fn read_decisions(path: &Path) -> anyhow::Result<BTreeMap<u64, Vec<(u64, String)
 }
 
 /// Names of the fields a [`Tick`] row holds (those after `tick,time,id`).
-const FIELDS: &[&str] = TRAJECTORY_COLUMNS.split_at(Traj::Species as usize).1;
+const FIELDS: &[&str] = TRAJECTORY_COLUMNS.split_at(TrajColumn::Species as usize).1;
 
 /// Runs `shoal diff`.
 pub fn diff(args: DiffArgs) -> anyhow::Result<ExitCode> {

@@ -755,7 +755,7 @@ pub fn dir_between(a: Cell, b: Cell) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formation::shape::Shape;
+    use crate::formation::shape::FormationShape;
     use proptest::prelude::*;
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
@@ -851,7 +851,7 @@ mod tests {
             grid.blocked[si] = false;
             let gi = grid.index(goal);
             grid.blocked[gi] = false;
-            let f = [Formation::new(&Shape::Wedge, members, 1.0).unwrap()];
+            let f = [Formation::new(&FormationShape::Wedge, members, 1.0).unwrap()];
             let team = GridFormations::new(&f, 0, 1.0);
             let mut p = Planner::new();
             let found = p.search(&grid, start, goal, &team, Weights { k1: 1.0, k2: 0.0, ..Weights::default() });
@@ -972,7 +972,7 @@ mod tests {
         // Open 7×5 grid, a line of 3 (spacing 1) from (0, 2) east to (4, 2): 4 steps, both
         // followers free (rows 1 and 3), FM = 1/2: 4 · (0.1·1 + 0.9·0.5) = 4 · 0.55 = 2.2.
         let grid = CostGrid::open(7, 5, 1.0, Vec2::ZERO);
-        let line = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let line = [Formation::new(&FormationShape::Line, 3, 1.0).unwrap()];
         let team = GridFormations::new(&line, 0, 1.0);
         let w = TaskClass::MayChangeRarely.weights();
         let s = Planner::new()
@@ -987,8 +987,8 @@ mod tests {
         // 4 · (0.1 + 0.9·3) = 11.2.
         let strip = CostGrid::open(5, 1, 1.0, Vec2::ZERO);
         let two = [
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         let team = GridFormations::new(&two, 0, 1.0);
         let literal = Weights {
@@ -1107,8 +1107,8 @@ mod tests {
         // A line and a column of 3 (spacing 1) facing east on a 5 × 3 grid; the leader at (2, 1).
         let grid = CostGrid::open(5, 3, 1.0, Vec2::ZERO);
         let f = [
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         let team = GridFormations::new(&f, 0, 1.0);
         let slots = |j: usize| std::borrow::Cow::Borrowed(team.tables[j].dir(0));
@@ -1144,7 +1144,7 @@ mod tests {
 
     #[test]
     fn slot_offsets_turn_with_the_heading() {
-        let f = Formation::new(&Shape::Wedge, 3, 2.0).unwrap();
+        let f = Formation::new(&FormationShape::Wedge, 3, 2.0).unwrap();
         let t = SlotOffsets::new(&f, 0, 2.0);
         // Heading east: member 1 is back-right = west-south.
         assert_eq!(t.dir(0), &[(-1, 1), (-1, -1)]);

@@ -255,7 +255,7 @@ fn speed_factors(keys: &[KeyPoint], waypoints: &[Vec2]) -> Vec<f32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formation::shape::Shape;
+    use crate::formation::shape::FormationShape;
     use crate::terrain::Cell;
 
     fn kp(x: f32, z: f32, formation: usize, i: usize) -> KeyPoint {
@@ -270,8 +270,8 @@ mod tests {
     #[test]
     fn members_hold_slots_at_key_points_and_interpolate_at_transitions() {
         let f = [
-            Formation::new(&Shape::Wedge, 3, 2.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 2.0).unwrap(),
+            Formation::new(&FormationShape::Wedge, 3, 2.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 2.0).unwrap(),
         ];
         // East 10, then south 10 switching to a column, then east 10 back to the wedge.
         let keys = [
@@ -343,8 +343,8 @@ mod tests {
     fn the_wide_formation_is_restored_only_after_the_pass() {
         let g = pass_grid();
         let f = [
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         // Line → column at the entrance (10, 5), column → line at the exit (20, 5).
         let keys = [
@@ -414,7 +414,7 @@ mod tests {
         assert_eq!(draw_in(&g, by_wall, Vec2::new(9.5, 5.5)), by_wall);
         // A line of 3 facing north fits at (4.5, 5.5); at (6.5, 5.5) its right slot (7.5, 5.5) is
         // in the wall.
-        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let f = [Formation::new(&FormationShape::Line, 3, 1.0).unwrap()];
         assert!(fits(
             &g,
             &f[0],
@@ -511,8 +511,8 @@ mod tests {
     fn a_widening_is_deferred_only_when_it_lasts_and_does_not_fit_before_it() {
         let g = pass_grid();
         let f = [
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         let held = |keys: &[KeyPoint]| held_formations(&g, keys, &f, 0, &key_headings(keys));
         // The last key point takes its own formation, a change there included.
@@ -573,7 +573,7 @@ mod tests {
 
     #[test]
     fn a_leg_where_the_leader_stands_still_has_speed_factor_one() {
-        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let f = [Formation::new(&FormationShape::Line, 3, 1.0).unwrap()];
         let keys = [kp(5.5, 5.5, 0, 0), kp(5.5, 5.5, 0, 0)];
         let paths = member_paths(&keys, &f, 0);
         assert!(paths.iter().all(|p| p.speed_factors == vec![1.0]));
@@ -581,7 +581,7 @@ mod tests {
 
     #[test]
     fn single_key_point_faces_north() {
-        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let f = [Formation::new(&FormationShape::Line, 3, 1.0).unwrap()];
         let paths = member_paths(&[kp(5.0, 5.0, 0, 0)], &f, 0);
         assert_eq!(paths[1].waypoints, vec![Vec2::new(6.0, 5.0)]);
         assert!(paths[1].speed_factors.is_empty());

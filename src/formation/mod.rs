@@ -18,14 +18,14 @@
 //! form.
 //!
 //! ```
-//! use shoal::formation::{Formation, PlanRequest, Planner, Shape, TaskClass};
+//! use shoal::formation::{Formation, PlanRequest, Planner, FormationShape, TaskClass};
 //! use shoal::terrain::CostGrid;
 //! use glam::Vec2;
 //!
 //! let grid = CostGrid::open(64, 64, 2.0, Vec2::ZERO);
 //! let formations = [
-//!     Formation::new(&Shape::Wedge, 5, 4.0).unwrap(),
-//!     Formation::new(&Shape::Column, 5, 3.0).unwrap(),
+//!     Formation::new(&FormationShape::Wedge, 5, 4.0).unwrap(),
+//!     Formation::new(&FormationShape::Column, 5, 3.0).unwrap(),
 //! ];
 //! let mut planner = Planner::new();
 //! let plan = planner
@@ -52,8 +52,8 @@ pub use astar::{
     Weights, FM_BROKEN, RELAX_STEP,
 };
 pub use follow::{member_paths, MemberPath};
-pub use shape::{Formation, FormationDef, FormationError, LeaderChoice, Shape};
-pub use smooth::{KeyPoint, Transition};
+pub use shape::{Formation, FormationDef, FormationError, FormationShape, LeaderChoice};
+pub use smooth::{FormationChange, KeyPoint};
 
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::terrain::{Cell, CostGrid};
@@ -93,7 +93,7 @@ pub struct Plan {
     /// The key-point table (the smoothed leader path).
     pub key_points: Vec<KeyPoint>,
     /// The formation-transition table.
-    pub transitions: Vec<Transition>,
+    pub transitions: Vec<FormationChange>,
     /// Every member's path, indexed by member (the leader's follows the key points).
     pub member_paths: Vec<MemberPath>,
     /// Per key point, the formation the members' slots take there (index into the list): the
@@ -253,7 +253,7 @@ fn narrower(formations: &[Formation], j: usize) -> Option<usize> {
 struct Laid {
     along: Vec<(usize, bool)>,
     key_points: Vec<KeyPoint>,
-    transitions: Vec<Transition>,
+    transitions: Vec<FormationChange>,
     member_paths: Vec<MemberPath>,
     held: Vec<usize>,
 }
@@ -462,7 +462,7 @@ mod tests {
     }
 
     fn line3() -> Vec<Formation> {
-        vec![Formation::new(&Shape::Line, 3, 1.0).unwrap()]
+        vec![Formation::new(&FormationShape::Line, 3, 1.0).unwrap()]
     }
 
     fn request<'a>(
@@ -538,7 +538,7 @@ mod tests {
         // K2 = 0.9 → 4, 0.8 → ⌈3.2⌉ = 4, 0.7 → ⌈2.8⌉ = 3, 0.6 → ⌈2.4⌉ = 3, 0.5 → 2: the fifth
         // search succeeds.
         let grid = corridor_map(1, false);
-        let t = Shape::Custom(vec![
+        let t = FormationShape::Custom(vec![
             (0.0, 0.0),
             (-1.0, 0.0),
             (-2.0, 0.0),
@@ -608,8 +608,8 @@ mod tests {
     fn a_narrower_formation_carries_the_team_through_and_back() {
         let grid = corridor_map(1, false);
         let f = vec![
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         let p = plan(&request(&grid, &f, TaskClass::MayChangeRarely.weights())).unwrap();
         assert_eq!(p.tried, vec![(0.1, 0.9)]);
@@ -656,8 +656,8 @@ mod tests {
         // With a column to narrow to, the team files round each corner and spreads again after
         // it; no member's way crosses a wall, and the first search is kept.
         let both = vec![
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         let p = plan(&request(&grid, &both, TaskClass::MayChangeRarely.weights())).unwrap();
         assert_eq!(p.tried, vec![(0.1, 0.9)]);
@@ -682,9 +682,9 @@ mod tests {
     #[test]
     fn narrower_means_less_wide_side_to_side_and_later_in_the_list() {
         // Widths: line of 3 at spacing 1: 1 − (−1) = 2; wedge of 3 at 2: 2 − (−2) = 4; column 0.
-        let line = Formation::new(&Shape::Line, 3, 1.0).unwrap();
-        let wedge = Formation::new(&Shape::Wedge, 3, 2.0).unwrap();
-        let column = Formation::new(&Shape::Column, 3, 1.0).unwrap();
+        let line = Formation::new(&FormationShape::Line, 3, 1.0).unwrap();
+        let wedge = Formation::new(&FormationShape::Wedge, 3, 2.0).unwrap();
+        let column = Formation::new(&FormationShape::Column, 3, 1.0).unwrap();
         assert_eq!(width(&line), 2.0);
         assert_eq!(width(&wedge), 4.0);
         assert_eq!(width(&column), 0.0);
@@ -714,7 +714,7 @@ mod tests {
         ));
         let mixed = vec![
             f[0].clone(),
-            Formation::new(&Shape::Column, 4, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 4, 1.0).unwrap(),
         ];
         let r = request(&grid, &mixed, TaskClass::MayChangeRarely.weights());
         assert!(matches!(
@@ -781,8 +781,8 @@ mod tests {
         terrain.apply_features(&Features::load(&root.join("valley_features.ron")).unwrap());
         let grid = terrain.cost_grid(&Mobility::default());
         let f = vec![
-            Formation::new(&Shape::Wedge, 5, 4.0).unwrap(),
-            Formation::new(&Shape::Column, 5, 3.0).unwrap(),
+            Formation::new(&FormationShape::Wedge, 5, 4.0).unwrap(),
+            Formation::new(&FormationShape::Column, 5, 3.0).unwrap(),
         ];
         let (start, goal) = (
             grid.center_of(Cell::new(200, 70)),

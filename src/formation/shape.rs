@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 /// The geometry of a formation; every built-in is given in units of the formation's spacing.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub enum Shape {
+pub enum FormationShape {
     /// Abreast, centred on slot 0, then alternately right and left outwards.
     Line,
     /// Single file behind slot 0.
@@ -29,11 +29,11 @@ pub enum Shape {
     Custom(Vec<(f32, f32)>),
 }
 
-impl Shape {
+impl FormationShape {
     /// Slots `(forward, right)` in units of spacing for `members` members.
     fn unit_slots(&self, members: usize) -> Vec<Vec2> {
         match self {
-            Shape::Line => {
+            FormationShape::Line => {
                 let mut p: Vec<f32> = (0..members)
                     .map(|j| j as f32 - (members as f32 - 1.0) / 2.0)
                     .collect();
@@ -41,15 +41,15 @@ impl Shape {
                 p.sort_by(|a, b| a.abs().total_cmp(&b.abs()).then(b.total_cmp(a)));
                 p.into_iter().map(|r| Vec2::new(0.0, r)).collect()
             }
-            Shape::Column => (0..members).map(|i| Vec2::new(-(i as f32), 0.0)).collect(),
-            Shape::Wedge => (0..members)
+            FormationShape::Column => (0..members).map(|i| Vec2::new(-(i as f32), 0.0)).collect(),
+            FormationShape::Wedge => (0..members)
                 .map(|i| {
                     let k = i.div_ceil(2) as f32;
                     let side = if i % 2 == 1 { 1.0 } else { -1.0 };
                     Vec2::new(-k, side * k)
                 })
                 .collect(),
-            Shape::Triangle => {
+            FormationShape::Triangle => {
                 let mut out = Vec::with_capacity(members);
                 let mut row = 0usize;
                 while out.len() < members {
@@ -63,7 +63,7 @@ impl Shape {
                 }
                 out
             }
-            Shape::Diamond => {
+            FormationShape::Diamond => {
                 let mut out = vec![Vec2::ZERO];
                 let mut k = 1i32;
                 while out.len() < members {
@@ -83,7 +83,7 @@ impl Shape {
                 out.truncate(members);
                 out
             }
-            Shape::Custom(slots) => slots.iter().map(|&(f, r)| Vec2::new(f, r)).collect(),
+            FormationShape::Custom(slots) => slots.iter().map(|&(f, r)| Vec2::new(f, r)).collect(),
         }
     }
 }
@@ -96,7 +96,7 @@ pub struct FormationDef {
     #[serde(default)]
     pub name: Option<String>,
     /// The geometry.
-    pub shape: Shape,
+    pub shape: FormationShape,
     /// Distance between neighbouring slots in world units.
     #[serde(default = "default_spacing")]
     pub spacing: f32,
@@ -193,7 +193,11 @@ impl FormationError {
 
 impl Formation {
     /// A formation of `shape` for `members` members, `spacing` world units apart.
-    pub fn new(shape: &Shape, members: usize, spacing: f32) -> Result<Formation, FormationError> {
+    pub fn new(
+        shape: &FormationShape,
+        members: usize,
+        spacing: f32,
+    ) -> Result<Formation, FormationError> {
         FormationDef {
             name: None,
             shape: shape.clone(),
@@ -257,7 +261,7 @@ impl FormationDef {
                 spacing: self.spacing,
             });
         }
-        if let Shape::Custom(s) = &self.shape {
+        if let FormationShape::Custom(s) = &self.shape {
             if s.len() != members {
                 return Err(FormationError::SlotCount {
                     formation: number,
@@ -271,12 +275,12 @@ impl FormationDef {
         }
         let name = self.name.unwrap_or_else(|| {
             match &self.shape {
-                Shape::Custom(_) => "Custom",
-                Shape::Line => "Line",
-                Shape::Column => "Column",
-                Shape::Wedge => "Wedge",
-                Shape::Triangle => "Triangle",
-                Shape::Diamond => "Diamond",
+                FormationShape::Custom(_) => "Custom",
+                FormationShape::Line => "Line",
+                FormationShape::Column => "Column",
+                FormationShape::Wedge => "Wedge",
+                FormationShape::Triangle => "Triangle",
+                FormationShape::Diamond => "Diamond",
             }
             .to_string()
         });
@@ -343,7 +347,7 @@ mod tests {
 
     #[test]
     fn built_in_shapes_place_members_as_named() {
-        let w = Formation::new(&Shape::Wedge, 5, 2.0).unwrap();
+        let w = Formation::new(&FormationShape::Wedge, 5, 2.0).unwrap();
         assert_eq!(
             w.slots(),
             &[
@@ -354,14 +358,14 @@ mod tests {
                 Vec2::new(-4.0, -4.0)
             ]
         );
-        let l = Formation::new(&Shape::Line, 3, 1.0).unwrap();
+        let l = Formation::new(&FormationShape::Line, 3, 1.0).unwrap();
         assert_eq!(
             l.slots(),
             &[Vec2::ZERO, Vec2::new(0.0, 1.0), Vec2::new(0.0, -1.0)]
         );
-        let c = Formation::new(&Shape::Column, 3, 3.0).unwrap();
+        let c = Formation::new(&FormationShape::Column, 3, 3.0).unwrap();
         assert_eq!(c.slots()[2], Vec2::new(-6.0, 0.0));
-        let d = Formation::new(&Shape::Diamond, 5, 1.0).unwrap();
+        let d = Formation::new(&FormationShape::Diamond, 5, 1.0).unwrap();
         assert_eq!(
             d.slots(),
             &[
@@ -372,12 +376,12 @@ mod tests {
                 Vec2::new(0.0, -1.0)
             ]
         );
-        let d12 = Formation::new(&Shape::Diamond, 12, 1.0).unwrap();
+        let d12 = Formation::new(&FormationShape::Diamond, 12, 1.0).unwrap();
         assert_eq!(d12.len(), 12);
         assert!(d12.slots()[5..]
             .iter()
             .all(|s| s.x.abs() + s.y.abs() == 2.0));
-        let t = Formation::new(&Shape::Triangle, 6, 1.0).unwrap();
+        let t = Formation::new(&FormationShape::Triangle, 6, 1.0).unwrap();
         assert_eq!(
             t.slots()[3..],
             [
@@ -388,11 +392,11 @@ mod tests {
         );
         // Every built-in gives distinct slots.
         for shape in [
-            Shape::Line,
-            Shape::Column,
-            Shape::Wedge,
-            Shape::Triangle,
-            Shape::Diamond,
+            FormationShape::Line,
+            FormationShape::Column,
+            FormationShape::Wedge,
+            FormationShape::Triangle,
+            FormationShape::Diamond,
         ] {
             let f = Formation::new(&shape, 12, 1.0).unwrap();
             for i in 0..12 {
@@ -405,7 +409,7 @@ mod tests {
 
     #[test]
     fn formation_function_rotates_with_the_heading() {
-        let w = Formation::new(&Shape::Wedge, 3, 1.0).unwrap();
+        let w = Formation::new(&FormationShape::Wedge, 3, 1.0).unwrap();
         // Heading north (−Z): member 1 is one back (+Z) and one to the right (+X).
         assert!(approx(
             w.world_slot(1, 0, Vec2::new(10.0, 10.0), Vec2::new(0.0, -1.0)),
@@ -455,7 +459,7 @@ mod tests {
     fn custom_shapes_are_checked() {
         let def = FormationDef {
             name: None,
-            shape: Shape::Custom(vec![(0.0, 0.0), (-1.0, 0.5)]),
+            shape: FormationShape::Custom(vec![(0.0, 0.0), (-1.0, 0.5)]),
             spacing: 2.0,
         };
         assert_eq!(
@@ -465,6 +469,6 @@ mod tests {
         let f = def.validate(2, 1).unwrap();
         assert_eq!(f.name(), "Custom");
         assert_eq!(f.slots()[1], Vec2::new(-2.0, 1.0));
-        assert!(Formation::new(&Shape::Line, 2, 0.0).is_err());
+        assert!(Formation::new(&FormationShape::Line, 2, 0.0).is_err());
     }
 }

@@ -32,7 +32,7 @@ pub struct KeyPoint {
 
 /// One row of the formation-transition table: where the formation changes.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Transition {
+pub struct FormationChange {
     /// Grid cell where the new formation holds.
     pub cell: Cell,
     /// World `(x, z)` of the cell centre.
@@ -89,7 +89,7 @@ pub fn smooth(
     along: &[(usize, bool)],
     team: &GridFormations<'_>,
     may_change: bool,
-) -> (Vec<KeyPoint>, Vec<Transition>) {
+) -> (Vec<KeyPoint>, Vec<FormationChange>) {
     smooth_from(grid, path, along, team, may_change, &[])
 }
 
@@ -102,7 +102,7 @@ pub fn smooth_from(
     team: &GridFormations<'_>,
     may_change: bool,
     floor: &[usize],
-) -> (Vec<KeyPoint>, Vec<Transition>) {
+) -> (Vec<KeyPoint>, Vec<FormationChange>) {
     assert_eq!(path.len(), along.len());
     let key = |k: usize| KeyPoint {
         cell: path[k],
@@ -126,7 +126,7 @@ pub fn smooth_from(
         }
         keys.push(key(k));
         if along[k].0 != along[k - 1].0 {
-            transitions.push(Transition {
+            transitions.push(FormationChange {
                 cell: path[k],
                 pos: grid.center_of(path[k]),
                 from: along[k - 1].0,
@@ -182,7 +182,7 @@ fn segment_holds(
 mod tests {
     use super::*;
     use crate::formation::astar::{Planner, TaskClass, Weights};
-    use crate::formation::shape::{Formation, Shape};
+    use crate::formation::shape::{Formation, FormationShape};
     use crate::terrain::SplitMix64;
     use proptest::prelude::*;
 
@@ -210,8 +210,8 @@ mod tests {
             let gi = grid.index(goal);
             grid.blocked[gi] = false;
             let f = [
-                Formation::new(&Shape::Wedge, 5, 1.0).unwrap(),
-                Formation::new(&Shape::Column, 5, 1.0).unwrap(),
+                Formation::new(&FormationShape::Wedge, 5, 1.0).unwrap(),
+                Formation::new(&FormationShape::Column, 5, 1.0).unwrap(),
             ];
             let team = GridFormations::new(&f, 0, 1.0);
             let Some(found) = Planner::new().search(&grid, start, goal, &team, Weights { k1: 1.0 - k2, k2, may_change, ..Weights::default() }) else {
@@ -242,7 +242,7 @@ mod tests {
         let mut grid = CostGrid::open(4, 3, 1.0, Vec2::ZERO);
         let i = grid.index(Cell::new(0, 1));
         grid.blocked[i] = true;
-        let f = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let f = [Formation::new(&FormationShape::Line, 3, 1.0).unwrap()];
         let team = GridFormations::new(&f, 0, 1.0);
         let east = [Cell::new(1, 1), Cell::new(2, 1)];
         assert_eq!(
@@ -268,8 +268,8 @@ mod tests {
             }
         }
         let f = [
-            Formation::new(&Shape::Line, 3, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Line, 3, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 3, 1.0).unwrap(),
         ];
         let team = GridFormations::new(&f, 0, 1.0);
         let path: Vec<Cell> = (0..10).map(|c| Cell::new(c, 2)).collect();
@@ -292,7 +292,7 @@ mod tests {
         let mut grid = CostGrid::open(8, 8, 1.0, Vec2::ZERO);
         let i = grid.index(Cell::new(5, 3));
         grid.blocked[i] = true;
-        let line = [Formation::new(&Shape::Line, 3, 1.0).unwrap()];
+        let line = [Formation::new(&FormationShape::Line, 3, 1.0).unwrap()];
         let team = GridFormations::new(&line, 0, 1.0);
         let path = [
             Cell::new(1, 5),
@@ -321,7 +321,7 @@ mod tests {
                 grid.blocked[i] = true;
             }
         }
-        let f = [Formation::new(&Shape::Column, 3, 1.0).unwrap()];
+        let f = [Formation::new(&FormationShape::Column, 3, 1.0).unwrap()];
         let team = GridFormations::new(&f, 0, 1.0);
         let path: Vec<Cell> = (1..=8).rev().map(|r| Cell::new(5, r)).collect();
         let along = formation_along(&grid, &path, &team, true);
@@ -337,8 +337,8 @@ mod tests {
         // Open ground, a wedge and a column of 5 (spacing 1), the leader 6 cells east.
         let grid = CostGrid::open(30, 30, 1.0, Vec2::ZERO);
         let f = [
-            Formation::new(&Shape::Wedge, 5, 1.0).unwrap(),
-            Formation::new(&Shape::Column, 5, 1.0).unwrap(),
+            Formation::new(&FormationShape::Wedge, 5, 1.0).unwrap(),
+            Formation::new(&FormationShape::Column, 5, 1.0).unwrap(),
         ];
         let team = GridFormations::new(&f, 0, 1.0);
         let path: Vec<Cell> = (10..=16).map(|c| Cell::new(c, 10)).collect();
@@ -375,7 +375,7 @@ mod tests {
     #[test]
     fn open_ground_smooths_to_a_straight_line() {
         let grid = CostGrid::open(30, 30, 1.0, Vec2::ZERO);
-        let f = [Formation::new(&Shape::Wedge, 5, 1.0).unwrap()];
+        let f = [Formation::new(&FormationShape::Wedge, 5, 1.0).unwrap()];
         let team = GridFormations::new(&f, 0, 1.0);
         let found = Planner::new()
             .search(

@@ -101,7 +101,7 @@ pub struct Spot {
 /// What a frozen agent was next to.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Near {
+pub enum NextTo {
     /// The nearest active obstacle, within [`NEAR_OBSTACLE`].
     Obstacle {
         /// Obstacle id (its index in the scenario).
@@ -124,13 +124,13 @@ pub enum Near {
     Nothing,
 }
 
-impl Near {
+impl NextTo {
     /// Short text: "box 4", "near sardine #12", "alone".
     pub fn label(&self) -> String {
         match self {
-            Near::Obstacle { label, .. } => label.clone(),
-            Near::Agent { id, species, .. } => format!("near {species} #{id}"),
-            Near::Nothing => "alone".to_string(),
+            NextTo::Obstacle { label, .. } => label.clone(),
+            NextTo::Agent { id, species, .. } => format!("near {species} #{id}"),
+            NextTo::Nothing => "alone".to_string(),
         }
     }
 }
@@ -149,7 +149,7 @@ pub struct Frozen {
     /// Where it was.
     pub pos: Vec3,
     /// What it was next to.
-    pub near: Near,
+    pub near: NextTo,
 }
 
 /// A → B followed by B → A for the same agent within [`FLIP_SECONDS`].

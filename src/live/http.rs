@@ -1,6 +1,6 @@
 //! Reading one HTTP/1.1 request for the live viewer's server, within fixed limits: the request
 //! line, each header line, the whole head and the body are bounded, so that no sequence of bytes
-//! makes the server hold more than [`Limits::head`] + [`Limits::body`] per connection, and every
+//! makes the server hold more than [`HttpLimits::head`] + [`HttpLimits::body`] per connection, and every
 //! refusal maps to a status code. Also the loopback checks of `Host` and `Origin` that keep other
 //! web pages (cross-site requests, DNS rebinding) away from a live session.
 
@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 /// Size and time limits of the server.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Limits {
+pub struct HttpLimits {
     /// Longest request line or header line (bytes, without the line end).
     pub line: usize,
     /// Largest request head: request line and headers together.
@@ -29,9 +29,9 @@ pub struct Limits {
     pub write_timeout: Duration,
 }
 
-impl Default for Limits {
+impl Default for HttpLimits {
     fn default() -> Self {
-        Limits {
+        HttpLimits {
             line: 8 * 1024,
             head: 64 * 1024,
             headers: 100,
@@ -49,15 +49,15 @@ impl Default for Limits {
 pub enum Refusal {
     /// Malformed (400).
     BadRequest(&'static str),
-    /// The request line is longer than [`Limits::line`] (414).
+    /// The request line is longer than [`HttpLimits::line`] (414).
     UriTooLong,
     /// A header line, the head or the number of headers is over its limit (431).
     HeadersTooLarge,
-    /// The body is larger than [`Limits::body`] (413).
+    /// The body is larger than [`HttpLimits::body`] (413).
     BodyTooLarge,
     /// A body without `Content-Length` (411).
     LengthRequired,
-    /// The request did not arrive within [`Limits::request_timeout`] (408).
+    /// The request did not arrive within [`HttpLimits::request_timeout`] (408).
     Timeout,
     /// The client closed the connection or it failed: nothing to answer.
     Closed,
@@ -154,7 +154,7 @@ fn is_token(s: &[u8]) -> bool {
 }
 
 /// Reads one request from `r` within `limits` (sizes only; time limits belong to the reader).
-pub fn read_request(r: &mut impl BufRead, limits: &Limits) -> Result<Request, Refusal> {
+pub fn read_request(r: &mut impl BufRead, limits: &HttpLimits) -> Result<Request, Refusal> {
     let mut line = Vec::new();
     let mut head_size = 0usize;
     // A client may send empty lines before the request line (RFC 9112 §2.2).
@@ -334,7 +334,7 @@ mod tests {
     use proptest::prelude::*;
 
     fn read(bytes: &[u8]) -> Result<Request, Refusal> {
-        read_request(&mut io::BufReader::new(bytes), &Limits::default())
+        read_request(&mut io::BufReader::new(bytes), &HttpLimits::default())
     }
 
     #[test]
@@ -384,7 +384,7 @@ mod tests {
         // 1 GiB of `a` without a newline, produced lazily: the reader must stop early.
         let endless = io::repeat(b'a').take(1 << 30);
         let mut r = io::BufReader::new(b"GET / HTTP/1.1\r\nX-Long: ".chain(endless));
-        let mut limits = Limits::default();
+        let mut limits = HttpLimits::default();
         assert_eq!(read_request(&mut r, &limits), Err(Refusal::HeadersTooLarge));
         limits.line = 16;
         let mut r = io::BufReader::new(io::repeat(b'G').take(1 << 30));

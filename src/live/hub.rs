@@ -29,7 +29,7 @@ pub fn cap_message(message: &str) -> String {
 
 /// Where a live session stands.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Status {
+pub struct SessionStatus {
     /// Ticks done.
     pub tick: u64,
     /// Simulated time (s).
@@ -60,7 +60,7 @@ struct State {
     health: Item,
     reloads: VecDeque<(u64, Arc<str>)>,
     reload_seq: u64,
-    status: Status,
+    status: SessionStatus,
     closed: bool,
 }
 
@@ -111,7 +111,7 @@ impl Hub {
                 health: Item::default(),
                 reloads: VecDeque::new(),
                 reload_seq: 0,
-                status: Status {
+                status: SessionStatus {
                     tick: 0,
                     time: 0.0,
                     version: 0,
@@ -185,12 +185,12 @@ impl Hub {
     }
 
     /// Updates the status with `f`.
-    pub fn update_status(&self, f: impl FnOnce(&mut Status)) {
+    pub fn update_status(&self, f: impl FnOnce(&mut SessionStatus)) {
         f(&mut self.lock().status);
     }
 
     /// The current status.
-    pub fn status(&self) -> Status {
+    pub fn status(&self) -> SessionStatus {
         self.lock().status.clone()
     }
 

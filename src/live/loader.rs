@@ -13,7 +13,7 @@
 
 use super::files::{self, watch_key, Attempt, FileEntry, Loaded};
 use super::hub::{cap_message, Hub};
-use super::record::Recorder;
+use super::record::LiveRecorder;
 use super::sim::{Command, Swap};
 use super::{LiveEvent, Rejected};
 use crate::events::Event;
@@ -80,7 +80,7 @@ pub(crate) struct Loader {
     pub sim: Sender<Command>,
     pub hub: Arc<Hub>,
     pub events: Sender<LiveEvent>,
-    pub record: Option<Arc<Mutex<Recorder>>>,
+    pub record: Option<Arc<Mutex<LiveRecorder>>>,
     /// Files of the last version sent to the simulation.
     pub good: Vec<FileEntry>,
     /// Version number of that version.

@@ -18,7 +18,7 @@ pub mod record;
 pub mod server;
 mod sim;
 
-pub use hub::{Hub, Status};
+pub use hub::{Hub, SessionStatus};
 pub use json::{AgentInfo, Decision};
 pub use sim::SPEED_RANGE;
 
@@ -265,7 +265,7 @@ impl SessionHandle {
     }
 
     /// Where the session stands.
-    pub fn status(&self) -> Status {
+    pub fn status(&self) -> SessionStatus {
         self.hub.status()
     }
 }
@@ -277,7 +277,7 @@ pub struct Session {
     loader_tx: Sender<LoaderMsg>,
     threads: Vec<JoinHandle<()>>,
     tick_times: Option<Arc<Mutex<Vec<TickTime>>>>,
-    record: Option<Arc<Mutex<record::Recorder>>>,
+    record: Option<Arc<Mutex<record::LiveRecorder>>>,
     stopped: bool,
     /// The scenario file.
     pub scenario_file: PathBuf,
@@ -305,7 +305,7 @@ impl Session {
         let bad = |e: String| Diagnostics::from(crate::diag::Diagnostic::file(scenario, e));
         let record = match &options.record {
             Some(dir) => {
-                let mut r = record::Recorder::create(dir, run.world.seed, run.world.dt)
+                let mut r = record::LiveRecorder::create(dir, run.world.seed, run.world.dt)
                     .map_err(|e| bad(format!("cannot create the record {}: {e}", dir.display())))?;
                 r.version(
                     SystemTime::now(),

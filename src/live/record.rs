@@ -32,7 +32,7 @@ pub fn unix_ms(t: SystemTime) -> u64 {
 
 /// Writes the record of a live session.
 #[derive(Debug)]
-pub struct Recorder {
+pub struct LiveRecorder {
     dir: PathBuf,
     log: std::fs::File,
 }
@@ -57,9 +57,9 @@ fn common_folder(paths: &[PathBuf]) -> PathBuf {
     root.unwrap_or_else(|| PathBuf::from("/"))
 }
 
-impl Recorder {
+impl LiveRecorder {
     /// Creates the record folder `dir` for a run of `seed` with time step `dt`.
-    pub fn create(dir: &Path, seed: u64, dt: f32) -> std::io::Result<Recorder> {
+    pub fn create(dir: &Path, seed: u64, dt: f32) -> std::io::Result<LiveRecorder> {
         std::fs::create_dir_all(dir.join("versions"))?;
         let meta =
             serde_json::json!({ "seed": seed, "dt": dt, "scenario": null, "status": "recording" });
@@ -72,7 +72,7 @@ impl Recorder {
             .create(true)
             .append(true)
             .open(dir.join("reloads.jsonl"))?;
-        Ok(Recorder {
+        Ok(LiveRecorder {
             dir: dir.to_path_buf(),
             log,
         })

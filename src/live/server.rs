@@ -7,10 +7,10 @@
 //! - `GET /agent/<id>`: one agent's drives, behavior, stack, memory and last decisions.
 //! - `GET /status`: tick, version, paused, speed, agents and current diagnostics.
 //!
-//! Hardening ([`Limits`], requests read in [`super::http`]): bounded request line, headers and
+//! Hardening ([`HttpLimits`], requests read in [`super::http`]): bounded request line, headers and
 //! body (414/431/413); a whole request must arrive within a deadline (408, slowloris); at most
-//! [`Limits::connections`] connections, where a new one first displaces the oldest that has not
-//! finished sending its request, else gets 503; at most [`Limits::streams`] event streams; every
+//! [`HttpLimits::connections`] connections, where a new one first displaces the oldest that has not
+//! finished sending its request, else gets 503; at most [`HttpLimits::streams`] event streams; every
 //! request needs a loopback `Host` with this port and every state-changing one a missing or
 //! loopback `Origin` (403), so no other web page can drive a session.
 //!
@@ -21,7 +21,7 @@
 //! loopback socket. Neither checks `Host`/`Origin`. The server stays dependency-free, and its
 //! parser is property-tested on arbitrary bytes.
 
-use super::http::{self, DeadlineReader, Limits, Refusal};
+use super::http::{self, DeadlineReader, HttpLimits, Refusal};
 use super::hub::Seen;
 use super::{Control, SessionHandle};
 use std::collections::BTreeMap;
@@ -249,7 +249,7 @@ fn handle_connection(
     ticket: Ticket,
     handle: SessionHandle,
     page: Arc<str>,
-    limits: &Limits,
+    limits: &HttpLimits,
     port: u16,
 ) {
     let _ = stream.set_nodelay(true);
@@ -342,9 +342,9 @@ fn refuse_busy(mut stream: TcpStream) {
 
 impl Server {
     /// Serves `page` and the live protocol of `handle` on `127.0.0.1:port` (0: any free port)
-    /// with the default [`Limits`].
+    /// with the default [`HttpLimits`].
     pub fn start(handle: SessionHandle, page: String, port: u16) -> std::io::Result<Server> {
-        Self::start_with(handle, page, port, Limits::default())
+        Self::start_with(handle, page, port, HttpLimits::default())
     }
 
     /// [`Server::start`] with other limits.
@@ -352,7 +352,7 @@ impl Server {
         handle: SessionHandle,
         page: String,
         port: u16,
-        limits: Limits,
+        limits: HttpLimits,
     ) -> std::io::Result<Server> {
         let listener = TcpListener::bind((Ipv4Addr::LOCALHOST, port))?;
         let addr = listener.local_addr()?;

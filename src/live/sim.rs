@@ -6,7 +6,7 @@
 use super::files::FileEntry;
 use super::hub::{cap_message, Hub};
 use super::json::{self, Decision, DecisionLog, DECISIONS_KEPT};
-use super::record::Recorder;
+use super::record::LiveRecorder;
 use super::{Accepted, AgentInfo, Control, LiveEvent, TickTime};
 use crate::events::Event;
 use crate::health::Monitor;
@@ -54,7 +54,7 @@ pub(crate) struct Sim {
     pub frame_interval: Duration,
     pub hub: Arc<Hub>,
     pub events: Sender<LiveEvent>,
-    pub record: Option<Arc<Mutex<Recorder>>>,
+    pub record: Option<Arc<Mutex<LiveRecorder>>>,
     pub tick_times: Option<Arc<Mutex<Vec<TickTime>>>>,
     decisions: BTreeMap<u32, DecisionLog>,
     removed_at: Vec<Option<u64>>,

@@ -39,7 +39,7 @@ pub enum Mode {
 /// Body limits (seed 002: 45° maximum turn per step by default).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct Limits {
+pub struct BodyLimits {
     /// Largest speed V_max.
     pub max_speed: f32,
     /// Smallest speed V_min (0 lets it stop).
@@ -66,9 +66,9 @@ pub struct Limits {
 /// 0.05 s (the scenarios' default tick).
 pub const REFERENCE_STEP: f32 = 0.05;
 
-impl Default for Limits {
+impl Default for BodyLimits {
     fn default() -> Self {
-        Limits {
+        BodyLimits {
             max_speed: 2.0,
             min_speed: 0.0,
             max_turn: FRAC_PI_4,
@@ -81,7 +81,7 @@ impl Default for Limits {
     }
 }
 
-impl Limits {
+impl BodyLimits {
     /// Pitch limit actually applied.
     pub fn pitch_limit(&self) -> f32 {
         self.max_pitch.abs().min(frame::PITCH_LIMIT)
@@ -121,7 +121,7 @@ pub struct StepInfo {
 pub fn step(
     m: &mut Motion,
     cmd: Steer,
-    limits: &Limits,
+    limits: &BodyLimits,
     mode: &Mode,
     current: Vec3,
     dt: f32,
@@ -215,9 +215,9 @@ mod tests {
             speed: 1.0,
             ..Default::default()
         };
-        let l = Limits {
+        let l = BodyLimits {
             response: 0.0,
-            ..Limits::default()
+            ..BodyLimits::default()
         };
         step(
             &mut m,
@@ -240,9 +240,9 @@ mod tests {
     #[test]
     fn speed_follows_target_within_acceleration() {
         let mut m = Motion::default();
-        let l = Limits {
+        let l = BodyLimits {
             response: 0.0,
-            ..Limits::default()
+            ..BodyLimits::default()
         }; // 4 units/s², V_max 2
         step(
             &mut m,
@@ -275,7 +275,7 @@ mod tests {
     }
 
     /// Yaw after `seconds` of a command, re-issued every tick, at tick length `dt`.
-    fn yaw_after(cmd: impl Fn(usize) -> f32, l: &Limits, dt: f32, seconds: f32) -> Vec<f32> {
+    fn yaw_after(cmd: impl Fn(usize) -> f32, l: &BodyLimits, dt: f32, seconds: f32) -> Vec<f32> {
         let mut m = Motion {
             speed: 1.0,
             ..Default::default()
@@ -298,7 +298,7 @@ mod tests {
     fn turn_rate_response_does_not_depend_on_the_tick_length() {
         // +π/8 every tick for 1 s: the paper's form turns 20·π/8 at 20 Hz and 40·π/8 at 40 Hz;
         // with a response of 0.25 s the body turns at about (π/8)/0.25 = 1.57 rad/s either way.
-        let l = Limits::default();
+        let l = BodyLimits::default();
         let a = *yaw_after(|_| std::f32::consts::FRAC_PI_8, &l, 0.05, 1.0)
             .last()
             .unwrap();
@@ -307,7 +307,7 @@ mod tests {
             .unwrap();
         assert!((a - b).abs() < 0.05 * b, "{a} {b}");
         assert!(a > 1.1 && a < 1.6, "{a}");
-        let paper = Limits { response: 0.0, ..l };
+        let paper = BodyLimits { response: 0.0, ..l };
         // 0.05 rad a tick: 1 rad in 20 ticks, 2 rad in 40 (no wrap past π).
         let a = yaw_after(|_| 0.05, &paper, 0.05, 1.0);
         let b = yaw_after(|_| 0.05, &paper, 0.025, 1.0);
@@ -319,14 +319,14 @@ mod tests {
         // ±0.5 rad alternating every tick: the paper's form swings the heading by 0.5 each tick,
         // the response keeps the body within a few hundredths of a radian of straight.
         let alt = |k: usize| if k.is_multiple_of(2) { 0.5 } else { -0.5 };
-        let l = Limits::default();
+        let l = BodyLimits::default();
         let swing = |ys: &[f32]| {
             ys.windows(2)
                 .map(|w| (w[1] - w[0]).abs())
                 .fold(0.0, f32::max)
         };
         let smooth = yaw_after(alt, &l, 0.05, 2.0);
-        let paper = yaw_after(alt, &Limits { response: 0.0, ..l }, 0.05, 2.0);
+        let paper = yaw_after(alt, &BodyLimits { response: 0.0, ..l }, 0.05, 2.0);
         assert!(swing(&paper) > 0.49);
         assert!(swing(&smooth) < 0.1, "{}", swing(&smooth));
         assert!(smooth.iter().all(|y| y.abs() < 0.1));
@@ -338,7 +338,7 @@ mod tests {
         step(
             &mut m,
             Steer::None,
-            &Limits::default(),
+            &BodyLimits::default(),
             &Mode::Kinematic,
             Vec3::new(1.0, 0.0, 0.0),
             0.5,
@@ -383,7 +383,7 @@ mod tests {
             rigid in any::<bool>(),
             yaw0 in -3.0f32..3.0, pitch0 in -1.5f32..1.5, speed0 in 0.0f32..2.0,
         ) {
-            let l = Limits::default();
+            let l = BodyLimits::default();
             let mode = if rigid { Mode::RigidBody(RigidParams::default()) } else { Mode::Kinematic };
             let mut m = Motion { yaw: yaw0, pitch: pitch0.clamp(-l.pitch_limit(), l.pitch_limit()), speed: speed0, ..Default::default() };
             for c in cmds {

@@ -92,7 +92,7 @@ pub(super) fn step(
 
 #[cfg(test)]
 mod tests {
-    use super::super::{step as loco_step, Limits, Mode};
+    use super::super::{step as loco_step, BodyLimits, Mode};
     use super::*;
     use crate::steering::Steer;
     use glam::Vec3;
@@ -102,7 +102,7 @@ mod tests {
         // One step from rest toward 2 m/s: thrust = min(6·2·1, 8) = 8, drag 0 → Δv = 8·0.1 = 0.8.
         let mut m = Motion::default();
         let mode = Mode::RigidBody(RigidParams::default());
-        let l = Limits::default();
+        let l = BodyLimits::default();
         loco_step(
             &mut m,
             Steer::Turn {
@@ -148,7 +148,14 @@ mod tests {
         };
         let mut ticks = 0;
         while m.speed > 0.0 && ticks < 200 {
-            loco_step(&mut m, stop, &Limits::default(), &mode, Vec3::ZERO, 0.05);
+            loco_step(
+                &mut m,
+                stop,
+                &BodyLimits::default(),
+                &mode,
+                Vec3::ZERO,
+                0.05,
+            );
             ticks += 1;
         }
         assert_eq!(m.speed, 0.0, "stopped after {ticks} ticks");
@@ -169,7 +176,7 @@ mod tests {
                 pitch: 0.0,
                 speed: 1.0,
             },
-            &Limits::default(),
+            &BodyLimits::default(),
             &mode,
             Vec3::ZERO,
             0.1,

@@ -213,7 +213,7 @@ impl Recorder {
             for a in &w.agents {
                 let sp = &set.species[a.species.0 as usize];
                 let f = a.forward();
-                // In `schema::Traj` order.
+                // In `schema::TrajColumn` order.
                 field(traj, buf, w.tick)?;
                 field(traj, buf, t)?;
                 field(traj, buf, a.id.0)?;
@@ -242,7 +242,7 @@ impl Recorder {
         let food = &mut self.food;
         let mut rows = || -> csv::Result<()> {
             for f in &w.food {
-                // In `schema::Food` order.
+                // In `schema::FoodColumn` order.
                 field(food, buf, w.tick)?;
                 field(food, buf, f.id)?;
                 for v in [f.pos.x, f.pos.y, f.pos.z] {

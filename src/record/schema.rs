@@ -4,7 +4,7 @@
 /// A column of `trajectories.csv` (one row per agent per recorded tick), in file order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(usize)]
-pub enum Traj {
+pub enum TrajColumn {
     /// Tick number.
     Tick,
     /// Simulated seconds.
@@ -43,7 +43,7 @@ pub enum Traj {
     TailBend,
 }
 
-/// Names of [`Traj`]'s columns, in file order.
+/// Names of [`TrajColumn`]'s columns, in file order.
 pub const TRAJECTORY_COLUMNS: [&str; 18] = [
     "tick",
     "time",
@@ -68,7 +68,7 @@ pub const TRAJECTORY_COLUMNS: [&str; 18] = [
 /// A column of `food.csv` (one row per food item per recorded tick), in file order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(usize)]
-pub enum Food {
+pub enum FoodColumn {
     /// Tick number.
     Tick,
     /// Food item id.
@@ -81,7 +81,7 @@ pub enum Food {
     Z,
 }
 
-/// Names of [`Food`]'s columns, in file order.
+/// Names of [`FoodColumn`]'s columns, in file order.
 pub const FOOD_COLUMNS: [&str; 5] = ["tick", "id", "x", "y", "z"];
 
 /// A header line: the names joined by commas.
@@ -95,12 +95,21 @@ mod tests {
 
     #[test]
     fn enum_order_matches_the_names() {
-        assert_eq!(TRAJECTORY_COLUMNS[Traj::Tick as usize], "tick");
-        assert_eq!(TRAJECTORY_COLUMNS[Traj::Species as usize], "species");
-        assert_eq!(TRAJECTORY_COLUMNS[Traj::Behavior as usize], "behavior");
-        assert_eq!(TRAJECTORY_COLUMNS[Traj::StackDepth as usize], "stack_depth");
-        assert_eq!(TRAJECTORY_COLUMNS[Traj::TailBend as usize], "tail_bend");
-        assert_eq!(FOOD_COLUMNS[Food::Z as usize], "z");
+        assert_eq!(TRAJECTORY_COLUMNS[TrajColumn::Tick as usize], "tick");
+        assert_eq!(TRAJECTORY_COLUMNS[TrajColumn::Species as usize], "species");
+        assert_eq!(
+            TRAJECTORY_COLUMNS[TrajColumn::Behavior as usize],
+            "behavior"
+        );
+        assert_eq!(
+            TRAJECTORY_COLUMNS[TrajColumn::StackDepth as usize],
+            "stack_depth"
+        );
+        assert_eq!(
+            TRAJECTORY_COLUMNS[TrajColumn::TailBend as usize],
+            "tail_bend"
+        );
+        assert_eq!(FOOD_COLUMNS[FoodColumn::Z as usize], "z");
         assert_eq!(
             header(&TRAJECTORY_COLUMNS),
             "tick,time,id,species,x,y,z,fx,fy,fz,speed,behavior,stack_depth,hunger,libido,fear,swim_phase,tail_bend"

@@ -38,7 +38,7 @@ pub struct ScenarioDef {
     pub food: FoodDef,
     /// Agent groups spawned at t = 0.
     #[serde(default)]
-    pub groups: Vec<GroupDef>,
+    pub groups: Vec<SpawnGroupDef>,
     /// Timed events.
     #[serde(default)]
     pub events: Vec<TimedEvent>,
@@ -169,7 +169,7 @@ pub struct DrivesOverride {
 /// A group of agents of one species.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct GroupDef {
+pub struct SpawnGroupDef {
     /// Species name.
     pub species: String,
     /// How many.
@@ -198,7 +198,7 @@ pub struct TimedEvent {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum EventAction {
     /// Spawn a group.
-    Spawn(GroupDef),
+    Spawn(SpawnGroupDef),
     /// Remove the obstacle with this id.
     RemoveObstacle(u32),
     /// Drop food.

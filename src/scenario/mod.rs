@@ -60,8 +60,8 @@ pub fn normalize(p: &Path) -> PathBuf {
 }
 
 /// Script limits used for every load.
-pub fn script_limits() -> crate::script::Limits {
-    crate::script::Limits::default()
+pub fn script_limits() -> crate::script::SandboxLimits {
+    crate::script::SandboxLimits::default()
 }
 
 impl Scenario {

@@ -85,7 +85,7 @@ pub(super) fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Ve
     }
     // Agents: every group, timed spawn and squad together.
     let mut total: u64 = 0;
-    let group = |n: &mut NumberCheck, g: &GroupDef, total: &mut u64| {
+    let group = |n: &mut NumberCheck, g: &SpawnGroupDef, total: &mut u64| {
         n.enter("count");
         let count = u64::try_from(g.count).unwrap_or(0);
         *total = total.saturating_add(count);

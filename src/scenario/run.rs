@@ -162,7 +162,7 @@ impl Run {
     /// tick builds (the world's agents and this group; [`Pipeline::agent_layout`]), so that
     /// agents close in space are close in the world's agent list, and perception and the agent
     /// pass, which walk that list, read the grid's lanes and their own results in step.
-    pub fn spawn_group(&mut self, g: &GroupDef, salt: u64) {
+    pub fn spawn_group(&mut self, g: &SpawnGroupDef, salt: u64) {
         let layout = self.layout_with([(g.species.as_str(), g.count)]);
         self.spawn_group_in(g, salt, &layout);
     }
@@ -183,7 +183,7 @@ impl Run {
     }
 
     /// [`Run::spawn_group`], numbering the group in the cells of `layout`.
-    fn spawn_group_in(&mut self, g: &GroupDef, salt: u64, layout: &Layout) {
+    fn spawn_group_in(&mut self, g: &SpawnGroupDef, salt: u64, layout: &Layout) {
         let Some(s) = self.scenario.species.index_of(&g.species) else {
             return;
         };

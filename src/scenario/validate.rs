@@ -170,7 +170,7 @@ impl Scenario {
             }
         }
         let known = |n: &str| def.species.iter().any(|s| s == n);
-        let check_group = |g: &GroupDef, diags: &mut Vec<Diagnostic>, from: usize| {
+        let check_group = |g: &SpawnGroupDef, diags: &mut Vec<Diagnostic>, from: usize| {
             let from = locate(text, &format!("\"{}\"", g.species), from).map_or(from, |x| x.2);
             if !known(&g.species) {
                 let (l, c, _) = at(&format!("\"{}\"", g.species), from);

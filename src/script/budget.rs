@@ -1,6 +1,6 @@
 //! Part of stage 4 (decision): wall-time guards of script calls.
 //!
-//! The deterministic bound of a script call is its operation limit ([`super::Limits`]): the same
+//! The deterministic bound of a script call is its operation limit ([`super::SandboxLimits`]): the same
 //! script stops at the same operation on every machine. Wall time is not deterministic, so the
 //! budgets here never decide what a run computes: a call that runs past its budget is aborted
 //! with an error naming the script, the function and the agent, reported like any other script

@@ -45,7 +45,7 @@ pub(crate) struct Known {
 pub fn registered() -> &'static BTreeSet<(String, usize)> {
     static REGISTERED: OnceLock<BTreeSet<(String, usize)>> = OnceLock::new();
     REGISTERED.get_or_init(|| {
-        super::new_engine(&super::Limits::default())
+        super::new_engine(&super::SandboxLimits::default())
             .collect_fn_metadata(
                 None,
                 |f| Some((f.metadata.name.to_string(), f.metadata.num_params)),

@@ -11,7 +11,7 @@
 //! a module's functions run on the engine that calls them.
 
 use super::calls::{self, Known};
-use super::{new_engine, parse_diag, Limits};
+use super::{new_engine, parse_diag, SandboxLimits};
 use crate::diag::Diagnostic;
 use rhai::{Engine, Module, Scope, Shared};
 use std::collections::BTreeMap;
@@ -94,7 +94,7 @@ pub(crate) struct Loaded {
 
 /// Resolves the imports of one script, compiling each module once.
 pub(crate) struct Loader<'a> {
-    limits: &'a Limits,
+    limits: &'a SandboxLimits,
     /// Canonical folders imports may come from.
     allowed: Vec<PathBuf>,
     /// The folder import paths are first resolved in.
@@ -110,7 +110,7 @@ pub(crate) struct Loader<'a> {
 impl<'a> Loader<'a> {
     /// A loader for the script `file`: imports are resolved in `root`, then beside the script,
     /// and must stay inside one of those two folders.
-    pub fn new(file: &Path, root: &Path, limits: &'a Limits) -> Self {
+    pub fn new(file: &Path, root: &Path, limits: &'a SandboxLimits) -> Self {
         let dir = file.parent().unwrap_or(Path::new("."));
         let mut allowed: Vec<PathBuf> = [root, dir]
             .iter()

@@ -34,7 +34,7 @@ use std::sync::Arc;
 
 /// Safety limits applied to every script call.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Limits {
+pub struct SandboxLimits {
     /// Operations per call; a call that exceeds it is stopped.
     pub max_operations: u64,
     /// Call depth.
@@ -47,9 +47,9 @@ pub struct Limits {
     pub max_map_size: usize,
 }
 
-impl Default for Limits {
+impl Default for SandboxLimits {
     fn default() -> Self {
-        Limits {
+        SandboxLimits {
             max_operations: 200_000,
             max_call_levels: 32,
             max_string_size: 4096,
@@ -120,7 +120,7 @@ fn time_message(name: &str, agent: &str, over: Exceeded) -> String {
 /// Rhai's standard packages except the two that reach outside the script: `BasicTimePackage`
 /// (`timestamp`, `elapsed`) and `LanguageCorePackage` (`sleep`, `exit`, and reflection that
 /// scripts have no use for). See [`calls::DENIED`].
-pub fn new_engine(limits: &Limits) -> Engine {
+pub fn new_engine(limits: &SandboxLimits) -> Engine {
     let mut e = Engine::new_raw();
     e.set_max_strings_interned(256);
     for p in [
@@ -173,7 +173,7 @@ pub(crate) fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Dia
 impl Script {
     /// Compiles the script at `file`; imports are resolved relative to `root` (the behaviors
     /// folder), then relative to the script's own folder, with the `.rhai` extension added.
-    pub fn load(file: &Path, root: &Path, limits: &Limits) -> Result<Script, Diagnostics> {
+    pub fn load(file: &Path, root: &Path, limits: &SandboxLimits) -> Result<Script, Diagnostics> {
         let text = crate::diag::read_text(file, "script")?;
         Self::compile(file, &text, root, limits)
     }
@@ -183,7 +183,7 @@ impl Script {
         file: &Path,
         text: &str,
         root: &Path,
-        limits: &Limits,
+        limits: &SandboxLimits,
     ) -> Result<Script, Diagnostics> {
         let mut engine = new_engine(limits);
         let mut loader = imports::Loader::new(file, root, limits);

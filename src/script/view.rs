@@ -443,7 +443,7 @@ fn register_agent(e: &mut Engine) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::script::{Limits, Script};
+    use crate::script::{SandboxLimits, Script};
     use rhai::Scope;
     use std::path::Path;
 
@@ -454,7 +454,7 @@ mod tests {
             Path::new("probe.rhai"),
             text,
             Path::new("."),
-            &Limits::default(),
+            &SandboxLimits::default(),
         )
         .unwrap();
         let mut view = AgentView {
@@ -490,7 +490,7 @@ mod tests {
             Path::new("probe.rhai"),
             text,
             Path::new("."),
-            &Limits::default(),
+            &SandboxLimits::default(),
         )
         .unwrap();
         let mut view = AgentView::default();

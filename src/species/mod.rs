@@ -239,7 +239,7 @@ impl Species {
     pub fn load(file: impl AsRef<Path>) -> Result<Species, Diagnostics> {
         let file = file.as_ref();
         let root = file.parent().unwrap_or(Path::new("."));
-        validate::load_species(file, root, &crate::script::Limits::default())
+        validate::load_species(file, root, &crate::script::SandboxLimits::default())
     }
 
     /// Validates species `text`, named `file` in messages; a script it names is read relative to
@@ -247,7 +247,7 @@ impl Species {
     pub fn parse(file: impl AsRef<Path>, text: &str) -> Result<Species, Diagnostics> {
         let file = file.as_ref();
         let root = file.parent().unwrap_or(Path::new("."));
-        validate::load_species_str(file, text, root, &crate::script::Limits::default())
+        validate::load_species_str(file, text, root, &crate::script::SandboxLimits::default())
     }
 
     /// Index of the behavior named `name`.

@@ -86,7 +86,7 @@ impl Builder<'_> {
                 n.point("Point", &p.to_array());
             }
         };
-        let group = |n: &mut NumberCheck, g: &GroupDef| {
+        let group = |n: &mut NumberCheck, g: &GroupRuleDef| {
             n.finite("k", g.k);
             n.finite("factor", g.factor);
             n.non_negative_or_inf("radius", g.radius);

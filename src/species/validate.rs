@@ -7,7 +7,7 @@
 
 use super::*;
 use crate::load::{Diagnostic, Diagnostics, NumberCheck};
-use crate::script::{Limits, Script};
+use crate::script::{SandboxLimits, Script};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -18,7 +18,11 @@ pub use crate::load::{did_you_mean, locate, ron_diag, ron_options};
 
 /// Reads and validates one species file (script included). Relations are checked by
 /// [`SpeciesSet::new`], which sees every species of the world.
-pub fn load_species(file: &Path, root: &Path, limits: &Limits) -> Result<Species, Diagnostics> {
+pub fn load_species(
+    file: &Path,
+    root: &Path,
+    limits: &SandboxLimits,
+) -> Result<Species, Diagnostics> {
     let text = crate::load::read_text(file, "species file")?;
     load_species_str(file, &text, root, limits)
 }
@@ -28,7 +32,7 @@ pub fn load_species_str(
     file: &Path,
     text: &str,
     root: &Path,
-    limits: &Limits,
+    limits: &SandboxLimits,
 ) -> Result<Species, Diagnostics> {
     let def: SpeciesDef = ron_options()
         .from_str(text)

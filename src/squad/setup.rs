@@ -7,7 +7,8 @@ use super::Ground;
 use crate::diag::{Diagnostic, Diagnostics};
 use crate::formation::Plan;
 use crate::formation::{
-    Formation, FormationDef, PlanError, PlanRequest, Planner, PlanningParams, Shape, TaskClass,
+    Formation, FormationDef, FormationShape, PlanError, PlanRequest, Planner, PlanningParams,
+    TaskClass,
 };
 use crate::scenario::{normalize, ScenarioDef, SquadLeader};
 use crate::species::validate::locate;
@@ -42,13 +43,13 @@ pub struct SquadSetup {
 pub const SHAPE_NAMES: [&str; 5] = ["line", "column", "wedge", "triangle", "diamond"];
 
 /// The shape called `name` (any case), one of [`SHAPE_NAMES`].
-pub fn shape_named(name: &str) -> Option<Shape> {
+pub fn shape_named(name: &str) -> Option<FormationShape> {
     match name.to_ascii_lowercase().as_str() {
-        "line" => Some(Shape::Line),
-        "column" => Some(Shape::Column),
-        "wedge" => Some(Shape::Wedge),
-        "triangle" => Some(Shape::Triangle),
-        "diamond" => Some(Shape::Diamond),
+        "line" => Some(FormationShape::Line),
+        "column" => Some(FormationShape::Column),
+        "wedge" => Some(FormationShape::Wedge),
+        "triangle" => Some(FormationShape::Triangle),
+        "diamond" => Some(FormationShape::Diamond),
         _ => None,
     }
 }

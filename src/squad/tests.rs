@@ -2,7 +2,7 @@
 //! terrain as the viewer reads it.
 
 use super::*;
-use crate::formation::{Formation, Plan, Shape, TaskClass};
+use crate::formation::{Formation, FormationShape, Plan, TaskClass};
 use glam::Vec2;
 
 /// A flat 40 × 40 terrain of 1 m cells and a squad of three in a line (spacing 2) whose
@@ -16,7 +16,7 @@ fn squad() -> Squad {
         vec![0.0; 1600],
     ));
     let grid = Arc::new(CostGrid::open(40, 40, 1.0, Vec2::ZERO));
-    let formations = vec![Formation::new(&Shape::Line, 3, 2.0).unwrap()];
+    let formations = vec![Formation::new(&FormationShape::Line, 3, 2.0).unwrap()];
     let key = |c: usize, r: usize, i: usize| crate::formation::KeyPoint {
         cell: crate::terrain::Cell::new(c, r),
         pos: Vec2::new(c as f32 + 0.5, r as f32 + 0.5),

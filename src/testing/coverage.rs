@@ -248,7 +248,7 @@ mod tests {
             Path::new("t.ron"),
             &text,
             Path::new("."),
-            &crate::script::Limits::default(),
+            &crate::script::SandboxLimits::default(),
         )
         .unwrap_or_else(|d| panic!("{d}"))
     }

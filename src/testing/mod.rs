@@ -54,7 +54,7 @@ impl Default for Options {
 
 /// How a test ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Status {
+pub enum TestStatus {
     /// Everything held.
     Passed,
     /// An assertion or expectation did not hold.
@@ -71,7 +71,7 @@ pub struct TestResult {
     /// `file::test_name`, or the file for a scenario or a file that does not compile.
     pub id: String,
     /// How it ended.
-    pub status: Status,
+    pub status: TestStatus,
     /// Why it failed (or was skipped): located message, state and last decisions.
     pub details: String,
 }
@@ -87,17 +87,17 @@ pub struct Report {
 impl Report {
     /// Tests passed.
     pub fn passed(&self) -> usize {
-        self.count(|s| s == Status::Passed)
+        self.count(|s| s == TestStatus::Passed)
     }
     /// Tests failed (errors included).
     pub fn failed(&self) -> usize {
-        self.count(|s| matches!(s, Status::Failed | Status::Error))
+        self.count(|s| matches!(s, TestStatus::Failed | TestStatus::Error))
     }
     /// Tests skipped.
     pub fn skipped(&self) -> usize {
-        self.count(|s| s == Status::Skipped)
+        self.count(|s| s == TestStatus::Skipped)
     }
-    fn count(&self, f: impl Fn(Status) -> bool) -> usize {
+    fn count(&self, f: impl Fn(TestStatus) -> bool) -> usize {
         self.results.iter().filter(|r| f(r.status)).count()
     }
     /// The closing line: `N passed, N failed` and `, N skipped` when some were.
@@ -120,10 +120,10 @@ impl Report {
         let mut f = String::new();
         for r in &self.results {
             let tag = match r.status {
-                Status::Passed => "ok   ",
-                Status::Failed => "FAIL ",
-                Status::Error => "ERROR",
-                Status::Skipped => "skip ",
+                TestStatus::Passed => "ok   ",
+                TestStatus::Failed => "FAIL ",
+                TestStatus::Error => "ERROR",
+                TestStatus::Skipped => "skip ",
             };
             let _ = writeln!(f, "{tag} {}", r.id);
             for line in r.details.lines() {
@@ -244,8 +244,8 @@ enum Job {
     Done(TestResult),
 }
 
-fn limits(o: &Options) -> crate::script::Limits {
-    crate::script::Limits {
+fn limits(o: &Options) -> crate::script::SandboxLimits {
+    crate::script::SandboxLimits {
         max_operations: o.max_operations,
         ..crate::scenario::script_limits()
     }
@@ -333,14 +333,14 @@ fn run_script(file: &TestFile, name: &str, opts: &Options, coverage: &Arc<Covera
                 if let Some(m) = tw.script_error() {
                     return TestResult {
                         id,
-                        status: Status::Failed,
+                        status: TestStatus::Failed,
                         details: with_output(format!("{m}\n{}", tw.all_decisions(8))),
                     };
                 }
             }
             TestResult {
                 id,
-                status: Status::Passed,
+                status: TestStatus::Passed,
                 details: String::new(),
             }
         }
@@ -358,11 +358,11 @@ fn run_script(file: &TestFile, name: &str, opts: &Options, coverage: &Arc<Covera
                     Diagnostic::new(&d.file, line, col, d.message.clone(), Some(&file.text));
             }
             let status = match located.kind {
-                Kind::Fail => Status::Failed,
-                Kind::Skip => Status::Skipped,
-                Kind::Error => Status::Error,
+                Kind::Fail => TestStatus::Failed,
+                Kind::Skip => TestStatus::Skipped,
+                Kind::Error => TestStatus::Error,
             };
-            let mut details = if status == Status::Skipped {
+            let mut details = if status == TestStatus::Skipped {
                 located.diagnostic.message.clone()
             } else {
                 format!("{}\n", located.diagnostic)
@@ -384,7 +384,7 @@ fn run_scenario(path: &Path, coverage: &Coverage) -> TestResult {
     let id = path.display().to_string();
     let error = |details: String| TestResult {
         id: id.clone(),
-        status: Status::Error,
+        status: TestStatus::Error,
         details,
     };
     let sc = match Scenario::load(path) {
@@ -398,7 +398,7 @@ fn run_scenario(path: &Path, coverage: &Coverage) -> TestResult {
     if tracker.is_empty() {
         return TestResult {
             id,
-            status: Status::Skipped,
+            status: TestStatus::Skipped,
             details: "the scenario declares no expectations (`expect: [...]`)".into(),
         };
     }
@@ -454,9 +454,9 @@ fn run_scenario(path: &Path, coverage: &Coverage) -> TestResult {
     TestResult {
         id,
         status: if failed {
-            Status::Failed
+            TestStatus::Failed
         } else {
-            Status::Passed
+            TestStatus::Passed
         },
         details,
     }
@@ -472,7 +472,7 @@ pub fn run(paths: &[PathBuf], opts: &Options) -> Report {
         match found {
             Found::Bad(p, why) => jobs.push(Job::Done(TestResult {
                 id: p.display().to_string(),
-                status: Status::Error,
+                status: TestStatus::Error,
                 details: format!("{}: {why}", p.display()),
             })),
             Found::Scenario(p) => {
@@ -485,7 +485,7 @@ pub fn run(paths: &[PathBuf], opts: &Options) -> Report {
                     if matches(&p.display().to_string()) {
                         jobs.push(Job::Done(TestResult {
                             id: p.display().to_string(),
-                            status: Status::Error,
+                            status: TestStatus::Error,
                             details: d.to_string(),
                         }));
                     }
@@ -511,7 +511,7 @@ pub fn run(paths: &[PathBuf], opts: &Options) -> Report {
                         if params > 0 {
                             jobs.push(Job::Done(TestResult {
                                 id,
-                                status: Status::Error,
+                                status: TestStatus::Error,
                                 details: Diagnostic::new(
                                     &p,
                                     line,

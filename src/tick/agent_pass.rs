@@ -360,8 +360,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
                 ActionNode::Send(kind, r) if k < 2 => {
                     let quiet = &mut mind.quiet_until[*kind as usize];
                     if tick >= *quiet {
-                        *quiet =
-                            tick.saturating_add((sp.resend_after.max(0.0) / dt).ceil() as u64);
+                        *quiet = tick.saturating_add((sp.resend_after.max(0.0) / dt).ceil() as u64);
                         messages[k] = Some((*kind, *r));
                         k += 1;
                     }
@@ -441,7 +440,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         .get(mind.current as usize)
         .and_then(|b| b.response)
     {
-        Some(response) => locomotion::Limits { response, ..*body },
+        Some(response) => locomotion::BodyLimits { response, ..*body },
         None => *body,
     };
     let info = locomotion::step(

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use super::ViewError;
 use crate::diag::Diagnostic;
-use crate::record::schema::{Food, Traj, FOOD_COLUMNS, TRAJECTORY_COLUMNS};
+use crate::record::schema::{FoodColumn, TrajColumn, FOOD_COLUMNS, TRAJECTORY_COLUMNS};
 
 /// Calls `each(line_number, fields)` for every data record of the CSV file at `path` after
 /// checking that its header is exactly `columns`. When `allow_truncated_tail` is set, a last line
@@ -252,7 +252,7 @@ pub(crate) fn scan_trajectories(
         &TRAJECTORY_COLUMNS,
         allow_truncated_tail,
         |line, record| {
-            let field = text_of(path, line, record, Traj::Tick as usize)?;
+            let field = text_of(path, line, record, TrajColumn::Tick as usize)?;
             let tick: u64 = field.trim().parse().map_err(|_| {
                 located(
                     path,
@@ -354,56 +354,62 @@ pub(crate) fn read_trajectories(
         allow_truncated_tail,
         |line, record| {
             let f = Fields::split(path, line, record, &TRAJECTORY_COLUMNS)?;
-            let tick: u64 = f.parse(Traj::Tick as usize, "a tick (whole number)")?;
+            let tick: u64 = f.parse(TrajColumn::Tick as usize, "a tick (whole number)")?;
             if !keep.contains(&tick) {
                 return Ok(());
             }
             if c.ticks.last() != Some(&tick) {
                 c.ticks.push(tick);
                 c.times
-                    .push(f.parse(Traj::Time as usize, "a time in seconds")?);
+                    .push(f.parse(TrajColumn::Time as usize, "a time in seconds")?);
                 c.offsets.push(c.id.len() as u32);
                 last_id = None;
             }
-            let id: u32 = f.parse(Traj::Id as usize, "an agent id (whole number)")?;
+            let id: u32 = f.parse(TrajColumn::Id as usize, "an agent id (whole number)")?;
             if let Some(prev) = last_id {
                 if id <= prev {
                     return Err(f.error(
-                        Traj::Id as usize,
+                        TrajColumn::Id as usize,
                         format!("agent id {id} after {prev}: ids must ascend within a tick"),
                     ));
                 }
             }
             last_id = Some(id);
-            let sp = species.intern(f.str(Traj::Species as usize));
+            let sp = species.intern(f.str(TrajColumn::Species as usize));
             if sp > usize::from(u8::MAX) {
-                return Err(f.error(Traj::Species as usize, "more than 256 species"));
+                return Err(f.error(TrajColumn::Species as usize, "more than 256 species"));
             }
-            let be = behaviors.intern(f.str(Traj::Behavior as usize));
+            let be = behaviors.intern(f.str(TrajColumn::Behavior as usize));
             if be > usize::from(u16::MAX) {
-                return Err(f.error(Traj::Behavior as usize, "more than 65536 behavior names"));
+                return Err(f.error(
+                    TrajColumn::Behavior as usize,
+                    "more than 65536 behavior names",
+                ));
             }
             c.id.push(id);
             c.species.push(sp as u8);
-            for col in [Traj::X, Traj::Y, Traj::Z] {
+            for col in [TrajColumn::X, TrajColumn::Y, TrajColumn::Z] {
                 c.pos
                     .push(f.num(col as usize, TRAJECTORY_COLUMNS[col as usize])?);
             }
-            for col in [Traj::Fx, Traj::Fy, Traj::Fz] {
+            for col in [TrajColumn::Fx, TrajColumn::Fy, TrajColumn::Fz] {
                 c.fwd
                     .push(f.num(col as usize, TRAJECTORY_COLUMNS[col as usize])?);
             }
-            c.speed.push(f.num(Traj::Speed as usize, "speed")?);
+            c.speed.push(f.num(TrajColumn::Speed as usize, "speed")?);
             c.behavior.push(be as u16);
-            let depth: u32 = f.parse(Traj::StackDepth as usize, "a stack depth (whole number)")?;
+            let depth: u32 = f.parse(
+                TrajColumn::StackDepth as usize,
+                "a stack depth (whole number)",
+            )?;
             c.stack_depth.push(depth.min(255) as u8);
-            c.hunger.push(f.num(Traj::Hunger as usize, "hunger")?);
-            c.libido.push(f.num(Traj::Libido as usize, "libido")?);
-            c.fear.push(f.num(Traj::Fear as usize, "fear")?);
+            c.hunger.push(f.num(TrajColumn::Hunger as usize, "hunger")?);
+            c.libido.push(f.num(TrajColumn::Libido as usize, "libido")?);
+            c.fear.push(f.num(TrajColumn::Fear as usize, "fear")?);
             c.swim_phase
-                .push(f.num(Traj::SwimPhase as usize, "swim_phase")?);
+                .push(f.num(TrajColumn::SwimPhase as usize, "swim_phase")?);
             c.tail_bend
-                .push(f.num(Traj::TailBend as usize, "tail_bend")?);
+                .push(f.num(TrajColumn::TailBend as usize, "tail_bend")?);
             Ok(())
         },
     )?;
@@ -430,11 +436,11 @@ pub(crate) fn read_food(path: &Path, allow_truncated_tail: bool) -> Result<FoodF
     out.truncated_line =
         for_each_line(path, &FOOD_COLUMNS, allow_truncated_tail, |line, record| {
             let f = Fields::split(path, line, record, &FOOD_COLUMNS)?;
-            let tick: u64 = f.parse(Food::Tick as usize, "a tick (whole number)")?;
+            let tick: u64 = f.parse(FoodColumn::Tick as usize, "a tick (whole number)")?;
             if let Some(prev) = last_tick {
                 if tick < prev {
                     return Err(f.error(
-                        Food::Tick as usize,
+                        FoodColumn::Tick as usize,
                         format!(
                             "tick {tick} after tick {prev}: rows must be grouped by ascending tick"
                         ),
@@ -442,9 +448,9 @@ pub(crate) fn read_food(path: &Path, allow_truncated_tail: bool) -> Result<FoodF
                 }
             }
             last_tick = Some(tick);
-            let _id: u64 = f.parse(Food::Id as usize, "a food id (whole number)")?;
+            let _id: u64 = f.parse(FoodColumn::Id as usize, "a food id (whole number)")?;
             let v = out.by_tick.entry(tick).or_default();
-            for col in [Food::X, Food::Y, Food::Z] {
+            for col in [FoodColumn::X, FoodColumn::Y, FoodColumn::Z] {
                 v.push(f.num(col as usize, FOOD_COLUMNS[col as usize])?);
             }
             Ok(())

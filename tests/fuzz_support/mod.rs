@@ -284,7 +284,7 @@ pub fn execute(t: Target, input: &[u8]) -> Outcome {
                 .fold(0usize, |a, &b| a.wrapping_mul(31) + b as usize)
                 % 97;
             let mut reader = BufReader::with_capacity(cap, input);
-            match read_request(&mut reader, &http::Limits::default()) {
+            match read_request(&mut reader, &http::HttpLimits::default()) {
                 Ok(req) => {
                     http::forbidden(&req, 7878);
                     match shoal::live::server::parse_control(&req.body) {

@@ -2,7 +2,7 @@
 //! obstacles' labels, and what a frozen agent is next to.
 
 use super::SpeciesInfo;
-use crate::health::{Near, NEAR_OBSTACLE};
+use crate::health::{NextTo, NEAR_OBSTACLE};
 use crate::world::{Obstacle, Shape, World};
 use glam::Vec3;
 
@@ -38,16 +38,16 @@ pub(super) fn obstacle_label(o: &Obstacle) -> String {
 }
 
 /// Label of a frozen agent's place for counting: the obstacle, or open water.
-pub(super) fn place_of(near: &Near) -> String {
+pub(super) fn place_of(near: &NextTo) -> String {
     match near {
-        Near::Obstacle { label, .. } => label.clone(),
+        NextTo::Obstacle { label, .. } => label.clone(),
         _ => "open water".to_string(),
     }
 }
 
 /// What agent `i` is next to: the nearest active obstacle within [`NEAR_OBSTACLE`] of its
 /// centre, else the nearest other agent.
-pub(super) fn near(world: &World, i: usize, species: &[SpeciesInfo]) -> Near {
+pub(super) fn near(world: &World, i: usize, species: &[SpeciesInfo]) -> NextTo {
     let p = world.agents[i].pos;
     let obstacle = world
         .obstacles
@@ -57,7 +57,7 @@ pub(super) fn near(world: &World, i: usize, species: &[SpeciesInfo]) -> Near {
         .filter(|(d, _)| *d <= NEAR_OBSTACLE)
         .min_by(|x, y| x.0.total_cmp(&y.0));
     if let Some((distance, o)) = obstacle {
-        return Near::Obstacle {
+        return NextTo::Obstacle {
             id: o.id,
             label: obstacle_label(o),
             distance,
@@ -70,7 +70,7 @@ pub(super) fn near(world: &World, i: usize, species: &[SpeciesInfo]) -> Near {
         .filter(|(j, _)| *j != i)
         .map(|(_, b)| ((b.pos - p).length(), b))
         .min_by(|x, y| x.0.total_cmp(&y.0))
-        .map_or(Near::Nothing, |(distance, b)| Near::Agent {
+        .map_or(NextTo::Nothing, |(distance, b)| NextTo::Agent {
             id: b.id.0,
             species: species
                 .get(b.species.0 as usize)

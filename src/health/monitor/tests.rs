@@ -6,7 +6,7 @@ use super::track::SCAN_OBSTACLES;
 use super::*;
 use crate::events::MessageKind;
 use crate::health::Figure;
-use crate::health::{Health, Near};
+use crate::health::{Health, NextTo};
 use crate::scenario::normalize;
 use crate::species::{load_species_str, Species};
 use crate::world::Shape;
@@ -175,7 +175,7 @@ fn stopped_six_seconds_is_frozen_four_is_not() {
     assert!(close(f.seconds, 7.0, 1e-9));
     assert_eq!(
         f.near,
-        Near::Obstacle {
+        NextTo::Obstacle {
             id: 0,
             label: "sphere 0".into(),
             distance: 2.0
@@ -215,7 +215,7 @@ fn a_stop_of_exactly_five_seconds_freezes_and_ends_at_death() {
     // No obstacle: the nearest agent.
     assert_eq!(
         f.near,
-        Near::Agent {
+        NextTo::Agent {
             id: 1,
             species: "fish".into(),
             distance: 3.0

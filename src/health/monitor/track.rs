@@ -4,7 +4,7 @@
 
 use super::place::{near, place_of, signed_distance};
 use super::{Monitor, SpeciesAcc};
-use crate::health::{Near, Spot, PITCH_LIMIT_MARGIN, STOPPED_SPEED};
+use crate::health::{NextTo, Spot, PITCH_LIMIT_MARGIN, STOPPED_SPEED};
 use crate::world::{Obstacle, World};
 use glam::Vec3;
 
@@ -17,7 +17,7 @@ pub(super) struct FrozenRec {
     pub(super) start: u64,
     pub(super) ticks: u64,
     pub(super) pos: Vec3,
-    pub(super) near: Near,
+    pub(super) near: NextTo,
 }
 
 /// What the monitor follows of one agent (by id).

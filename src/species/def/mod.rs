@@ -7,7 +7,7 @@
 use crate::drives::DriveParams;
 pub use crate::events::MessageKind;
 use crate::locomotion::anim::AnimParams;
-use crate::locomotion::{Limits, Mode};
+use crate::locomotion::{BodyLimits, Mode};
 use crate::perception::{Category, Level, Sector, SenseParams};
 use crate::steering::avoid::AvoidParams;
 use crate::terrain::Mobility;
@@ -86,7 +86,7 @@ pub struct BodyDef {
     /// Bounding box (width, height, length).
     pub size: Vec3,
     /// Speed and turn limits.
-    pub limits: Limits,
+    pub limits: BodyLimits,
     /// Kinematic or rigid-body locomotion.
     pub locomotion: Mode,
     /// Animation channel constants.
@@ -105,7 +105,7 @@ impl Default for BodyDef {
     fn default() -> Self {
         BodyDef {
             size: Vec3::new(0.2, 0.3, 1.0),
-            limits: Limits::default(),
+            limits: BodyLimits::default(),
             locomotion: Mode::Kinematic,
             anim: AnimParams::default(),
             on_ground: false,

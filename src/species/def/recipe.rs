@@ -194,7 +194,7 @@ impl Default for SeekDef {
 /// Parameters of separation / alignment / cohesion (seed 001).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct GroupDef {
+pub struct GroupRuleDef {
     /// Gain k.
     pub k: f32,
     /// Separation length factor.
@@ -203,9 +203,9 @@ pub struct GroupDef {
     pub radius: f32,
 }
 
-impl Default for GroupDef {
+impl Default for GroupRuleDef {
     fn default() -> Self {
-        GroupDef {
+        GroupRuleDef {
             k: 1.0,
             factor: 1.0,
             radius: f32::INFINITY,
@@ -332,11 +332,11 @@ pub enum Recipe {
     /// Arrive at a target.
     Arrive(SeekDef),
     /// Separation (seed 001).
-    Separation(GroupDef),
+    Separation(GroupRuleDef),
     /// Alignment (seed 001).
-    Alignment(GroupDef),
+    Alignment(GroupRuleDef),
     /// Cohesion.
-    Cohesion(GroupDef),
+    Cohesion(GroupRuleDef),
     /// R–A zones (seed 003).
     Zones(Zones),
     /// Vicsek alignment (seed 003).
