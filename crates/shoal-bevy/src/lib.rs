@@ -23,6 +23,7 @@
 //! ```
 //! use bevy::prelude::*;
 //! use shoal_bevy::prelude::*;
+//! use shoal_bevy::shoal::prelude::Vec3 as SimVec3; // the engine's vectors
 //!
 //! let drifter = r#"(
 //!     name: "drifter",
@@ -30,21 +31,39 @@
 //!     behaviors: [Behavior(name: "drift", priority: 1, steer: Cruise(speed: 0.5))],
 //! )"#;
 //! let species = SpeciesSet::new(vec![Species::parse("drifter.ron", drifter).unwrap().into()]);
-//! let water = Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 40.0, 50.0));
+//! let water = Aabb::new(SimVec3::new(-50.0, 0.0, -50.0), SimVec3::new(50.0, 40.0, 50.0));
 //! let mut sim = Sim::new(species.unwrap(), water, 0.05, 7);
-//! sim.spawn("drifter", Vec3::new(0.0, 10.0, 0.0), 0.0).unwrap();
+//! sim.spawn("drifter", SimVec3::new(0.0, 10.0, 0.0), 0.0).unwrap();
 //!
 //! let mut app = App::new();
 //! app.add_plugins((MinimalPlugins, ShoalPlugin::default()))
-//!     .insert_resource(ShoalSim::new(sim));
+//!     .insert_resource(ShoalSim::new(sim))
+//!     // A clock of 50 ms a frame for this example (an app runs on real time).
+//!     .insert_resource(bevy::time::TimeUpdateStrategy::ManualDuration(
+//!         std::time::Duration::from_millis(50),
+//!     ));
 //! // Your systems run around the simulation's:
-//! fn react(events: MessageReader<ShoalEvent>) { /* … */ }
+//! fn react(mut events: MessageReader<ShoalEvent>) {
+//!     for e in events.read() {
+//!         if let SimEvent::Catch { agent, prey } = e.event {
+//!             println!("{agent:?} caught {prey:?} at tick {}", e.tick);
+//!         }
+//!     }
+//! }
 //! app.add_systems(FixedUpdate, react.after(ShoalSystems::Step));
-//! app.update();
+//! app.update(); // the clock starts
+//! app.update(); // 50 ms: one tick, and an entity for the drifter
+//! let mut agents = app.world_mut().query::<(&ShoalAgent, &Transform, &AgentBehavior)>();
+//! let (_, transform, behavior) = agents.single(app.world()).unwrap();
+//! assert_eq!(behavior.name, "drift");
+//! assert!(transform.translation.y > 9.0);
 //! ```
 //!
 //! Note the two vector types: `shoal::prelude::Vec3` is the engine's, `bevy::prelude::Vec3`
 //! Bevy's (both are glam vectors of different releases); convert with `to_array`/`from_array`.
+
+/// The engine this crate runs (its own `Vec3` is glam's release the engine uses).
+pub use shoal;
 
 mod agents;
 mod interpolate;
@@ -66,7 +85,7 @@ use bevy::prelude::App;
 use bevy::transform::TransformSystems;
 
 /// Everything an app using the plugin needs, with shoal's own prelude (its `Vec3` excepted:
-/// use Bevy's and convert).
+/// use Bevy's and convert; its `Event` and `World` as `SimEvent` and `SimWorld`).
 pub mod prelude {
     pub use crate::{
         AgentBehavior, AgentDrives, AgentEntities, AgentMotion, AgentSpecies, Interpolation,
@@ -74,9 +93,11 @@ pub mod prelude {
         SpeciesReloadFailed, SpeciesReloaded, SpeciesWatch,
     };
     pub use shoal::prelude::{
-        Aabb, Agent, AgentId, Category, Diagnostic, Diagnostics, Event, MessageKind, Overrides,
-        Percept, Run, Scenario, Shape, Sim, Species, SpeciesSet, UnknownSpecies, World,
+        Aabb, Agent, AgentId, Category, Diagnostic, Diagnostics, MessageKind, Overrides, Percept,
+        Run, Scenario, Shape, Sim, Species, SpeciesSet, UnknownSpecies,
     };
+    // Renamed: Bevy's prelude has an `Event` and a `World` of its own.
+    pub use shoal::prelude::{Event as SimEvent, World as SimWorld};
 }
 
 /// The plugin's system sets, in the order they run in its schedule (plus `Interpolate`, in
