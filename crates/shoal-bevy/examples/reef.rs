@@ -367,6 +367,9 @@ fn screenshot(
     *asked = true;
     commands.spawn(Screenshot::primary_window()).observe(
         move |shot: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
+            if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+                let _ = std::fs::create_dir_all(dir);
+            }
             let saved = shot
                 .image
                 .clone()
