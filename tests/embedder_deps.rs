@@ -9,6 +9,10 @@ fn the_engine_without_tools_pulls_in_no_tool_crate() {
     let out = Command::new(cargo)
         .args([
             "tree",
+            // The engine package alone: the workspace's default members also hold the Bevy
+            // plugin, whose own tree (Bevy's) is not the engine's.
+            "--package",
+            "shoal",
             "--no-default-features",
             "--edges",
             "normal",
