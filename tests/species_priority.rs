@@ -769,3 +769,48 @@ fn chance_fires_p_times_a_second() {
         "{starts} of {idle_ticks}: {rate}"
     );
 }
+
+/// Value expressions: `1 − v`, `a·b` and `a + b` each computed as written. With fear 0.2 and
+/// libido 0.3, (1 − 0.2) + 0.3·3 = 1.7 is above 1.5; with fear 0.6, 0.4 + 0.9 = 1.3 is not.
+#[test]
+fn one_minus_mul_and_add_compute_what_they_say() {
+    let v = "Above(Add(OneMinus(Drive(Fear)), Mul(Drive(Libido), Const(3.0))), 1.5)";
+    let (mut sim, id, _dir) = one_condition(v, &format!("Not({v})"));
+    for (fear, on) in [(0.2, true), (0.6, false), (0.2, true)] {
+        let d = &mut sim.agent_mut(id).drives;
+        (d.fear, d.libido) = (fear, 0.3);
+        sim.step();
+        assert_eq!(
+            sim.behavior(id),
+            if on { "on" } else { "idle" },
+            "fear {fear}"
+        );
+    }
+}
+
+/// Two behaviors triggered on the same tick: the higher level starts, though the lower one,
+/// declared after it, holds too.
+#[test]
+fn of_two_triggered_behaviors_the_higher_starts() {
+    let text = r#"
+Species(
+    name: "two",
+    drives: (native: false, hunger: Fixed(0.0)),
+    initial: "idle",
+    behaviors: [
+        Behavior(name: "high", priority: 1, when: Above(Drive(Fear), 0.5), steer: Stop),
+        Behavior(name: "low", priority: 2, when: Above(Drive(Fear), 0.5), steer: Stop),
+        Behavior(name: "idle", priority: 3, steer: Stop),
+    ],
+)
+"#;
+    let dir = folder(&[("two.ron", text)]);
+    let sp = load(&dir.path().join("two.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("two", Vec3::ZERO, 0.0);
+    sim.step();
+    assert_eq!(sim.behavior(id), "idle");
+    sim.agent_mut(id).drives.fear = 0.9;
+    sim.step();
+    assert_eq!(sim.behavior(id), "high");
+}
