@@ -185,13 +185,7 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
             }
             self.kept.offer(d, || make(d));
         }
-        self.acc[cat as usize].note(seen, key, &dist, pos, heading, vel);
-        if cat == Category::Mate {
-            self.acc[Category::Kin as usize].note(seen, key, &dist, pos, heading, vel);
-        }
-        if cat == Category::Predator {
-            self.acc[cat as usize].inv_dist += 1.0 / dist().max(1e-6);
-        }
+        self.sum(cat, seen, key, dist, pos, heading, vel);
     }
 
     /// Notes one percept of category `cat` in the sums only (never kept).
