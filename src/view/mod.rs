@@ -23,8 +23,20 @@ mod world;
 
 /// The page template; `/*@CSS@*/`, `/*@BOOT@*/`, `<!--@DATA@-->` and `/*@JS@*/` are filled in.
 const TEMPLATE: &str = include_str!("viewer.html");
-/// The page's script: renderer, picking, panel, histogram and the replay and live data sources.
-const SCRIPT: &str = include_str!("viewer.js");
+/// The page's script: the parts of one function scope, in order (each file's header says what it
+/// holds). Joined at compile time so the page stays one self-contained file.
+const SCRIPT: &str = concat!(
+    include_str!("js/util.js"),
+    include_str!("js/render.js"),
+    include_str!("js/scene.js"),
+    include_str!("js/pick.js"),
+    include_str!("js/legend.js"),
+    include_str!("js/panel.js"),
+    include_str!("js/health.js"),
+    include_str!("js/replay.js"),
+    include_str!("js/live.js"),
+    include_str!("js/main.js"),
+);
 /// The page's style sheet.
 const STYLE: &str = include_str!("viewer.css");
 

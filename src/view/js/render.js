@@ -1,0 +1,294 @@
+// shoal viewer, render.js: The WebGL renderer: agents, food, obstacles, terrain, bounds.
+// The files of js/ are parts of one function scope, joined in the order view/mod.rs lists them.
+  // ---------------------------------------------------------------- renderer
+
+  // Agents are point sprites, one vertex each: the vertex shader projects the body axis to find the
+  // on-screen heading and foreshortening; the fragment shader cuts a fish silhouette (body + bent
+  // tail) out of the square. One draw call per frame whatever the agent count, and cheap even on
+  // software GL, where instancing is slow.
+  const AGENT_VS = `
+attribute vec3 iPos; attribute vec3 iFwd; attribute vec3 iColor; attribute float iLen; attribute float iBend;
+uniform mat4 uViewProj; uniform vec2 uViewport; uniform float uProjF; uniform float uMinPx; uniform float uMaxPx;
+varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
+vec2 toPx(vec4 c) { return c.xy / max(c.w, 1e-4) * 0.5 * uViewport; }
+void main() {
+  vec4 c = uViewProj * vec4(iPos, 1.0);
+  gl_Position = c;
+  vec3 f = iFwd; float fl = length(f);
+  f = fl > 1e-6 ? f / fl : vec3(1.0, 0.0, 0.0);
+  vec2 d = toPx(uViewProj * vec4(iPos + f * (0.5 * iLen), 1.0)) - toPx(uViewProj * vec4(iPos - f * (0.5 * iLen), 1.0));
+  float onScreen = length(d);
+  // side-on length in pixels at this depth
+  float full = iLen * uProjF * 0.5 * uViewport.y / max(c.w, 1e-4);
+  float size = clamp(full, uMinPx, uMaxPx);
+  gl_PointSize = size;
+  vDir = onScreen > 1e-3 ? d / onScreen : vec2(1.0, 0.0);
+  vAspect = clamp(onScreen / max(full, 1e-3), 0.3, 1.0);
+  vColor = iColor;
+  vBend = iBend;
+}`;
+  const AGENT_FS = `
+precision mediump float;
+varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
+void main() {
+  vec2 p = gl_PointCoord - 0.5;
+  p.y = -p.y;
+  // u along the body (nose +0.5), v to the fish's left on screen
+  float u = dot(p, vDir) / vAspect;
+  float v = dot(p, vec2(-vDir.y, vDir.x));
+  float w = mix(0.2, 0.13, vAspect);
+  float e = ((u - 0.08) * (u - 0.08)) / (0.38 * 0.38) + (v * v) / (w * w);
+  float shade;
+  if (e <= 1.0) {
+    shade = e > 0.72 ? 0.6 : 1.0 - 0.3 * e;
+  } else {
+    float back = -0.2 - u;
+    float vt = v + sin(vBend) * back;
+    if (back < 0.0 || u < -0.5 || abs(vt) > 0.02 + back * 0.5) discard;
+    shade = 0.75;
+  }
+  gl_FragColor = vec4(vColor * shade, 1.0);
+}`;
+  const COLOR_FS = `
+precision mediump float; varying vec3 vColor;
+void main() { gl_FragColor = vec4(vColor, 1.0); }`;
+  const LINE_VS = `
+attribute vec3 aPos; attribute vec3 aColor; uniform mat4 uViewProj; uniform float uPointSize;
+varying vec3 vColor;
+void main() { gl_Position = uViewProj * vec4(aPos, 1.0); gl_PointSize = uPointSize; vColor = aColor; }`;
+  const POINT_FS = `
+precision mediump float; varying vec3 vColor;
+void main() { vec2 d = gl_PointCoord - 0.5; if (dot(d, d) > 0.25) discard; gl_FragColor = vec4(vColor, 1.0); }`;
+  const MESH_VS = `
+attribute vec3 aPos; attribute vec3 aNormal; attribute vec3 aColor; uniform mat4 uViewProj;
+varying vec3 vColor; varying vec3 vNormal;
+void main() { gl_Position = uViewProj * vec4(aPos, 1.0); vColor = aColor; vNormal = aNormal; }`;
+  const MESH_FS = `
+precision mediump float; varying vec3 vColor; varying vec3 vNormal;
+void main() {
+  float l = max(dot(normalize(vNormal), normalize(vec3(0.4, 1.0, 0.3))), 0.0);
+  gl_FragColor = vec4(vColor * (0.35 + 0.65 * l), 1.0);
+}`;
+
+  const AGENT_FLOATS = 11; // pos 3, fwd 3, color 3, length 1, bend 1
+
+  const renderer = {
+    gl: null, ok: false, progs: {}, maxPointPx: 64,
+    agentCount: 0, agentBuf: null,
+    staticLines: null, staticPoints: null, foodPoints: null, selLines: null, terrain: null,
+    init(canvas) {
+      const opts = { antialias: false, alpha: false, preserveDrawingBuffer: false };
+      let gl = canvas.getContext('webgl2', opts);
+      const gl2 = !!gl;
+      if (!gl) gl = canvas.getContext('webgl', opts) || canvas.getContext('experimental-webgl', opts);
+      if (!gl) throw new Error('WebGL is not available in this browser');
+      this.gl = gl;
+      this.uintIndices = gl2 || !!gl.getExtension('OES_element_index_uint');
+      this.maxPointPx = Math.min(512, gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1] || 64);
+      this.progs.agent = this.program(AGENT_VS, AGENT_FS);
+      this.progs.line = this.program(LINE_VS, COLOR_FS);
+      this.progs.point = this.program(LINE_VS, POINT_FS);
+      this.progs.mesh = this.program(MESH_VS, MESH_FS);
+      this.agentBuf = gl.createBuffer();
+      this.staticLines = this.vertexSet();
+      this.staticPoints = this.vertexSet();
+      this.foodPoints = this.vertexSet();
+      this.selLines = this.vertexSet();
+      gl.enable(gl.DEPTH_TEST);
+      gl.clearColor(0.043, 0.102, 0.165, 1);
+      this.ok = true;
+    },
+    program(vs, fs) {
+      const gl = this.gl;
+      const compile = (type, src) => {
+        const s = gl.createShader(type);
+        gl.shaderSource(s, src);
+        gl.compileShader(s);
+        if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error('shader: ' + gl.getShaderInfoLog(s));
+        return s;
+      };
+      const p = gl.createProgram();
+      gl.attachShader(p, compile(gl.VERTEX_SHADER, vs));
+      gl.attachShader(p, compile(gl.FRAGMENT_SHADER, fs));
+      gl.linkProgram(p);
+      if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error('program: ' + gl.getProgramInfoLog(p));
+      const info = { p, a: {}, u: {} };
+      const na = gl.getProgramParameter(p, gl.ACTIVE_ATTRIBUTES);
+      for (let i = 0; i < na; i++) { const n = gl.getActiveAttrib(p, i).name; info.a[n] = gl.getAttribLocation(p, n); }
+      const nu = gl.getProgramParameter(p, gl.ACTIVE_UNIFORMS);
+      for (let i = 0; i < nu; i++) { const n = gl.getActiveUniform(p, i).name; info.u[n] = gl.getUniformLocation(p, n); }
+      return info;
+    },
+    // A buffer of interleaved position + color vertices (6 floats each).
+    vertexSet() {
+      return { buf: this.gl.createBuffer(), count: 0 };
+    },
+    fill(set, data, usage) {
+      const gl = this.gl;
+      gl.bindBuffer(gl.ARRAY_BUFFER, set.buf);
+      gl.bufferData(gl.ARRAY_BUFFER, data, usage || gl.STATIC_DRAW);
+      set.count = data.length / 6;
+    },
+    setTerrain(t) {
+      const gl = this.gl;
+      this.terrain = null;
+      if (!t || !t.cols || !t.rows || t.cols < 2 || t.rows < 2) return;
+      const { cols, rows, cell } = t;
+      const h = t.heights, blocked = t.blocked || [];
+      let lo = Infinity, hi = -Infinity;
+      for (let i = 0; i < h.length; i++) { if (h[i] < lo) lo = h[i]; if (h[i] > hi) hi = h[i]; }
+      const span = hi > lo ? hi - lo : 1;
+      const v = new Float32Array(cols * rows * 9);
+      const H = (c, r) => h[Math.max(0, Math.min(rows - 1, r)) * cols + Math.max(0, Math.min(cols - 1, c))];
+      for (let r = 0; r < rows; r++) {
+        for (let c = 0; c < cols; c++) {
+          const i = r * cols + c, o = i * 9;
+          v[o] = t.origin[0] + (c + 0.5) * cell; v[o + 1] = h[i]; v[o + 2] = t.origin[1] + (r + 0.5) * cell;
+          const nx = H(c - 1, r) - H(c + 1, r), nz = H(c, r - 1) - H(c, r + 1), ny = 2 * cell;
+          const nl = Math.hypot(nx, ny, nz);
+          v[o + 3] = nx / nl; v[o + 4] = ny / nl; v[o + 5] = nz / nl;
+          const k = (h[i] - lo) / span;
+          // deep teal → sand → pale, tinted red where blocked
+          let col = k < 0.5
+            ? [0.10 + 0.5 * k, 0.28 + 0.5 * k, 0.30 + 0.1 * k]
+            : [0.35 + 0.6 * (k - 0.5), 0.53 + 0.4 * (k - 0.5), 0.35 + 0.5 * (k - 0.5)];
+          if (blocked[i]) col = [0.55 + 0.3 * col[0], 0.15 + 0.2 * col[1], 0.15 + 0.2 * col[2]];
+          v[o + 6] = col[0]; v[o + 7] = col[1]; v[o + 8] = col[2];
+        }
+      }
+      const quads = (cols - 1) * (rows - 1);
+      const idx = new Uint32Array(quads * 6);
+      let q = 0;
+      for (let r = 0; r + 1 < rows; r++) {
+        for (let c = 0; c + 1 < cols; c++) {
+          const a = r * cols + c, b = a + 1, d = a + cols, e = d + 1;
+          idx[q++] = a; idx[q++] = d; idx[q++] = b; idx[q++] = b; idx[q++] = d; idx[q++] = e;
+        }
+      }
+      const buf = gl.createBuffer();
+      this.terrain = { buf, count: idx.length, ibuf: null };
+      if (this.uintIndices) {
+        gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+        gl.bufferData(gl.ARRAY_BUFFER, v, gl.STATIC_DRAW);
+        this.terrain.ibuf = gl.createBuffer();
+        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.terrain.ibuf);
+        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, idx, gl.STATIC_DRAW);
+      } else {
+        const flat = new Float32Array(idx.length * 9);
+        for (let i = 0; i < idx.length; i++) flat.set(v.subarray(idx[i] * 9, idx[i] * 9 + 9), i * 9);
+        gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+        gl.bufferData(gl.ARRAY_BUFFER, flat, gl.STATIC_DRAW);
+      }
+    },
+    setAgents(data, count) {
+      const gl = this.gl;
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
+      gl.bufferData(gl.ARRAY_BUFFER, data.subarray(0, count * AGENT_FLOATS), gl.DYNAMIC_DRAW);
+      this.agentCount = count;
+    },
+    attrib(prog, name, size, stride, offset) {
+      const gl = this.gl, loc = prog.a[name];
+      if (loc === undefined || loc < 0) return;
+      gl.enableVertexAttribArray(loc);
+      gl.vertexAttribPointer(loc, size, gl.FLOAT, false, stride * 4, offset * 4);
+      this.usedAttribs.push(loc);
+    },
+    releaseAttribs() {
+      for (const loc of this.usedAttribs) this.gl.disableVertexAttribArray(loc);
+      this.usedAttribs = [];
+    },
+    usedAttribs: [],
+    drawSet(set, mode, prog, vp, pointSize) {
+      if (!set.count) return;
+      const gl = this.gl;
+      gl.useProgram(prog.p);
+      gl.uniformMatrix4fv(prog.u.uViewProj, false, vp);
+      if (prog.u.uPointSize) gl.uniform1f(prog.u.uPointSize, pointSize || 1);
+      gl.bindBuffer(gl.ARRAY_BUFFER, set.buf);
+      this.attrib(prog, 'aPos', 3, 6, 0);
+      this.attrib(prog, 'aColor', 3, 6, 3);
+      gl.drawArrays(mode, 0, set.count);
+      this.releaseAttribs();
+    },
+    draw(vp, widthPx, heightPx, dpr) {
+      const gl = this.gl;
+      gl.viewport(0, 0, widthPx, heightPx);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      if (this.terrain) {
+        const p = this.progs.mesh;
+        gl.useProgram(p.p);
+        gl.uniformMatrix4fv(p.u.uViewProj, false, vp);
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.terrain.buf);
+        this.attrib(p, 'aPos', 3, 9, 0);
+        this.attrib(p, 'aNormal', 3, 9, 3);
+        this.attrib(p, 'aColor', 3, 9, 6);
+        if (this.terrain.ibuf) {
+          gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.terrain.ibuf);
+          gl.drawElements(gl.TRIANGLES, this.terrain.count, gl.UNSIGNED_INT, 0);
+        } else {
+          gl.drawArrays(gl.TRIANGLES, 0, this.terrain.count);
+        }
+        this.releaseAttribs();
+      }
+      this.drawSet(this.staticLines, gl.LINES, this.progs.line, vp);
+      this.drawSet(this.staticPoints, gl.POINTS, this.progs.point, vp, 5 * dpr);
+      this.drawSet(this.foodPoints, gl.POINTS, this.progs.point, vp, 4 * dpr);
+      if (this.agentCount) {
+        // One draw call for every agent of the frame.
+        const p = this.progs.agent;
+        gl.useProgram(p.p);
+        gl.uniformMatrix4fv(p.u.uViewProj, false, vp);
+        gl.uniform2f(p.u.uViewport, widthPx, heightPx);
+        gl.uniform1f(p.u.uProjF, vp.projF);
+        gl.uniform1f(p.u.uMinPx, 8 * dpr);
+        gl.uniform1f(p.u.uMaxPx, this.maxPointPx);
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
+        this.attrib(p, 'iPos', 3, AGENT_FLOATS, 0);
+        this.attrib(p, 'iFwd', 3, AGENT_FLOATS, 3);
+        this.attrib(p, 'iColor', 3, AGENT_FLOATS, 6);
+        this.attrib(p, 'iLen', 1, AGENT_FLOATS, 9);
+        this.attrib(p, 'iBend', 1, AGENT_FLOATS, 10);
+        gl.drawArrays(gl.POINTS, 0, this.agentCount);
+        this.releaseAttribs();
+      }
+      gl.disable(gl.DEPTH_TEST);
+      this.drawSet(this.selLines, gl.LINES, this.progs.line, vp);
+      gl.enable(gl.DEPTH_TEST);
+    },
+  };
+
+  // Line geometry builders: push position + color pairs into a plain array.
+  const geom = {
+    seg(out, a, b, c) { out.push(a[0], a[1], a[2], c[0], c[1], c[2], b[0], b[1], b[2], c[0], c[1], c[2]); },
+    box(out, mn, mx, c) {
+      const p = (i) => [i & 1 ? mx[0] : mn[0], i & 2 ? mx[1] : mn[1], i & 4 ? mx[2] : mn[2]];
+      for (let i = 0; i < 8; i++) for (const bit of [1, 2, 4]) if (!(i & bit)) geom.seg(out, p(i), p(i | bit), c);
+    },
+    circle(out, ctr, r, axis, c, n) {
+      n = n || 40;
+      const pt = (k) => {
+        const a = (k / n) * Math.PI * 2, u = Math.cos(a) * r, v = Math.sin(a) * r;
+        if (axis === 0) return [ctr[0], ctr[1] + u, ctr[2] + v];
+        if (axis === 1) return [ctr[0] + u, ctr[1], ctr[2] + v];
+        return [ctr[0] + u, ctr[1] + v, ctr[2]];
+      };
+      for (let k = 0; k < n; k++) geom.seg(out, pt(k), pt(k + 1), c);
+    },
+    sphere(out, ctr, r, c) {
+      geom.circle(out, ctr, r, 0, c); geom.circle(out, ctr, r, 1, c); geom.circle(out, ctr, r, 2, c);
+      for (const f of [-0.6, 0.6]) geom.circle(out, [ctr[0], ctr[1] + f * r, ctr[2]], r * 0.8, 1, c);
+    },
+    cylinder(out, base, r, h, c) {
+      const top = [base[0], base[1] + h, base[2]];
+      geom.circle(out, base, r, 1, c); geom.circle(out, top, r, 1, c);
+      for (let k = 0; k < 8; k++) {
+        const a = (k / 8) * Math.PI * 2, dx = Math.cos(a) * r, dz = Math.sin(a) * r;
+        geom.seg(out, [base[0] + dx, base[1], base[2] + dz], [top[0] + dx, top[1], top[2] + dz], c);
+      }
+    },
+    cross(out, p, s, c) {
+      geom.seg(out, [p[0] - s, p[1], p[2]], [p[0] + s, p[1], p[2]], c);
+      geom.seg(out, [p[0], p[1] - s, p[2]], [p[0], p[1] + s, p[2]], c);
+      geom.seg(out, [p[0], p[1], p[2] - s], [p[0], p[1], p[2] + s], c);
+    },
+  };
