@@ -114,6 +114,21 @@ fn missing_species_file_is_located() {
     assert_eq!(code, 2);
     assert!(err.contains("bad.ron:4:28: species file \""), "{err}");
     assert!(err.contains("octopus.ron\" not found"), "{err}");
+    // Where it looked, why there, and how to point elsewhere.
+    assert!(err.contains("species are looked for in"), "{err}");
+    assert!(
+        err.contains("the default `behaviors: \"../behaviors\"`"),
+        "{err}"
+    );
+    assert!(err.contains("set `behaviors: \"<folder>\"`"), "{err}");
+}
+
+#[test]
+fn misspelt_species_gets_a_near_name() {
+    let t = setup();
+    let text = GOOD.replace("species: [\"reef_fish\"]", "species: [\"reef_fsh\"]");
+    let (_, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert!(err.contains("(did you mean `reef_fish`?)"), "{err}");
 }
 
 #[test]

@@ -247,6 +247,10 @@ pub enum Expectation {
     MinCatches(u64),
     /// At least this many meals by the end.
     MinMeals(u64),
+    /// At least this many catches by agents of one species by the end: `SpeciesCatches("shark", 3)`.
+    SpeciesCatches(String, u64),
+    /// At least this many meals by agents of one species by the end: `SpeciesMeals("reef_fish", 5)`.
+    SpeciesMeals(String, u64),
     /// At least this many agents of a species alive at the end.
     MinAlive(String, u64),
     /// At most this many agents of a species alive at the end.

@@ -40,6 +40,10 @@ enum Check {
     },
     MinCatches(u64),
     MinMeals(u64),
+    /// Catches by one species' agents: (species, at least, seen so far).
+    SpeciesCatches(usize, u64, u64),
+    /// Meals by one species' agents: (species, at least, seen so far).
+    SpeciesMeals(usize, u64, u64),
     MinAlive(usize, u64),
     MaxAlive(usize, u64),
     MinPolarization(usize, f32),
@@ -225,6 +229,8 @@ impl Tracker {
                 Expectation::BehaviorShare { .. } => "BehaviorShare",
                 Expectation::MinCatches(_) => "MinCatches",
                 Expectation::MinMeals(_) => "MinMeals",
+                Expectation::SpeciesCatches(..) => "SpeciesCatches",
+                Expectation::SpeciesMeals(..) => "SpeciesMeals",
                 Expectation::MinAlive(..) => "MinAlive",
                 Expectation::MaxAlive(..) => "MaxAlive",
                 Expectation::MinPolarization(..) => "MinPolarization",
@@ -311,6 +317,24 @@ impl Tracker {
                     format!("at least {}", counted(*n, "meal", "meals")),
                     Check::MinMeals(*n),
                 ),
+                Expectation::SpeciesCatches(sp, n) => {
+                    let Some(s) = species_of(sp, cursor, &mut error) else {
+                        continue;
+                    };
+                    (
+                        format!("{sp}: at least {}", counted(*n, "catch", "catches")),
+                        Check::SpeciesCatches(s, *n, 0),
+                    )
+                }
+                Expectation::SpeciesMeals(sp, n) => {
+                    let Some(s) = species_of(sp, cursor, &mut error) else {
+                        continue;
+                    };
+                    (
+                        format!("{sp}: at least {}", counted(*n, "meal", "meals")),
+                        Check::SpeciesMeals(s, *n, 0),
+                    )
+                }
                 Expectation::MinAlive(sp, n) => {
                     let Some(s) = species_of(sp, cursor, &mut error) else {
                         continue;
@@ -467,6 +491,12 @@ impl Tracker {
                         }
                     }
                 }
+                Check::SpeciesCatches(species, _, seen) => {
+                    count_by_species(world, pipeline, *species, seen, true)
+                }
+                Check::SpeciesMeals(species, _, seen) => {
+                    count_by_species(world, pipeline, *species, seen, false)
+                }
                 Check::NoScriptErrors { first } => {
                     for e in &pipeline.events {
                         if let Event::ScriptError { message, .. } = e {
@@ -526,6 +556,12 @@ impl Tracker {
                     Check::MinMeals(n) => {
                         (stats.meals >= *n, counted(stats.meals, "meal", "meals"))
                     }
+                    Check::SpeciesCatches(_, n, seen) => {
+                        (*seen >= *n, counted(*seen, "catch", "catches"))
+                    }
+                    Check::SpeciesMeals(_, n, seen) => {
+                        (*seen >= *n, counted(*seen, "meal", "meals"))
+                    }
                     Check::MinAlive(s, n) => {
                         let a = alive(*s);
                         (a >= *n, format!("{a} alive"))
@@ -575,6 +611,30 @@ impl Tracker {
     }
 }
 
+/// Adds to `seen` this tick's catches (or meals) by agents of `species`.
+fn count_by_species(
+    world: &World,
+    pipeline: &Pipeline,
+    species: usize,
+    seen: &mut u64,
+    catches: bool,
+) {
+    for e in &pipeline.events {
+        // The eater is alive after its tick (only the prey is removed).
+        let by = match e {
+            Event::Catch { agent, .. } if catches => *agent,
+            Event::Meal { agent, .. } if !catches => *agent,
+            _ => continue,
+        };
+        if world
+            .agent(by)
+            .is_some_and(|a| a.species.0 as usize == species)
+        {
+            *seen += 1;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -610,6 +670,28 @@ mod tests {
             tracker.observe(&run.sim.world, &run.sim.pipeline);
         }
         tracker.finish(&run.sim.world, &run.sim.pipeline)
+    }
+
+    #[test]
+    fn species_meals_count_only_that_species_eating() {
+        let v = verdicts(
+            "MinMeals(1), SpeciesMeals(\"reef_fish\", 1), SpeciesMeals(\"reef_fish\", 100000)",
+        );
+        assert!(v[0].passed, "{v:?}");
+        // One species eats here, so its count is the run's.
+        assert_eq!(v[1].observed, v[0].observed, "{v:?}");
+        assert!(
+            v[1].passed && v[1].expected.starts_with("reef_fish: at least 1 meal"),
+            "{v:?}"
+        );
+        assert!(!v[2].passed, "{v:?}");
+        let err = scenario("SpeciesCatches(\"tuna\", 1)")
+            .and_then(|s| Tracker::new(&s))
+            .unwrap_err();
+        assert!(
+            err.to_string().contains("unknown species \"tuna\""),
+            "{err}"
+        );
     }
 
     #[test]

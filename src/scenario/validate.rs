@@ -143,7 +143,11 @@ impl Scenario {
                     file,
                     l,
                     c,
-                    format!("species file \"{}\" {problem}", path.display()),
+                    format!(
+                        "species file \"{}\" {problem}{}",
+                        path.display(),
+                        where_species_are(&behaviors_dir, name, def.behaviors.is_some())
+                    ),
                     Some(text),
                 ));
                 continue;
@@ -288,4 +292,32 @@ impl Scenario {
             squads,
         })
     }
+}
+
+/// What a "species file not found" message adds: the folder searched and why that one, how to
+/// point elsewhere, and a near name among the species files that are there.
+fn where_species_are(dir: &Path, name: &str, set_by_scenario: bool) -> String {
+    let mut present: Vec<String> = std::fs::read_dir(dir)
+        .map(|it| {
+            it.filter_map(|e| e.ok())
+                .filter_map(|e| {
+                    let p = e.path();
+                    let stem = p.file_stem()?.to_str()?.to_string();
+                    (p.extension()? == "ron").then_some(stem)
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    present.sort();
+    let why = if set_by_scenario {
+        "the scenario's `behaviors:` folder"
+    } else {
+        "the default `behaviors: \"../behaviors\"`, relative to the scenario file's folder"
+    };
+    let near = crate::load::did_you_mean(name, present.iter().map(String::as_str));
+    format!(
+        "{near}; species are looked for in {} ({why}); set `behaviors: \"<folder>\"` in the \
+         scenario to load them from elsewhere",
+        dir.display()
+    )
 }
