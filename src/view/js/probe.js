@@ -134,6 +134,22 @@
     camera: () => ({ eye: camera.eye(), target: camera.target.slice(), ground: camera.ground ? camera.ground(...[camera.eye()[0], camera.eye()[2]]) : null }),
     // Moves the camera (for screenshots): any of yaw, pitch, dist, target.
     setCamera(c) { Object.assign(camera, c); state.dirty = true; },
+    // Points the camera at agent `id` from `dist` world units (for close-ups); false if absent.
+    focus(id, dist) {
+      const i = indexOfId(state.frame, id);
+      if (i < 0) return false;
+      const p = state.frame.pos;
+      camera.target = [p[3 * i], p[3 * i + 1], p[3 * i + 2]];
+      if (dist) camera.dist = dist;
+      state.dirty = true;
+      return true;
+    },
+    // Ids of the agents of species `s` in the shown frame.
+    idsOf(s) {
+      const f = state.frame, out = [];
+      for (let i = 0; f && i < f.n; i++) if (f.species[i] === s) out.push(f.ids[i]);
+      return out;
+    },
     // The agents' bounding box is fitted again, as on load.
     refit() { if (state.frame) camera.fitPoints(state.frame.pos); state.dirty = true; },
   };

@@ -83,7 +83,7 @@ vec3 lit(vec3 c, vec3 n) {
   return c * (0.5 + 0.55 * max(d, 0.0) + 0.1 * max(-d, 0.0));
 }
 vec4 fogged(vec3 c, float dist) {
-  float k = clamp((dist - uFog.x) / max(uFog.y - uFog.x, 1e-3), 0.0, 1.0) * 0.85;
+  float k = clamp((dist - uFog.x) / max(uFog.y - uFog.x, 1e-3), 0.0, 1.0);
   return vec4(mix(c, uFogColor, k), uAlpha);
 }`;
   const BODY_FS = `
@@ -115,12 +115,15 @@ void main() { gl_Position = uViewProj * vec4(aPos, 1.0); vWorld = aPos; }`;
 precision highp float; varying vec3 vWorld; uniform float uGrid; uniform vec3 uEye;` + LIT + `
 void main() {
   vec2 q = vWorld.xz;
-  float ripple = sin(q.x * 0.9 + 2.0 * sin(q.y * 0.35)) * sin(q.y * 0.7 + 1.5 * sin(q.x * 0.21));
-  vec3 c = vec3(0.38, 0.36, 0.29) * (0.94 + 0.05 * ripple);
+  float dist = distance(vWorld, uEye);
+  // Ripples and grid fade out with distance, where they would only shimmer.
+  float near = 1.0 - clamp(dist / uFog.y, 0.0, 1.0);
+  float ripple = sin(q.x * 0.6 + 2.0 * sin(q.y * 0.25)) * sin(q.y * 0.45 + 1.5 * sin(q.x * 0.15));
+  vec3 c = vec3(0.38, 0.36, 0.29) * (0.95 + 0.05 * ripple * near);
   vec2 g = abs(fract(q / uGrid + 0.5) - 0.5) * uGrid;
   float line = 1.0 - smoothstep(0.0, uGrid * 0.012, min(g.x, g.y));
-  c = mix(c, vec3(0.30, 0.36, 0.34), line * 0.6);
-  gl_FragColor = fogged(lit(c, vec3(0.0, 1.0, 0.0)), distance(vWorld, uEye));
+  c = mix(c, vec3(0.30, 0.36, 0.34), line * 0.6 * near);
+  gl_FragColor = fogged(lit(c, vec3(0.0, 1.0, 0.0)), dist);
 }`;
 
   // The page's deep-water background (#0b1a2a): what the fog fades to.

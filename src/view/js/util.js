@@ -166,7 +166,7 @@
       const m = M4.mul(M4.perspective(this.fovy, aspect, near, far), M4.lookAt(eye, this.target, [0, 1, 0]));
       m.eye = eye;
       // Fog starts a little beyond the target and thickens over a few world sizes.
-      m.fog = [this.dist * 0.9, this.dist + this.scale * 3];
+      m.fog = [this.dist * 0.9, this.dist + this.scale * 5];
       return m;
     },
   };
