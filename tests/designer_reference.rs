@@ -18,8 +18,8 @@ use shoal::scenario::{script_limits, Overrides, Run, Scenario};
 use shoal::script::Script;
 use shoal::species::validate::ron_options;
 use shoal::species::{
-    load_species, AttributesDef, BehaviorDef, BodyDef, Cond, DrivesDef, LookDef, Recipe, RelationsDef,
-    Value,
+    load_species, AttributesDef, BehaviorDef, BodyDef, Cond, DrivesDef, LookDef, Recipe,
+    RelationsDef, Value,
 };
 use shoal::steering::avoid::AvoidParams;
 use std::path::Path;

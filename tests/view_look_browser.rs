@@ -88,6 +88,8 @@ fn shipped_scenarios_look_right_in_chromium() {
 
 /// Frame rate of the replay of 10,000 agents × 600 recorded frames (all frames in the page);
 /// run with `cargo test --release --test view_look_browser -- --ignored --nocapture`.
+/// `SHOAL_FPS_FRAMES=<n>` records another number of frames; `SHOAL_FPS_KEEP=<file>` keeps a copy
+/// of the page (to measure it elsewhere with `node tests/browser/look.test.mjs --fps <file>`).
 #[test]
 #[ignore = "measurement, not a check: prints page size and playback frame rate"]
 fn replay_of_10k_agents_600_frames_frame_rate() {
@@ -99,7 +101,10 @@ fn replay_of_10k_agents_600_frames_frame_rate() {
         &tmp.path().join("reef-10k-600"),
         &FixtureSpec {
             agents: 10_000,
-            frames: 600,
+            frames: std::env::var("SHOAL_FPS_FRAMES")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(600),
             ..FixtureSpec::default()
         },
     );
@@ -109,5 +114,8 @@ fn replay_of_10k_agents_600_frames_frame_rate() {
     let html = shoal::view::build_html_with(&run, &options).unwrap();
     let page = run.join("view.html");
     std::fs::write(&page, html).unwrap();
+    if let Some(keep) = std::env::var_os("SHOAL_FPS_KEEP") {
+        std::fs::copy(&page, keep).unwrap();
+    }
     run_node("look.test.mjs", &["--fps".into(), page.into()]);
 }

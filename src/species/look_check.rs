@@ -14,7 +14,7 @@ impl Builder<'_> {
     /// Checks `def.look`, each problem located at its key or value.
     pub(super) fn look(&mut self, def: &SpeciesDef) {
         let look = &def.look;
-        if look == &LookDef::default() {
+        if *look == LookDef::default() {
             return;
         }
         self.cursor = super::validate::locate(self.text, "look", 0).map_or(0, |x| x.2);
@@ -45,13 +45,14 @@ impl Builder<'_> {
                     "look `Custom` outline: every coordinate must be a finite number".into(),
                 );
             } else {
-                let (lo, hi) = points
-                    .iter()
-                    .fold((f32::MAX, f32::MIN), |(lo, hi), p| (lo.min(p.0), hi.max(p.0)));
+                let (lo, hi) = points.iter().fold((f32::MAX, f32::MIN), |(lo, hi), p| {
+                    (lo.min(p.0), hi.max(p.0))
+                });
                 if hi - lo <= 0.0 {
                     self.error_at(
                         "Custom",
-                        "look `Custom` outline: the points must span some length along the body".into(),
+                        "look `Custom` outline: the points must span some length along the body"
+                            .into(),
                     );
                 }
             }
@@ -93,25 +94,45 @@ mod tests {
 
     #[test]
     fn a_look_reaches_the_species_def_with_its_defaults() {
-        let s = species("look: (shape: Shark, behavior_colors: {\"wander\": \"#00ff00\"}),").unwrap();
+        let s =
+            species("look: (shape: Shark, behavior_colors: {\"wander\": \"#00ff00\"}),").unwrap();
         let look = s.def.look.resolve(&s.def.color, &s.def.body);
         assert_eq!(look.shape, "shark");
         assert_eq!(look.length, s.def.body.size.z);
         assert_eq!(look.color, s.def.color);
-        let s = species("look: (shape: Custom([(0.5, 0.0), (-0.5, 0.2), (-0.5, -0.2)]), length: 2.0),").unwrap();
+        let s =
+            species("look: (shape: Custom([(0.5, 0.0), (-0.5, 0.2), (-0.5, -0.2)]), length: 2.0),")
+                .unwrap();
         let look = s.def.look.resolve(&s.def.color, &s.def.body);
-        assert_eq!((look.shape, look.outline.len(), look.length), ("custom", 3, 2.0));
-        assert_eq!(species("").unwrap().def.look.resolve("#000000", &s.def.body).shape, "fish");
+        assert_eq!(
+            (look.shape, look.outline.len(), look.length),
+            ("custom", 3, 2.0)
+        );
+        assert_eq!(
+            species("")
+                .unwrap()
+                .def
+                .look
+                .resolve("#000000", &s.def.body)
+                .shape,
+            "fish"
+        );
     }
 
     #[test]
     fn bad_looks_are_located_errors() {
         let e = species("look: (color: \"red\"),").unwrap_err();
-        assert!(e.contains("minnow.ron:3:") && e.contains("\"#rrggbb\""), "{e}");
+        assert!(
+            e.contains("minnow.ron:3:") && e.contains("\"#rrggbb\""),
+            "{e}"
+        );
         let e = species("look: (length: 0.0),").unwrap_err();
         assert!(e.contains("minnow.ron:3:") && e.contains("`length`"), "{e}");
         let e = species("look: (behavior_colors: {\"wandr\": \"#ff0000\"}),").unwrap_err();
-        assert!(e.contains("undefined behavior \"wandr\"") && e.contains("wander"), "{e}");
+        assert!(
+            e.contains("undefined behavior \"wandr\"") && e.contains("wander"),
+            "{e}"
+        );
         let e = species("look: (shape: Custom([(0.0, 0.0), (1.0, 0.0)])),").unwrap_err();
         assert!(e.contains("3 to 64"), "{e}");
         let e = species("look: (shape: Squid),").unwrap_err();
