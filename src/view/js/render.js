@@ -3,20 +3,25 @@
 // The files of js/ are parts of one function scope, joined in the order view/mod.rs lists them.
   // ---------------------------------------------------------------- renderer
 
-  // Without instancing, agents fall back to point sprites, one vertex each: the vertex shader
-  // projects the body axis to find the on-screen heading and foreshortening; the fragment shader
-  // cuts a fish silhouette (body + bent tail) out of the square.
+  // Far agents (and all of them without instancing) are point sprites, one vertex each: the
+  // vertex shader projects the body axis to find the on-screen heading and foreshortening; the
+  // fragment shader cuts the silhouette of the shape family (`uShape`: 0 fish, 1 shark, 2 jelly,
+  // 3 walker) out of the square. Software GL draws these far faster than instanced meshes (its
+  // instancing costs much per instance), so only agents near the eye get a mesh (`drawAgents`).
   const AGENT_VS = `
 attribute vec3 iPos; attribute vec3 iFwd; attribute vec3 iColor; attribute float iLen; attribute float iBend;
 uniform mat4 uViewProj; uniform vec2 uViewport; uniform float uProjF; uniform float uMinPx; uniform float uMaxPx;
+uniform mediump float uShape;
 varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
 vec2 toPx(vec4 c) { return c.xy / max(c.w, 1e-4) * 0.5 * uViewport; }
 void main() {
-  vec4 c = uViewProj * vec4(iPos, 1.0);
+  // A walker stands on its position: the sprite is centered half its height up.
+  vec3 center = uShape > 2.5 ? iPos + vec3(0.0, 0.5 * iLen, 0.0) : iPos;
+  vec4 c = uViewProj * vec4(center, 1.0);
   gl_Position = c;
   vec3 f = iFwd; float fl = length(f);
   f = fl > 1e-6 ? f / fl : vec3(1.0, 0.0, 0.0);
-  vec2 d = toPx(uViewProj * vec4(iPos + f * (0.5 * iLen), 1.0)) - toPx(uViewProj * vec4(iPos - f * (0.5 * iLen), 1.0));
+  vec2 d = toPx(uViewProj * vec4(center + f * (0.5 * iLen), 1.0)) - toPx(uViewProj * vec4(center - f * (0.5 * iLen), 1.0));
   float onScreen = length(d);
   // side-on length in pixels at this depth
   float full = iLen * uProjF * 0.5 * uViewport.y / max(c.w, 1e-4);
@@ -29,22 +34,41 @@ void main() {
 }`;
   const AGENT_FS = `
 precision mediump float;
+uniform float uShape;
 varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
 void main() {
-  vec2 p = gl_PointCoord - 0.5;
-  p.y = -p.y;
-  // u along the body (nose +0.5), v to the fish's left on screen
+  vec2 p = vec2(gl_PointCoord.x - 0.5, 0.5 - gl_PointCoord.y);
+  float shade;
+  if (uShape > 2.5) {
+    // walker: upright on screen, head, body, legs
+    float head = length(p - vec2(0.0, 0.38)) / 0.09;
+    if (head <= 1.0) shade = 1.0 - 0.2 * head;
+    else if (abs(p.x) < 0.13 && p.y > -0.05 && p.y < 0.3) shade = 0.9;
+    else if (abs(abs(p.x) - 0.06) < 0.04 && p.y >= -0.5 && p.y <= -0.05) shade = 0.7;
+    else discard;
+    gl_FragColor = vec4(vColor * shade, 1.0);
+    return;
+  }
+  // u along the body (nose +0.5), v to the body's left on screen
   float u = dot(p, vDir) / vAspect;
   float v = dot(p, vec2(-vDir.y, vDir.x));
-  float w = mix(0.2, 0.13, vAspect);
+  if (uShape > 1.5) {
+    // jelly: a round bell leading, tentacles trailing
+    float e = length(vec2(u - 0.2, v)) / 0.28;
+    if (e <= 1.0) shade = e > 0.75 ? 0.65 : 1.0 - 0.25 * e;
+    else if (u < 0.0 && u > -0.5 && abs(fract((v + 0.2) * 10.0) - 0.5) < 0.18 && abs(v) < 0.18) shade = 0.6;
+    else discard;
+    gl_FragColor = vec4(vColor * shade, 1.0);
+    return;
+  }
+  float w = mix(0.2, 0.13, vAspect) * (uShape > 0.5 ? 0.7 : 1.0);
   float e = ((u - 0.08) * (u - 0.08)) / (0.38 * 0.38) + (v * v) / (w * w);
-  float shade;
   if (e <= 1.0) {
     shade = e > 0.72 ? 0.6 : 1.0 - 0.3 * e;
   } else {
     float back = -0.2 - u;
     float vt = v + sin(vBend) * back;
-    if (back < 0.0 || u < -0.5 || abs(vt) > 0.02 + back * 0.5) discard;
+    if (back < 0.0 || u < -0.5 || abs(vt) > 0.02 + back * (uShape > 0.5 ? 0.7 : 0.5)) discard;
     shade = 0.75;
   }
   gl_FragColor = vec4(vColor * shade, 1.0);
@@ -132,14 +156,18 @@ void main() {
   const ROCK_ALPHA = 0.86;
 
   const AGENT_FLOATS = 11; // pos 3, fwd 3, color 3, length 1, bend 1
+  // On-screen lengths (CSS px): every body is drawn at least MIN_PX long; from MESH_PX on, as a mesh.
+  const MIN_PX = 12, MESH_PX = 30;
+  const SPRITE_SHAPES = { fish: 0, custom: 0, shark: 1, jelly: 2, walker: 3 };
 
   const renderer = {
     gl: null, ok: false, progs: {}, maxPointPx: 64, inst: null,
-    agentCount: 0, agentBuf: null, groups: [], bodies: new Map(),
+    agentCount: 0, agentData: null, agentBuf: null, meshBuf: null, meshRows: null, spriteRows: null,
+    groups: [], bodies: new Map(),
     staticLines: null, staticPoints: null, foodPoints: null, selLines: null, terrain: null,
     solids: null, ground: null, fog: [0, 1], grid: 10,
     init(canvas) {
-      const opts = { antialias: true, alpha: false, preserveDrawingBuffer: false };
+      const opts = { antialias: false, alpha: false, preserveDrawingBuffer: false };
       let gl = canvas.getContext('webgl2', opts);
       const gl2 = !!gl;
       if (!gl) gl = canvas.getContext('webgl', opts) || canvas.getContext('experimental-webgl', opts);
@@ -161,6 +189,7 @@ void main() {
       this.progs.mesh = this.program(MESH_VS, MESH_FS);
       this.progs.ground = this.program(GROUND_VS, GROUND_FS);
       this.agentBuf = gl.createBuffer();
+      this.meshBuf = gl.createBuffer();
       this.staticLines = this.vertexSet();
       this.staticPoints = this.vertexSet();
       this.foodPoints = this.vertexSet();
@@ -284,10 +313,9 @@ void main() {
       }
     },
     // `groups`: [{look, start, count}] ranges of `data` rows drawn with one look each.
+    // (Uploaded at draw time, split by distance from the eye.)
     setAgents(data, count, groups) {
-      const gl = this.gl;
-      gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
-      gl.bufferData(gl.ARRAY_BUFFER, data.subarray(0, count * AGENT_FLOATS), gl.DYNAMIC_DRAW);
+      this.agentData = data;
       this.agentCount = count;
       this.groups = groups || [{ look: null, start: 0, count }];
     },
@@ -330,32 +358,65 @@ void main() {
       if (p.u.uFog) gl.uniform2f(p.u.uFog, fog[0], fog[1]);
       if (p.u.uAlpha) gl.uniform1f(p.u.uAlpha, alpha);
     },
+    // Splits the agents by on-screen length: meshes for those at least `MESH_PX` long (and in
+    // front of the eye), sprites for the rest; each kept grouped by species.
+    splitByDistance(vp, heightPx, dpr) {
+      const d = this.agentData, k = vp.projF * 0.5 * heightPx, lod = MESH_PX * dpr;
+      const need = this.agentCount * AGENT_FLOATS;
+      if (!this.meshRows || this.meshRows.length < need) {
+        this.meshRows = new Float32Array(need + AGENT_FLOATS);
+        this.spriteRows = new Float32Array(need + AGENT_FLOATS);
+      }
+      const mesh = [], sprite = [];
+      let nm = 0, ns = 0;
+      for (const g of this.groups) {
+        const m0 = nm, s0 = ns;
+        for (let r = g.start; r < g.start + g.count; r++) {
+          const o = r * AGENT_FLOATS;
+          const w = vp[3] * d[o] + vp[7] * d[o + 1] + vp[11] * d[o + 2] + vp[15];
+          let out, at;
+          if (this.inst && w > 0 && (d[o + 9] * k) / w >= lod) { out = this.meshRows; at = nm++ * AGENT_FLOATS; } else { out = this.spriteRows; at = ns++ * AGENT_FLOATS; }
+          for (let j = 0; j < AGENT_FLOATS; j++) out[at + j] = d[o + j];
+        }
+        mesh.push({ look: g.look, start: m0, count: nm - m0 });
+        sprite.push({ look: g.look, start: s0, count: ns - s0 });
+      }
+      return { mesh, sprite, nm, ns };
+    },
     drawAgents(vp, widthPx, heightPx, dpr) {
       const gl = this.gl;
-      if (!this.inst) {
-        // Fallback without instancing: one point sprite per agent.
+      const split = this.splitByDistance(vp, heightPx, dpr);
+      if (split.ns) {
         const p = this.progs.agent;
         gl.useProgram(p.p);
         gl.uniformMatrix4fv(p.u.uViewProj, false, vp);
         gl.uniform2f(p.u.uViewport, widthPx, heightPx);
         gl.uniform1f(p.u.uProjF, vp.projF);
-        gl.uniform1f(p.u.uMinPx, 8 * dpr);
+        gl.uniform1f(p.u.uMinPx, MIN_PX * dpr);
         gl.uniform1f(p.u.uMaxPx, this.maxPointPx);
         gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
-        this.attrib(p, 'iPos', 3, AGENT_FLOATS, 0);
-        this.attrib(p, 'iFwd', 3, AGENT_FLOATS, 3);
-        this.attrib(p, 'iColor', 3, AGENT_FLOATS, 6);
-        this.attrib(p, 'iLen', 1, AGENT_FLOATS, 9);
-        this.attrib(p, 'iBend', 1, AGENT_FLOATS, 10);
-        gl.drawArrays(gl.POINTS, 0, this.agentCount);
-        this.releaseAttribs();
-        return;
+        gl.bufferData(gl.ARRAY_BUFFER, this.spriteRows.subarray(0, split.ns * AGENT_FLOATS), gl.STREAM_DRAW);
+        for (const g of split.sprite) {
+          if (!g.count) continue;
+          gl.uniform1f(p.u.uShape, SPRITE_SHAPES[g.look ? g.look.shape : 'fish'] || 0);
+          const o = g.start * AGENT_FLOATS;
+          this.attrib(p, 'iPos', 3, AGENT_FLOATS, o);
+          this.attrib(p, 'iFwd', 3, AGENT_FLOATS, o + 3);
+          this.attrib(p, 'iColor', 3, AGENT_FLOATS, o + 6);
+          this.attrib(p, 'iLen', 1, AGENT_FLOATS, o + 9);
+          this.attrib(p, 'iBend', 1, AGENT_FLOATS, o + 10);
+          gl.drawArrays(gl.POINTS, 0, g.count);
+          this.releaseAttribs();
+        }
       }
+      if (!split.nm) return;
       const p = this.progs.body;
       this.litUniforms(p, vp, 1);
       gl.uniform1f(p.u.uPxPerUnit, vp.projF * 0.5 * heightPx);
-      gl.uniform1f(p.u.uMinPx, 14 * dpr);
-      for (const g of this.groups) {
+      gl.uniform1f(p.u.uMinPx, MIN_PX * dpr);
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.meshBuf);
+      gl.bufferData(gl.ARRAY_BUFFER, this.meshRows.subarray(0, split.nm * AGENT_FLOATS), gl.STREAM_DRAW);
+      for (const g of split.mesh) {
         if (!g.count) continue;
         const body = this.body(g.look);
         gl.uniform1f(p.u.uUpright, body.upright ? 1 : 0);
@@ -363,7 +424,7 @@ void main() {
         this.attrib(p, 'aPos', 3, BODY_FLOATS, 0);
         this.attrib(p, 'aNormal', 3, BODY_FLOATS, 3);
         this.attrib(p, 'aFlex', 1, BODY_FLOATS, 6);
-        gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.meshBuf);
         const o = g.start * AGENT_FLOATS;
         this.attrib(p, 'iPos', 3, AGENT_FLOATS, o, 1);
         this.attrib(p, 'iFwd', 3, AGENT_FLOATS, o + 3, 1);
