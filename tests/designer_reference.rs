@@ -18,7 +18,8 @@ use shoal::scenario::{script_limits, Overrides, Run, Scenario};
 use shoal::script::Script;
 use shoal::species::validate::ron_options;
 use shoal::species::{
-    load_species, AttributesDef, BehaviorDef, BodyDef, Cond, DrivesDef, Recipe, RelationsDef, Value,
+    load_species, AttributesDef, BehaviorDef, BodyDef, Cond, DrivesDef, LookDef, Recipe,
+    RelationsDef, Value,
 };
 use shoal::steering::avoid::AvoidParams;
 use std::path::Path;
@@ -122,6 +123,7 @@ fn every_example_of_the_designers_reference_works() {
             ["ron", "attributes"] => parse::<AttributesDef>(b),
             ["ron", "drives"] => parse::<DrivesDef>(b),
             ["ron", "relations"] => parse::<RelationsDef>(b),
+            ["ron", "look"] => parse::<LookDef>(b),
             ["ron", "behavior"] => parse::<BehaviorDef>(b),
             ["ron", "condition"] => parse::<Cond>(b),
             ["ron", "value"] => parse::<Value>(b),

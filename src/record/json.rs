@@ -108,6 +108,7 @@ pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
                 "color": s.def.color,
                 "length": s.def.body.size.z,
                 "behaviors": s.behaviors.iter().map(|b| b.name.to_string()).collect::<Vec<_>>(),
+                "look": s.def.look.resolve(&s.def.color, &s.def.body),
             })
         })
         .collect();

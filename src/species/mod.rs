@@ -5,6 +5,7 @@
 mod conditions;
 pub mod def;
 pub mod describe;
+mod look_check;
 mod params;
 mod recipes;
 pub mod seeds;

@@ -349,6 +349,7 @@ impl Builder<'_> {
             recipe_names.push(name.clone());
         }
         self.species_numbers(def);
+        self.look(def);
         if def.decision_interval == 0 {
             self.error_at(
                 "decision_interval",

@@ -28,9 +28,11 @@ const TEMPLATE: &str = include_str!("viewer.html");
 const SCRIPT: &str = concat!(
     include_str!("js/util.js"),
     include_str!("js/render.js"),
+    include_str!("js/shapes.js"),
     include_str!("js/scene.js"),
     include_str!("js/pick.js"),
     include_str!("js/legend.js"),
+    include_str!("js/probe.js"),
     include_str!("js/panel.js"),
     include_str!("js/health.js"),
     include_str!("js/replay.js"),

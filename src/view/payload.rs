@@ -188,6 +188,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
             color: SPARE_COLORS[i % SPARE_COLORS.len()].to_string(),
             length: 1.0,
             behaviors: Vec::new(),
+            look: None,
         });
     }
 

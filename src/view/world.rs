@@ -38,6 +38,15 @@ pub(crate) enum Obstacle {
         #[serde(default)]
         removed_tick: Option<u64>,
     },
+    /// An upright cylinder standing on `base`.
+    Cylinder {
+        id: u64,
+        base: [f32; 3],
+        radius: f32,
+        height: f32,
+        #[serde(default)]
+        removed_tick: Option<u64>,
+    },
 }
 
 /// One species as the page needs it: name, display color, body length and its behaviors.
@@ -50,6 +59,23 @@ pub(crate) struct SpeciesInfo {
     pub length: f32,
     #[serde(default)]
     pub behaviors: Vec<String>,
+    /// How the page draws the species; recordings from before looks were written have none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub look: Option<LookInfo>,
+}
+
+/// A species' look as `world.json` carries it (see `species::def::look::Look`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub(crate) struct LookInfo {
+    pub shape: String,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub outline: Vec<[f32; 2]>,
+    #[serde(default = "default_length")]
+    pub length: f32,
+    #[serde(default = "default_color")]
+    pub color: String,
+    #[serde(default)]
+    pub behavior_colors: std::collections::BTreeMap<String, String>,
 }
 
 fn default_color() -> String {

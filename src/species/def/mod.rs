@@ -14,7 +14,9 @@ use crate::terrain::Mobility;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+pub mod look;
 pub mod recipe;
+pub use look::{LookDef, ShapeDef};
 pub use recipe::*;
 
 /// A species file.
@@ -64,6 +66,9 @@ pub struct SpeciesDef {
     /// Named recipes that scripts can compose (`this.recipe("school")`).
     #[serde(default)]
     pub recipes: std::collections::BTreeMap<String, Recipe>,
+    /// How viewers draw the species (shape, size, colors); the engine does not read it.
+    #[serde(default)]
+    pub look: LookDef,
 }
 
 fn default_color() -> String {

@@ -94,6 +94,7 @@
       setPlaying(p) {
         if (p && index >= fr.count - 1) src.setFrame(0);
         playing = p;
+        if (!p) setBlend(null, 0);
         $('play').textContent = p ? '❚❚' : '▶';
       },
       playing() { return playing; },
@@ -108,6 +109,11 @@
         if (j !== index) src.setFrame(j);
         clockTime = Math.max(clockTime, fr.time[index]);
         if (index >= fr.count - 1) src.setPlaying(false);
+        else {
+          // Between two recorded frames: draw the blend (the panel keeps the recorded one).
+          const span = fr.time[index + 1] - fr.time[index];
+          setBlend(makeFrame(index + 1), span > 0 ? Math.min(1, (clockTime - fr.time[index]) / span) : 0);
+        }
       },
       decisions(id, tick) {
         const [a, b] = historyRange(id);

@@ -22,7 +22,22 @@
     return [f(0), f(8), f(4)];
   }
 
-  // Distinct colors for behaviors, by index (golden-angle hues).
+  // The behavior palette: 16 colors told apart at a glance (hue, then lightness), no two alike.
+  // A behavior's color is picked by a hash of its name, so `escape` is the same red in every
+  // scenario; see `legend.js` for how collisions within a species are resolved.
+  // Any two are at least 98 apart in 0–255 RGB, and all are light enough for the dark page.
+  const PALETTE = [
+    '#e6194b', '#00ffff', '#60ff00', '#fffac8', '#ff00ff', '#4363d8', '#ffe119', '#00a000',
+    '#80ff80', '#808000', '#ff7f7f', '#7fbfff', '#911eb4', '#ff6000', '#a9a9a9', '#3cb44b',
+  ].map(hexToRgb);
+
+  function nameHash(s) {
+    let h = 2166136261;
+    for (let i = 0; i < s.length; i++) { h ^= s.charCodeAt(i); h = Math.imul(h, 16777619); }
+    return h >>> 0;
+  }
+
+  // Colors for behaviors by global index, for callers without a species (golden-angle hues).
   const behaviorColorCache = [];
   function behaviorColor(i) {
     if (!behaviorColorCache[i]) {
@@ -84,15 +99,39 @@
   // ---------------------------------------------------------------- camera
 
   // Orbits `target` (world up is +Y); distances scale with the world's size.
+  // `ground(x, z)` is the height of the seabed or terrain under a point (null: none); the eye is
+  // never put below it, so orbiting or following never ends inside a ridge.
   const camera = {
-    target: [0, 0, 0], yaw: 0.7, pitch: 0.55, dist: 100, fovy: Math.PI / 4, scale: 100,
+    target: [0, 0, 0], yaw: 0.7, pitch: 0.45, dist: 100, fovy: Math.PI / 4, scale: 100, ground: null,
     eye() {
       const cp = Math.cos(this.pitch);
-      return [
+      const e = [
         this.target[0] + this.dist * cp * Math.sin(this.yaw),
         this.target[1] + this.dist * Math.sin(this.pitch),
         this.target[2] + this.dist * cp * Math.cos(this.yaw),
       ];
+      if (this.ground) {
+        const g = this.ground(e[0], e[2]);
+        const clear = Math.max(0.5, this.dist * 0.05);
+        if (g !== null && e[1] < g + clear) e[1] = g + clear;
+      }
+      return e;
+    },
+    // Frames the agents at `pos` (x, y, z triples): centered, the farthest within the view.
+    fitPoints(pos) {
+      const n = pos.length / 3;
+      if (!n) return;
+      const mn = [Infinity, Infinity, Infinity], mx = [-Infinity, -Infinity, -Infinity];
+      for (let i = 0; i < n; i++) {
+        for (let k = 0; k < 3; k++) {
+          const v = pos[3 * i + k];
+          if (v < mn[k]) mn[k] = v;
+          if (v > mx[k]) mx[k] = v;
+        }
+      }
+      this.target = [(mn[0] + mx[0]) / 2, (mn[1] + mx[1]) / 2, (mn[2] + mx[2]) / 2];
+      const r = Math.max(this.scale * 0.03, 2, Math.hypot(mx[0] - mn[0], mx[1] - mn[1], mx[2] - mn[2]) / 2);
+      this.dist = Math.min(this.scale * 20, (r / Math.sin(this.fovy / 2)) * 1.05);
     },
     fit(bounds) {
       const mn = bounds.min, mx = bounds.max;
@@ -123,6 +162,11 @@
     viewProj(aspect) {
       const near = Math.max(0.01, this.dist * 0.01);
       const far = this.dist + this.scale * 6;
-      return M4.mul(M4.perspective(this.fovy, aspect, near, far), M4.lookAt(this.eye(), this.target, [0, 1, 0]));
+      const eye = this.eye();
+      const m = M4.mul(M4.perspective(this.fovy, aspect, near, far), M4.lookAt(eye, this.target, [0, 1, 0]));
+      m.eye = eye;
+      // Fog starts a little beyond the target and thickens over a few world sizes.
+      m.fog = [this.dist * 0.9, this.dist + this.scale * 5];
+      return m;
     },
   };
