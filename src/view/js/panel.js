@@ -154,7 +154,7 @@
       let box = $('panel-explain');
       if (!box) {
         box = el('div', { id: 'panel-explain', 'data-testid': 'panel-explain' });
-        $('panel-history').before(box);
+        $('panel-memory-box').after(box);
       }
       box.textContent = '';
       const dl = el('dl');
