@@ -144,10 +144,10 @@ pub fn clauses(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Value
     match c {
         CondNode::All(v) | CondNode::Any(v) => {
             let k: Vec<Value> = v.iter().map(|c| clauses(c, ctx, mind, rng)).collect();
-            let held = k.iter().map(|k| k["v"] == Value::Bool(true));
+            let held = |k: &Value| k["v"] == Value::Bool(true);
             let (text, held) = match c {
-                CondNode::All(_) => ("all", held.fold(true, |a, b| a && b)),
-                _ => ("any", held.fold(false, |a, b| a || b)),
+                CondNode::All(_) => ("all", k.iter().all(held)),
+                _ => ("any", k.iter().any(held)),
             };
             json!({ "c": text, "v": held, "k": k })
         }
