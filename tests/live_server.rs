@@ -228,7 +228,9 @@ fn the_live_protocol_streams_controls_and_inspects() {
         a["explain"].is_object().then_some(a)
     });
     assert_eq!(explained["explain"]["id"], grazer.id.0);
-    assert!(explained["explain"]["term"].as_str().is_some_and(|t| !t.is_empty()));
+    assert!(explained["explain"]["term"]
+        .as_str()
+        .is_some_and(|t| !t.is_empty()));
     assert!(explained["dt"].as_f64().is_some_and(|d| d > 0.0));
     assert_eq!(request(addr, "GET", "/agent/999999", "").0, 404);
     assert_eq!(request(addr, "GET", "/agent/x", "").0, 400);

@@ -509,7 +509,11 @@ pub(super) fn frame(ctx: &Ctx, mind: &Mind, b: &Behavior, st: &Steering) -> Valu
         // Fish-only fields the panel hides for other bodies: drives off, walkers.
         "drives": sp.drives.native,
         "anim": !sp.body.on_ground,
-        "vision": { "radius": r(sp.senses.vision_radius), "half_angle": r(sp.senses.vision_half_angle) },
+        "vision": {
+            "radius": r(sp.senses.vision_radius),
+            "half_angle": r(sp.senses.vision_half_angle),
+            "smell": r(sp.senses.smell_radius),
+        },
         "percepts": percepts,
         "why_not": why_not(ctx, mind, &st.rng, b.priority, mind.current),
         "scripts": scripts(sp, mind),
@@ -596,7 +600,8 @@ mod tests {
             assert_eq!(f["tick"].as_u64().unwrap() % 2, 0);
             assert!(!f["term"].as_str().unwrap().is_empty(), "{f}");
             assert!(f["time_in_behavior"].as_f64().unwrap() >= 0.0);
-            assert!(f["vision"]["radius"].as_f64().unwrap() > 0.0);
+            // Jellyfish see nothing: a radius of 0.
+            assert!(f["vision"]["radius"].as_f64().unwrap() >= 0.0);
             assert_eq!(f["steer"].as_array().unwrap().len(), 3);
         }
         // Somebody has a target with a position and a distance.

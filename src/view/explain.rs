@@ -15,13 +15,14 @@ const MAX_PER_AGENT: usize = 4000;
 /// Bytes of `explain.jsonl` read at most; past them the page says the rest was left out.
 const MAX_BYTES: u64 = 64 << 20;
 
-fn lines(path: &Path) -> impl Iterator<Item = Value> {
+/// The JSON objects of a JSON Lines file with their line lengths (unreadable lines skipped).
+fn lines(path: &Path) -> impl Iterator<Item = (usize, Value)> {
     let file = std::fs::File::open(path).ok();
     file.into_iter().flat_map(|f| {
         BufReader::new(f)
             .lines()
             .map_while(Result::ok)
-            .filter_map(|l| serde_json::from_str::<Value>(&l).ok())
+            .filter_map(|l| Some((l.len(), serde_json::from_str::<Value>(&l).ok()?)))
     })
 }
 
@@ -36,8 +37,8 @@ pub(crate) fn build(run_dir: &Path) -> Value {
     let mut dropped = 0u64;
     let mut read = 0u64;
     if present {
-        for v in lines(&path) {
-            read += v.to_string().len() as u64 + 1;
+        for (len, v) in lines(&path) {
+            read += len as u64 + 1;
             if read > MAX_BYTES {
                 dropped += 1;
                 continue;
@@ -56,7 +57,7 @@ pub(crate) fn build(run_dir: &Path) -> Value {
         }
     }
     let mut contacts: BTreeMap<u64, Vec<Value>> = BTreeMap::new();
-    for e in lines(&run_dir.join("events.jsonl")) {
+    for (_, e) in lines(&run_dir.join("events.jsonl")) {
         let (kind, other) = match e["kind"].as_str() {
             Some("meal") => ("meal", &e["food"]),
             Some("catch") => ("catch", &e["prey"]),

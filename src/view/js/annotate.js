@@ -112,8 +112,9 @@
         this.last = drawn;
         return;
       }
-      // Perception volume: the vision sphere's outline, its horizontal circle and the cone.
-      const R = ef.vision ? ef.vision.radius : 0;
+      // Perception volume: the vision sphere's outline, its horizontal circle and the cone (the
+      // smell sphere for a species that does not see).
+      const R = ef.vision ? ef.vision.radius || ef.vision.smell || 0 : 0;
       if (R > 0) {
         const rpx = R * vp.projF * (h / 2) / at.w;
         g.strokeStyle = 'rgba(120,200,255,0.85)'; g.lineWidth = 1.5;
