@@ -1,7 +1,8 @@
 //! `shoal run --explain`: the recording gains `explain.jsonl` and nothing else changes (the
 //! trajectories and events are byte for byte those of the same run without it); the replay page
 //! built from it draws the selected agent's target line and perception volume and shows why it
-//! moves (`tests/browser/explain.test.mjs`, headless Debian Chromium).
+//! moves, and hides a walker's fish-only fields (`tests/browser/explain.test.mjs`, headless Debian
+//! Chromium).
 
 mod browser_support;
 
@@ -79,10 +80,15 @@ fn replay_page_draws_the_selected_agents_target_and_perception_in_chromium() {
     let run = tmp.path().join("showcase");
     shoal_run("scenarios/showcase.ron", "8", &run, &["--explain"]);
     let page = shoal::view::write_html(&run).unwrap();
+    let squad = tmp.path().join("squad");
+    shoal_run("scenarios/squad_march.ron", "3", &squad, &["--explain"]);
+    let walker = shoal::view::write_html(&squad).unwrap();
     let mut cmd = Command::new("node");
     cmd.arg(repo().join("tests/browser/explain.test.mjs"))
         .arg("--page")
-        .arg(&page);
+        .arg(&page)
+        .arg("--walker")
+        .arg(&walker);
     // Screenshots for docs/viewer.md, when asked for.
     if let Some(dir) = std::env::var_os("SHOAL_EXPLAIN_SHOTS") {
         cmd.arg("--shots").arg(dir);

@@ -1,12 +1,13 @@
 // Browser test of the explanation of the selected agent, on a real recording made with explain on.
 //
-//   node tests/browser/explain.test.mjs --page <view.html> [--shots <dir>]
+//   node tests/browser/explain.test.mjs --page <view.html> [--walker <view.html>] [--shots <dir>]
 //
 // Selects an agent that has a target (through window.shoal.selectAgentAt at its screen position)
 // and checks that the annotation overlay draws its target line and its perception volume (pixels
 // of the overlay canvas along the projected line and circle), that the toggle clears them, and
 // that the panel shows time in behavior in seconds, the steering term, decision times in seconds
-// and the clauses of a decision. With --shots, writes screenshots for docs/viewer.md there.
+// and the clauses of a decision. --walker: a species without drives or a swimming body (squad
+// members) shows neither in the panel. With --shots, writes screenshots for docs/viewer.md there.
 // Exits non-zero and prints each failed check on failure.
 
 import fs from 'node:fs';
@@ -14,7 +15,7 @@ import path from 'node:path';
 import { check, fileUrl, finish, launch, open } from './harness.mjs';
 
 function parseArgs(argv) {
-  const out = { page: null, shots: null };
+  const out = { page: null, walker: null, shots: null };
   for (let i = 0; i < argv.length; i++) {
     const key = argv[i].replace(/^--/, '');
     if (!(key in out) || i + 1 >= argv.length) {
@@ -164,6 +165,29 @@ async function testPage(context, file, shots) {
   await page.close();
 }
 
+async function testWalker(context, file) {
+  const { page, errors } = await open(context, fileUrl(file), path.basename(path.dirname(file)));
+  const r = await page.evaluate(() => {
+    const h = window.shoal;
+    h.setFrame(Math.min(20, Number(document.querySelector('[data-testid=scrub]').max)));
+    for (const id of h.ids()) {
+      const p = h.screenPosOf(id);
+      if (p && h.selectAgentAt(p.x, p.y) === id) break;
+    }
+    return {
+      selected: h.selected(),
+      anim: !document.getElementById('panel-anim').classList.contains('hidden'),
+      drives: document.getElementById('panel-drives').children.length,
+      term: (document.querySelector('[data-testid=panel-term]') || {}).textContent || '',
+    };
+  });
+  check(r.selected !== null, `walker: selected agent ${r.selected}`);
+  check(!r.anim && r.drives === 0, `walker: no swim phase or tail bend (${r.anim ? 'shown' : 'hidden'}), no drives (${r.drives} rows)`);
+  check(r.term.length > 0, `walker: steering term "${r.term}"`);
+  check(errors.length === 0, `walker: no script errors${errors.length ? ': ' + errors.join('; ') : ''}`);
+  await page.close();
+}
+
 const args = parseArgs(process.argv.slice(2));
 if (!args.page) {
   console.error('usage: explain.test.mjs --page <view.html> [--shots <dir>]');
@@ -172,6 +196,7 @@ if (!args.page) {
 const session = await launch();
 try {
   await testPage(session.context, args.page, args.shots);
+  if (args.walker) await testWalker(session.context, args.walker);
 } catch (err) {
   check(false, 'test threw: ' + (err && err.stack ? err.stack : err));
 } finally {
