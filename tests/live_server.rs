@@ -221,6 +221,17 @@ fn the_live_protocol_streams_controls_and_inspects() {
     assert_eq!(last["cause"], "interrupted");
     assert_eq!(last["condition"], "hunger > 0.5");
     assert!(last["tick"].is_u64());
+    // Once inspected, the agent is explained from the next tick on.
+    let explained = poll(Duration::from_secs(5), "explained agent", || {
+        let (_, body) = request(addr, "GET", &format!("/agent/{}", grazer.id.0), "");
+        let a: Value = serde_json::from_str(&body).ok()?;
+        a["explain"].is_object().then_some(a)
+    });
+    assert_eq!(explained["explain"]["id"], grazer.id.0);
+    assert!(explained["explain"]["term"]
+        .as_str()
+        .is_some_and(|t| !t.is_empty()));
+    assert!(explained["dt"].as_f64().is_some_and(|d| d > 0.0));
     assert_eq!(request(addr, "GET", "/agent/999999", "").0, 404);
     assert_eq!(request(addr, "GET", "/agent/x", "").0, 400);
     assert_eq!(request(addr, "GET", "/nowhere", "").0, 404);

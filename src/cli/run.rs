@@ -45,6 +45,10 @@ pub struct RunArgs {
     /// limit); like `--script-call-ms`, a guard that fails the run.
     #[arg(long, value_name = "MS")]
     pub script_tick_ms: Option<u64>,
+    /// Also record `explain.jsonl`: why each agent moves as it does on every recorded frame
+    /// (the steering term in control, its target, pressures, ...) and every decision's clauses.
+    #[arg(long)]
+    pub explain: bool,
 }
 
 /// Arguments of `shoal rerun`.
@@ -351,6 +355,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         },
     );
     run.pipeline.set_time_budget(time_budget(&args));
+    if args.explain || run.scenario.def.record.explain {
+        run.pipeline.explain.every = interval;
+    }
     let out = execute(
         run,
         &dir,

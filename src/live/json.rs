@@ -71,6 +71,15 @@ pub struct AgentInfo {
     pub time_in_behavior: f32,
     /// Tick of this answer.
     pub tick: u64,
+    /// Seconds per tick.
+    pub dt: f32,
+    /// Its latest explained frame (the steering term in control, target, pressures, ...; see
+    /// `crate::tick::Explain`), once a tick has run since it was first inspected.
+    pub explain: Option<serde_json::Value>,
+    /// Its latest explained decisions (clauses, why not), oldest first.
+    pub explained_decisions: Vec<serde_json::Value>,
+    /// Its meals, catches and matings: `[tick, kind, other id]`, oldest first.
+    pub contacts: Vec<serde_json::Value>,
 }
 
 fn mem_json(v: &MemValue) -> serde_json::Value {
@@ -114,6 +123,10 @@ pub fn agent_info(run: &Run, agent: &Agent, decisions: Option<&DecisionLog>) -> 
         speed: agent.speed,
         time_in_behavior: run.world.tick.saturating_sub(m.entered_tick) as f32 * run.world.dt,
         tick: run.world.tick,
+        dt: run.world.dt,
+        explain: None,
+        explained_decisions: Vec::new(),
+        contacts: Vec::new(),
     }
 }
 

@@ -71,7 +71,16 @@ pub(crate) struct Sim {
     monitor: Monitor,
     health_since: u64,
     last_health: Option<Instant>,
+    /// The inspected agent's explanations: its latest frame and decisions (the pipeline
+    /// explains only the agent last inspected).
+    explained: Option<serde_json::Value>,
+    explained_decisions: std::collections::VecDeque<serde_json::Value>,
+    /// Meals, catches and matings by agent id: `[tick, kind, other]`, the latest kept.
+    contacts: BTreeMap<u32, std::collections::VecDeque<serde_json::Value>>,
 }
+
+/// Explained decisions and contacts kept per agent.
+const EXPLAINED_KEPT: usize = 32;
 
 /// How often the run-health figures are sent to the viewers.
 const HEALTH_INTERVAL: Duration = Duration::from_secs(1);
@@ -108,6 +117,9 @@ impl Sim {
             monitor,
             health_since,
             last_health: None,
+            explained: None,
+            explained_decisions: Default::default(),
+            contacts: BTreeMap::new(),
         }
     }
 
@@ -239,6 +251,21 @@ impl Sim {
                     .world
                     .agent(crate::world::AgentId(id))
                     .map(|a| json::agent_info(&self.run, a, self.decisions.get(&id)));
+                // From now on the pipeline explains this agent (read-only: the run is the same).
+                if self.run.pipeline.explain.only != Some(id) {
+                    self.run.pipeline.explain.only = Some(id);
+                    self.explained = None;
+                    self.explained_decisions.clear();
+                }
+                let info = info.map(|mut info| {
+                    info.explain = self.explained.clone();
+                    info.explained_decisions = self.explained_decisions.iter().cloned().collect();
+                    info.contacts = self
+                        .contacts
+                        .get(&id)
+                        .map_or_else(Vec::new, |c| c.iter().cloned().collect());
+                    info
+                });
                 let _ = reply.send(info);
             }
             Command::Fork(reply, expected) => {
@@ -415,8 +442,31 @@ impl Sim {
                 at: Instant::now(),
             });
         }
+        for v in &self.run.pipeline.explained {
+            if v["type"] == "frame" {
+                self.explained = Some(v.clone());
+            } else {
+                if self.explained_decisions.len() >= EXPLAINED_KEPT {
+                    self.explained_decisions.pop_front();
+                }
+                self.explained_decisions.push_back(v.clone());
+            }
+        }
         let set = self.run.pipeline.species.clone();
         for e in &self.run.pipeline.events {
+            let contact = match e {
+                Event::Meal { agent, food } => Some((agent.0, "meal", *food as u64)),
+                Event::Catch { agent, prey } => Some((agent.0, "catch", prey.0 as u64)),
+                Event::Mating { agent, mate } => Some((agent.0, "mating", mate.0 as u64)),
+                _ => None,
+            };
+            if let Some((a, kind, other)) = contact {
+                let list = self.contacts.entry(a).or_default();
+                if list.len() >= EXPLAINED_KEPT {
+                    list.pop_front();
+                }
+                list.push_back(serde_json::json!([tick, kind, other]));
+            }
             match e {
                 Event::Transition {
                     agent,

@@ -28,7 +28,11 @@ pub const RUN_FILES: [&str; 4] = ["trajectories.csv", "food.csv", "events.jsonl"
 
 /// Files a complete run folder may hold besides [`RUN_FILES`], added by [`Recorder::add_output`]
 /// (a new recording in the folder removes them first, so none is left from an earlier run).
-pub const EXTRA_FILES: [&str; 1] = [crate::health::FILE];
+pub const EXTRA_FILES: [&str; 2] = [crate::health::FILE, EXPLAIN_FILE];
+
+/// What explains each recorded frame and every decision, one JSON object a line, written when
+/// the run explains ([`crate::tick::Explain`]); see `docs/viewer.md`.
+pub const EXPLAIN_FILE: &str = "explain.jsonl";
 
 /// A recording in progress.
 pub struct Recorder {
@@ -37,6 +41,8 @@ pub struct Recorder {
     traj: csv::Writer<File>,
     food: csv::Writer<File>,
     events: BufWriter<File>,
+    /// `explain.jsonl`, when the run explains.
+    explain: Option<BufWriter<File>>,
     /// Ticks recorded so far.
     pub recorded: u64,
     removed: Vec<Option<u64>>,
@@ -133,6 +139,7 @@ impl Recorder {
             traj: csv_writer(1 << 20, create(&partial(dir, "trajectories.csv"))?),
             food: csv_writer(1 << 16, create(&partial(dir, "food.csv"))?),
             events: BufWriter::new(create(&partial(dir, "events.jsonl"))?),
+            explain: None,
             recorded: 0,
             removed: vec![None; run.world.obstacles.len()],
             line: String::with_capacity(256),
@@ -146,6 +153,11 @@ impl Recorder {
             .write_record(schema::FOOD_COLUMNS)
             .map_err(csv_io)
             .map_err(at(&partial(dir, "food.csv")))?;
+        if run.pipeline.explain.on() {
+            let f = create(&partial(dir, EXPLAIN_FILE))?;
+            rec.explain = Some(BufWriter::with_capacity(1 << 20, f));
+            rec.extra.push(EXPLAIN_FILE.to_string());
+        }
         let incomplete = dir.join("INCOMPLETE");
         std::fs::write(&incomplete, "this run did not finish; see manifest.json\n")
             .map_err(at(&incomplete))?;
@@ -190,6 +202,14 @@ impl Recorder {
                 &run.scenario.species,
             );
             self.event_line(&v)?;
+        }
+        if let Some(w) = self.explain.as_mut() {
+            for v in &run.pipeline.explained {
+                serde_json::to_writer(&mut *w, v)
+                    .map_err(std::io::Error::from)
+                    .and_then(|()| w.write_all(b"\n"))
+                    .map_err(at(&partial(&self.dir, EXPLAIN_FILE)))?;
+            }
         }
         for (k, o) in run.world.obstacles.iter().enumerate() {
             if !o.active && self.removed.get(k).is_some_and(|r| r.is_none()) {
@@ -313,6 +333,9 @@ impl Recorder {
         self.events
             .flush()
             .map_err(at(&partial(dir, "events.jsonl")))?;
+        if let Some(w) = self.explain.as_mut() {
+            w.flush().map_err(at(&partial(dir, EXPLAIN_FILE)))?;
+        }
         let world = world_json(run, &self.removed);
         let path = partial(dir, "world.json");
         std::fs::write(&path, serde_json::to_string(&world)?).map_err(at(&path))?;

@@ -218,11 +218,17 @@ pub enum EventAction {
 pub struct RecordDef {
     /// Record every this many ticks.
     pub interval: u32,
+    /// Also record `explain.jsonl` (why each agent moves as it does; `shoal run --explain`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub explain: bool,
 }
 
 impl Default for RecordDef {
     fn default() -> Self {
-        RecordDef { interval: 1 }
+        RecordDef {
+            interval: 1,
+            explain: false,
+        }
     }
 }
 

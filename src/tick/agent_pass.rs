@@ -6,6 +6,7 @@
 //! applied in agent order by stage 7 (`events/apply.rs`), so results do not depend on the
 //! thread count.
 
+use super::explain::{self, Explain};
 use super::Pipeline;
 use crate::decision::{self, focus, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
@@ -59,6 +60,8 @@ pub(crate) struct Outcome {
     /// Transitions, messages and errors: a few agents a tick have any, so they are boxed and
     /// the per-agent buffer stays small.
     pub(crate) rare: Option<Box<Rare>>,
+    /// What this pass explains, when asked ([`super::explain`]).
+    pub(crate) explain: Option<Box<explain::Explained>>,
 }
 
 /// The parts of an outcome most agents do not have in a given tick.
@@ -87,6 +90,9 @@ struct Inputs<'a> {
     /// Every agent's own best food position at the start of the tick, by agent index.
     known_food: &'a [Option<Vec3>],
     scripts_every_tick: bool,
+    /// What this tick explains, and agent ids by index (for percept sources).
+    explain: Explain,
+    ids: &'a [u32],
 }
 
 /// What one agent's stages read besides its own record, looked up once per pass: a [`Ctx`]
@@ -136,6 +142,10 @@ impl Pipeline {
         self.known_food.clear();
         self.known_food
             .extend(world.agents.iter().map(|a| a.mind.best_food));
+        self.explain_ids.clear();
+        if self.explain.on() {
+            self.explain_ids.extend(world.agents.iter().map(|a| a.id.0));
+        }
         let mut agents = std::mem::take(&mut world.agents);
         let threads = rayon::current_num_threads();
         if self.workers.len() < threads {
@@ -151,6 +161,8 @@ impl Pipeline {
             reads: &self.reads,
             known_food: &self.known_food,
             scripts_every_tick: self.scripts_every_tick,
+            explain: self.explain,
+            ids: &self.explain_ids,
         };
         let outcomes = &mut self.outcomes;
         let workers = &self.workers;
@@ -241,6 +253,8 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         reads,
         known_food,
         scripts_every_tick,
+        explain,
+        ids,
     } = *inp;
     let Worker {
         scope,
@@ -350,7 +364,13 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         }
     }
     let ctx = seen.ctx(me);
+    // Explaining reads copies only: the run is the same with it on or off.
+    let explaining = explain.covers(me.id.0);
+    let before = explaining.then(|| explain::Before::of(mind, rng));
     let transitions = decision::arbitrate(&ctx, mind, rng);
+    let explained_decision = before
+        .as_ref()
+        .and_then(|b| explain::decision(&ctx, mind, b, &transitions, me.id.0));
     let mut pending = None;
     if let Some(t) = transitions.iter().flatten().last() {
         let b = &sp.behaviors[t.to as usize];
@@ -394,6 +414,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
 
     // 5. Steering.
     let b = &sp.behaviors[mind.current as usize];
+    let steer_rng = *rng;
     let mut steer = match b.focus {
         None => recipe::evaluate(&b.steer, &ctx, mind, rng, scratch, 0),
         // Seed 000 §1's focuser: the steering of the current intention sees only what it
@@ -423,6 +444,22 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         steer = Steer::keep(&ctx.kin());
     }
     mind.last_steer = steer;
+    let explained_frame = explain.frame(tick, me.id.0).then(|| {
+        let st = explain::Steering {
+            rng: steer_rng,
+            velocity: perception.velocity(i),
+            plan_target: plan_targets.get(i).copied().flatten(),
+            steer,
+            ids,
+        };
+        explain::frame(&ctx, mind, b, &st)
+    });
+    out.explain = (explained_decision.is_some() || explained_frame.is_some()).then(|| {
+        Box::new(explain::Explained {
+            decision: explained_decision,
+            frame: explained_frame,
+        })
+    });
 
     // 6. Locomotion and animation.
     let mut motion = Motion {

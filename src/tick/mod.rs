@@ -27,6 +27,7 @@ use std::time::Instant;
 
 mod agent_pass;
 mod awake;
+pub mod explain;
 mod reads;
 mod remap;
 mod spawn;
@@ -35,6 +36,7 @@ mod stats;
 mod tests;
 use agent_pass::Worker;
 pub(crate) use agent_pass::{Outcome, Rare};
+pub use explain::Explain;
 pub use reads::{bearing_range, reads};
 pub use remap::Remap;
 pub use spawn::force_behavior;
@@ -84,6 +86,12 @@ pub struct Pipeline {
     times: StageTimes,
     /// Wall-time guard of the tick's script calls.
     pub(crate) script_clock: Arc<crate::script::TickClock>,
+    /// What the next ticks explain (off by default; see [`explain`]).
+    pub explain: Explain,
+    /// The last tick's explanations (frames and decisions, JSON), in agent order.
+    pub explained: Vec<serde_json::Value>,
+    /// Agent ids by index at the start of the tick, kept while explaining.
+    explain_ids: Vec<u32>,
 }
 
 /// The species with the most agents in `counts` (the first of equals): its query radius sizes
@@ -128,6 +136,9 @@ impl Pipeline {
             workers: Vec::new(),
             times: StageTimes::default(),
             script_clock: Default::default(),
+            explain: Explain::default(),
+            explained: Vec::new(),
+            explain_ids: Vec::new(),
         };
         p.set_species(species);
         p
@@ -304,6 +315,15 @@ impl Pipeline {
         // 3–6. Per agent: drives, decision, steering, locomotion.
         let start = Instant::now();
         self.agent_pass(world);
+        self.explained.clear();
+        if self.explain.on() {
+            for o in &mut self.outcomes {
+                if let Some(e) = o.explain.take() {
+                    self.explained.extend(e.decision);
+                    self.explained.extend(e.frame);
+                }
+            }
+        }
         let passed = Instant::now();
         // 7. World events, applied in agent order.
         self.apply(world);

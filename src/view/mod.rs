@@ -14,6 +14,7 @@ use crate::diag::Diagnostic;
 
 mod csv;
 mod events;
+mod explain;
 mod health;
 
 pub(crate) use health::to_meta as health_meta;
@@ -34,6 +35,7 @@ const SCRIPT: &str = concat!(
     include_str!("js/legend.js"),
     include_str!("js/probe.js"),
     include_str!("js/panel.js"),
+    include_str!("js/annotate.js"),
     include_str!("js/health.js"),
     include_str!("js/replay.js"),
     include_str!("js/live.js"),
@@ -130,6 +132,10 @@ pub fn build_html_with(run_dir: &Path, options: &ViewOptions) -> Result<String, 
         data.push_str(&c.base64);
         data.push_str("</script>\n");
     }
+    // What explains the selected agent (frames, decisions, contacts).
+    data.push_str("<script type=\"application/json\" id=\"shoal-explain\">");
+    data.push_str(&escape_script_text(&explain::build(run_dir).to_string()));
+    data.push_str("</script>\n");
     Ok(page("window.SHOAL_LIVE = false;", &data))
 }
 

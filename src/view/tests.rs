@@ -177,7 +177,8 @@ fn page_embeds_payload_safely() {
     assert!(html.contains("id=\"shoal-meta\""));
     assert!(html.contains("data-name=\"pos\" data-kind=\"f32\""));
     // the condition's `</script>` must not close the data element early
-    assert_eq!(html.matches("</script>").count(), 2 + 1 + 20);
+    // (page scripts, meta, columns, the explanation table)
+    assert_eq!(html.matches("</script>").count(), 2 + 1 + 20 + 1);
     assert!(html.contains("sees prey \\u003c/script>"));
     assert!(!html.contains("/*@JS@*/"));
     assert!(html.contains("data-testid=\"agent-panel\""));
