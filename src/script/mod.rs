@@ -17,6 +17,7 @@
 pub mod budget;
 pub mod calls;
 mod imports;
+pub mod squad;
 mod view;
 
 pub use budget::{with_tick, Exceeded, TickClock, TimeBudget};

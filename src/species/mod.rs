@@ -16,9 +16,9 @@ pub use set::SpeciesSet;
 pub use validate::{load_species, load_species_str};
 
 use crate::load::Diagnostics;
+use crate::params::steering::AvoidParams;
 use crate::perception::{Category, SenseParams};
 use crate::script::Script;
-use crate::steering::avoid::AvoidParams;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -161,7 +161,7 @@ pub struct Behavior {
     /// Turn response while it runs (`None`: the body's).
     pub response: Option<f32>,
     /// What its steering reads (`None`: everything; [`crate::decision::focus`]).
-    pub focus: Option<crate::decision::focus::Focus>,
+    pub focus: Option<crate::params::decision::Focus>,
 }
 
 /// What a script slot returns.
