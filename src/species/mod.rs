@@ -1,6 +1,10 @@
 //! Species as data: RON species files and their Rhai scripts, loaded and validated once per
 //! (re)load into the runtime [`Species`] the decision stage runs. Nothing in the tick parses or
 //! looks up by string what is resolved here.
+//!
+//! In the core's layers (`tests/layers.rs`) the species sits above what it is built from (the
+//! perception and drive types, the later stages' parameter types in [`crate::params`], scripts)
+//! and below the stages that read it (`ctx`, steering, decision, the tick).
 
 mod conditions;
 pub mod def;
