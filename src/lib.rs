@@ -39,6 +39,7 @@ pub mod index;
 pub mod live;
 pub mod load;
 pub mod locomotion;
+pub mod params;
 pub mod perception;
 pub mod record;
 pub mod scenario;

@@ -8,31 +8,8 @@
 //! interrupt a forager that is not looking for it. Without `focus` a behavior sees everything,
 //! the engine's form before the focuser.
 
+pub use crate::params::decision::Focus;
 use crate::perception::{Category, Percept, Summary, MAX_PERCEPTS};
-
-/// A set of [`Category`]s, one bit each.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Focus(u8);
-
-impl Focus {
-    /// Every category.
-    pub const ALL: Focus = Focus((1 << Category::COUNT) - 1);
-
-    /// The categories listed.
-    pub fn of(categories: &[Category]) -> Focus {
-        Focus(categories.iter().fold(0, |bits, &c| bits | Focus::bit(c)))
-    }
-
-    fn bit(c: Category) -> u8 {
-        1 << c as u8
-    }
-
-    /// Whether `c` is in the set.
-    #[inline]
-    pub fn contains(self, c: Category) -> bool {
-        self.0 & Focus::bit(c) != 0
-    }
-}
 
 /// Writes into `out` the percepts of `percepts` whose category is in `focus` (in their order)
 /// and returns the summaries as the focused behavior reads them: those of the categories left

@@ -15,7 +15,8 @@ pub mod focus;
 pub mod scripts;
 
 use crate::events::{Cause, MessageKind};
-use crate::perception::{Category, Level, Sector};
+pub use crate::params::decision::{level_bit, sector_bit};
+use crate::perception::Category;
 use crate::species::CondNode;
 use crate::steering::avoid;
 use crate::steering::escape;
@@ -23,18 +24,6 @@ use crate::world::{Mind, Rng};
 use std::sync::Arc;
 
 pub use crate::ctx::{value, Ctx};
-
-/// The bit of a horizontal sector in the mask of [`CondNode::InSector`].
-#[inline]
-pub fn sector_bit(s: Sector) -> u8 {
-    1 << s as u8
-}
-
-/// The bit of a level in the mask of [`CondNode::AtLevel`].
-#[inline]
-pub fn level_bit(l: Level) -> u8 {
-    1 << l as u8
-}
 
 /// Evaluates a condition. Latches and chance draws update `mind` and `rng`.
 pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {

@@ -3,34 +3,9 @@
 //! poses at a rate that grows with speed and acceleration; a turn bends it to the turn's side
 //! (left turn: L/ML/M, right turn: R/MR/M) by an amount taken from the turn angle.
 
+pub use crate::params::locomotion::AnimParams;
 use crate::world::Anim;
-use serde::{Deserialize, Serialize};
 use std::f32::consts::{FRAC_PI_4, TAU};
-
-/// Animation constants.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AnimParams {
-    /// Bend of the extreme poses L and R (rad).
-    pub max_bend: f32,
-    /// Tail beats per second at rest (idle fanning).
-    pub idle_rate: f32,
-    /// Extra beats per body length travelled.
-    pub beats_per_length: f32,
-    /// Extra beats per second per unit of acceleration (the tail beats while accelerating).
-    pub accel_rate: f32,
-}
-
-impl Default for AnimParams {
-    fn default() -> Self {
-        AnimParams {
-            max_bend: 0.5,
-            idle_rate: 0.3,
-            beats_per_length: 0.8,
-            accel_rate: 0.5,
-        }
-    }
-}
 
 /// The five key poses as bends, left negative: L, ML, M, MR, R.
 pub fn key_poses(max_bend: f32) -> [f32; 5] {

@@ -18,68 +18,15 @@ pub mod anim;
 mod rigid;
 pub mod solid;
 
-pub use rigid::RigidParams;
+pub use crate::params::locomotion::{BodyLimits, Mode, RigidParams};
 
 use crate::frame;
 use crate::steering::{Kinematics, Steer};
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
-use std::f32::consts::FRAC_PI_4;
-
-/// How a species moves.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-pub enum Mode {
-    /// Heading and speed follow the command directly, within the turn and speed limits.
-    #[default]
-    Kinematic,
-    /// Seed 001: tail thrust, port/starboard and up/down thrusts, fluid drag.
-    RigidBody(RigidParams),
-}
-
-/// Body limits (seed 002: 45° maximum turn per step by default).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct BodyLimits {
-    /// Largest speed V_max.
-    pub max_speed: f32,
-    /// Smallest speed V_min (0 lets it stop).
-    pub min_speed: f32,
-    /// Largest yaw or pitch change per step (rad).
-    pub max_turn: f32,
-    /// Largest pitch magnitude (rad), capped just inside 90°.
-    pub max_pitch: f32,
-    /// Largest change of speed per second.
-    pub max_accel: f32,
-    /// Time (s) in which a kinematic body closes a commanded turn or speed change; 0 applies
-    /// each tick's command at once (the paper's per-step form, see the module header).
-    pub response: f32,
-    /// Time (s) in which a kinematic body closes a commanded speed change, when it differs from
-    /// `response` (a schooling fish that turns gently but still bursts away; default: `response`).
-    pub speed_response: Option<f32>,
-    /// Time constant (s) with which the turn rate follows its aim (0: at once). What keeps
-    /// commands that alternate tick to tick from reaching the body; more lag makes schools
-    /// that align by following each other's headings slower to agree.
-    pub smoothing: f32,
-}
 
 /// The step of seed 002's per-step turn limit when a body turns at a rate: `max_turn` per
 /// 0.05 s (the scenarios' default tick).
 pub const REFERENCE_STEP: f32 = 0.05;
-
-impl Default for BodyLimits {
-    fn default() -> Self {
-        BodyLimits {
-            max_speed: 2.0,
-            min_speed: 0.0,
-            max_turn: FRAC_PI_4,
-            max_pitch: 80f32.to_radians(),
-            max_accel: 4.0,
-            response: 0.25,
-            speed_response: None,
-            smoothing: 0.25,
-        }
-    }
-}
 
 impl BodyLimits {
     /// Pitch limit actually applied.
@@ -208,6 +155,7 @@ pub fn step(
 mod tests {
     use super::*;
     use proptest::prelude::*;
+    use std::f32::consts::FRAC_PI_4;
 
     #[test]
     fn turn_is_clamped_to_45_degrees_per_step() {

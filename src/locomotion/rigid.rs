@@ -4,47 +4,7 @@
 
 use super::Motion;
 use crate::frame;
-use serde::{Deserialize, Serialize};
-
-/// Force constants of the rigid-body mode.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct RigidParams {
-    /// Body mass.
-    pub mass: f32,
-    /// Largest tail thrust (forward force).
-    pub max_thrust: f32,
-    /// Tail thrust gain per unit of missing speed.
-    pub thrust_gain: f32,
-    /// Quadratic fluid drag coefficient: `Fa = −drag·v·|v|`.
-    pub drag: f32,
-    /// Largest port/starboard (yaw) thrust torque.
-    pub max_yaw_torque: f32,
-    /// Largest up/down (pitch) thrust torque.
-    pub max_pitch_torque: f32,
-    /// Torque gain per radian of heading error.
-    pub turn_gain: f32,
-    /// Angular damping (torque per rad/s).
-    pub angular_damping: f32,
-    /// Moment of inertia about both turning axes.
-    pub inertia: f32,
-}
-
-impl Default for RigidParams {
-    fn default() -> Self {
-        RigidParams {
-            mass: 1.0,
-            max_thrust: 8.0,
-            thrust_gain: 6.0,
-            drag: 0.5,
-            max_yaw_torque: 20.0,
-            max_pitch_torque: 10.0,
-            turn_gain: 30.0,
-            angular_damping: 6.0,
-            inertia: 1.0,
-        }
-    }
-}
+use crate::params::locomotion::RigidParams;
 
 /// One rigid-body step toward a heading change `(dyaw, dpitch)` and a target speed. Turning per
 /// step is still capped by `max_turn`.

@@ -13,10 +13,15 @@
 //! script, the function and the agent; the run reports it like any other script error and
 //! counts it apart, so a result that depends on the machine's speed is never passed off as a
 //! normal one.
+//!
+//! In the core's layers (`tests/layers.rs`) the host sits below the species, which holds a
+//! compiled script, and above perception and the world, which the agent view reads: it imports
+//! nothing of the stages that call it.
 
 pub mod budget;
 pub mod calls;
 mod imports;
+pub mod squad;
 mod view;
 
 pub use budget::{with_tick, Exceeded, TickClock, TimeBudget};

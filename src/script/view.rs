@@ -47,7 +47,7 @@ pub struct ScriptSteer {
     pub terms: Vec<(f32, SteerTerm)>,
 }
 
-pub use crate::steering::Term as SteerTerm;
+pub use crate::command::Term as SteerTerm;
 
 /// The agent as a script sees it, bound as `this`. Fields are filled from the agent before a
 /// call and the writable ones (drives, memory, outbox, random stream) copied back after.
@@ -120,7 +120,7 @@ pub struct AgentView {
     /// Eye height above the agent's position (its body height).
     pub eye_height: FLOAT,
     /// The agent's squad and plan, when it is a squad member.
-    pub squad: Option<crate::squad::SquadView>,
+    pub squad: Option<crate::world::board::SquadView>,
 }
 
 fn err(msg: impl Into<String>) -> Box<EvalAltResult> {
@@ -198,7 +198,7 @@ pub fn register_api(e: &mut Engine) {
     register_category(e);
     register_steer(e);
     register_agent(e);
-    crate::squad::script::register(e);
+    super::squad::register(e);
 }
 
 fn register_vec3(e: &mut Engine) {

@@ -4,7 +4,7 @@
 
 use super::validate::Builder;
 use super::*;
-use crate::decision::focus::Focus;
+use crate::params::decision::Focus;
 
 /// The categories a recipe's primitives steer by, with the primitive's name: what a `focus`
 /// must keep for the behavior to steer at all.
@@ -177,7 +177,7 @@ impl Builder<'_> {
                 }
                 let mask = sectors
                     .iter()
-                    .fold(0, |m, s| m | crate::decision::sector_bit(*s));
+                    .fold(0, |m, s| m | crate::params::decision::sector_bit(*s));
                 CondNode::InSector(*k, mask)
             }
             Cond::AtLevel(k, levels) => {
@@ -192,7 +192,7 @@ impl Builder<'_> {
                 }
                 let mask = levels
                     .iter()
-                    .fold(0, |m, l| m | crate::decision::level_bit(*l));
+                    .fold(0, |m, l| m | crate::params::decision::level_bit(*l));
                 CondNode::AtLevel(*k, mask)
             }
             Cond::EscapeDone => CondNode::EscapeDone,

@@ -1,6 +1,10 @@
 //! Species as data: RON species files and their Rhai scripts, loaded and validated once per
 //! (re)load into the runtime [`Species`] the decision stage runs. Nothing in the tick parses or
 //! looks up by string what is resolved here.
+//!
+//! In the core's layers (`tests/layers.rs`) the species sits above what it is built from (the
+//! perception and drive types, the later stages' parameter types in [`crate::params`], scripts)
+//! and below the stages that read it (`ctx`, steering, decision, the tick).
 
 mod conditions;
 pub mod def;
@@ -17,9 +21,9 @@ pub use set::SpeciesSet;
 pub use validate::{load_species, load_species_str};
 
 use crate::load::Diagnostics;
+use crate::params::steering::AvoidParams;
 use crate::perception::{Category, SenseParams};
 use crate::script::Script;
-use crate::steering::avoid::AvoidParams;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -162,7 +166,7 @@ pub struct Behavior {
     /// Turn response while it runs (`None`: the body's).
     pub response: Option<f32>,
     /// What its steering reads (`None`: everything; [`crate::decision::focus`]).
-    pub focus: Option<crate::decision::focus::Focus>,
+    pub focus: Option<crate::params::decision::Focus>,
 }
 
 /// What a script slot returns.

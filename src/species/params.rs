@@ -52,7 +52,7 @@ impl Builder<'_> {
             n.non_negative("speed_response", r);
         }
         n.non_negative("smoothing", l.smoothing);
-        if let crate::locomotion::Mode::RigidBody(r) = &def.body.locomotion {
+        if let crate::params::locomotion::Mode::RigidBody(r) = &def.body.locomotion {
             n.from = body;
             n.enter("RigidBody");
             n.positive("mass", r.mass);

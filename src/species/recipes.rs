@@ -5,7 +5,7 @@
 use super::validate::Builder;
 use super::*;
 use crate::load::NumberCheck;
-use crate::steering::avoid::AvoidParams;
+use crate::params::steering::AvoidParams;
 
 impl Builder<'_> {
     pub(super) fn recipe(&mut self, r: &Recipe) -> RecipeNode {

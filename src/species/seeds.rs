@@ -9,9 +9,9 @@
 //! reference.
 
 use crate::drives::DriveParams;
+use crate::params::steering::{AvoidParams, PAPER_M_MIN_FACTOR};
 use crate::perception::SenseParams;
 use crate::species::{ChaseDef, EscapeDef};
-use crate::steering::avoid::{AvoidParams, PAPER_M_MIN_FACTOR};
 
 /// One overridable seed constant.
 #[derive(Debug, Clone, PartialEq)]

@@ -31,22 +31,25 @@
 //! Files: this one holds the constants, the ground and [`Squads`] (start, spawning, putting
 //! walkers on the ground); `slots.rs` one [`Squad`]: its plan, the leader's progress and the
 //! members' slots; `upkeep.rs` the work before and after every tick (targets, detours, measures,
-//! re-plans); `board.rs` what members' scripts read of their squad.
+//! re-plans). What members' scripts read of their squad is world data
+//! (`crate::world::board`, published on `World::squads`); the script API that reads it is
+//! `crate::script::squad`. Both are re-exported here.
 
 pub mod ground;
 pub mod record;
 pub mod route;
-pub mod script;
 pub mod setup;
 
-mod board;
 mod slots;
 #[cfg(test)]
 mod tests;
 mod upkeep;
 
-pub use board::{Board, Planned, SquadShared, SquadView, TransitionRow};
-pub use setup::{shape_named, task_named, SquadSetup, SHAPE_NAMES};
+/// The squad part of the script API, kept with the script host (`crate::script::squad`).
+pub use crate::script::squad as script;
+pub use crate::script::squad::task_named;
+pub use crate::world::board::{Board, Planned, SquadShared, SquadView, TransitionRow};
+pub use setup::{shape_named, SquadSetup, SHAPE_NAMES};
 pub use slots::{Progress, Squad, SquadStats};
 
 use crate::formation::follow::key_headings;

@@ -11,6 +11,7 @@ use crate::formation::{
     TaskClass,
 };
 use crate::scenario::{normalize, ScenarioDef, SquadLeader};
+use crate::script::squad::task_named;
 use crate::species::validate::locate;
 use crate::species::SpeciesSet;
 use crate::terrain::{load_asc, load_pgm, Features};
@@ -52,14 +53,6 @@ pub fn shape_named(name: &str) -> Option<FormationShape> {
         "diamond" => Some(FormationShape::Diamond),
         _ => None,
     }
-}
-
-/// The task class written `text`: `MustKeep`, `MayChangeRarely`, `ShortestFirst` or
-/// `Custom(k1: …, k2: …, may_change: …)`.
-pub fn task_named(text: &str) -> Option<TaskClass> {
-    let t: TaskClass = ron::from_str(text.trim()).ok()?;
-    t.weights().validate().ok()?;
-    Some(t)
 }
 
 /// Loads the scenario's terrain (paths relative to `file`) and builds each walking species'

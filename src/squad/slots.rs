@@ -2,10 +2,10 @@
 //! member's slot at that progress, its running measures, and adopting a new plan (from a script
 //! or a re-plan from the leader's position).
 
-use super::board::{SquadShared, TransitionRow};
 use super::{Ground, SquadSetup, FINISH_RADIUS, LOOKAHEAD};
 use crate::formation::{Formation, Plan, PlanRequest, Planner, PlanningParams, TaskClass};
 use crate::terrain::{CostGrid, Terrain};
+use crate::world::board::{SquadShared, TransitionRow};
 use crate::world::AgentId;
 use glam::{Vec2, Vec3};
 use std::sync::Arc;

@@ -4,7 +4,6 @@
 //! it, walkers back on the ground, plans from scripts adopted, the formation error measured, and
 //! blocked followers and stalled leaders answered with detours and re-plans.
 
-use super::board::{Board, SquadView};
 use super::slots::on_ground;
 use super::{
     Squads, CLEARANCE, DETOUR_SECONDS, LAG_GO, LAG_STOP, LEADER_STALL_SECONDS, LOOKAHEAD,
@@ -12,6 +11,7 @@ use super::{
 };
 use crate::species::SpeciesSet;
 use crate::tick::Pipeline;
+use crate::world::board::{Board, SquadView};
 use crate::world::World;
 use glam::Vec2;
 use std::sync::Arc;

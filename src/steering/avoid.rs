@@ -11,11 +11,10 @@
 
 use super::{Kinematics, Steer};
 use crate::ctx::Ctx;
+pub use crate::params::steering::{AvoidParams, PAPER_M_MIN_FACTOR};
 use crate::perception::{Category, Sense, Source};
 use crate::world::Aabb;
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
-use std::f32::consts::FRAC_PI_8;
 
 /// One obstacle as the pressure field sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,52 +147,6 @@ pub fn front_pressures(sources: impl IntoIterator<Item = FrontSource>, m0: f32) 
     p
 }
 
-/// Parameters of the static-obstacle field (seed 000 §4.1); defaults follow the paper's form.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct AvoidParams {
-    /// Margin m0 added to every distance.
-    pub m0: f32,
-    /// Turn applied when one side's pressure dominates (π/8).
-    pub turn: f32,
-    /// Obstacles farther than this are ignored (`None`: everything in view counts, as in the
-    /// paper).
-    pub range: Option<f32>,
-    /// Whether kin count as dynamic obstacles (schooling species leave that to separation).
-    pub kin: bool,
-    /// Whether the static field takes the paper's form as written: every obstacle in view
-    /// counts, with its horizontal and vertical angles θ_i, ω_i ([`pressures`]). The default
-    /// (`false`) is the front-half field ([`front_pressures`]): §4.1 integrates over the front
-    /// half only, and an obstacle straight above or below has no horizontal angle at all.
-    pub paper_field: bool,
-    /// Slowest speed braking brings a body to, as a fraction of `V_max` (0: the paper's `Vc/2`
-    /// applied every tick, which decays to a standstill next to any obstacle that stays in view).
-    pub brake_floor: f32,
-    /// Braking factor of the static field: the speed becomes `brake·Vc` when a pressure exceeds
-    /// `M_max` (the paper's `Vc/2`: 0.5).
-    pub brake: f32,
-    /// Factor of the dynamic field's threshold `M_min = −factor·cos α/(v_r + m0)` (seed 000
-    /// §4.2). `None`: `1 − cos(half-angle)` of the species' vision cone, the paper's integral
-    /// over the whole view; `Some(1.866)`: the paper's `1 + √3/2` (its 150° view) whatever the
-    /// view.
-    pub m_min_factor: Option<f32>,
-}
-
-impl Default for AvoidParams {
-    fn default() -> Self {
-        AvoidParams {
-            m0: 1.0,
-            turn: FRAC_PI_8,
-            range: None,
-            kin: false,
-            paper_field: false,
-            brake_floor: 0.3,
-            brake: 0.5,
-            m_min_factor: None,
-        }
-    }
-}
-
 impl AvoidParams {
     /// Whether an obstacle at `dist` counts.
     pub fn in_range(&self, dist: f32) -> bool {
@@ -208,9 +161,6 @@ impl AvoidParams {
             .unwrap_or_else(|| 1.0 - vision_half_angle.cos())
     }
 }
-
-/// The paper's fixed factor of the dynamic `M_min`, `1 + √3/2 = 1 − cos 150°` (seed 000 §4.2).
-pub const PAPER_M_MIN_FACTOR: f32 = 1.866_025_4;
 
 /// Dynamic `M_min = −factor·cos α/(v_r + m0)`, written with `neg_cos = −cos α` (seed 000 §4.2).
 pub fn dynamic_m_min(factor: f32, neg_cos: f32, vision_radius: f32, m0: f32) -> f32 {
@@ -521,7 +471,7 @@ impl Ctx<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, PI};
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8, PI};
 
     /// The paper's ±150° view.
     const VIEW_150: f32 = 5.0 * FRAC_PI_6;

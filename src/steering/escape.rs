@@ -16,38 +16,11 @@
 //! `Vc/2` and the speed `V_max/2` beyond vision.
 
 use super::{seek, Kinematics, Steer};
+pub use crate::params::steering::{EscapeRules, Leveling};
 use crate::perception::Sectors;
 use crate::perception::{Level, Sector};
 use glam::Vec3;
-use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, FRAC_PI_6, FRAC_PI_8};
-
-/// The constants of escape (seed 000 §4.4); the defaults are the paper's.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EscapeRules {
-    /// Smell-mode turn and pitch away from the predator (π/8).
-    pub turn: f32,
-    /// Vision-mode turn and pitch away from the predator (π/4).
-    pub vision_turn: f32,
-    /// Half-width of the front sector, and of the level band in smell mode (π/6).
-    pub front: f32,
-    /// Smell mode, predator ahead: the speed becomes `smell_brake·Vc` (the paper's `Vc/2`).
-    pub smell_brake: f32,
-    /// Vision mode, predator beyond `v_r`: the speed is `far_speed·V_max` (the paper's
-    /// `V_max/2`).
-    pub far_speed: f32,
-}
-
-impl Default for EscapeRules {
-    fn default() -> Self {
-        EscapeRules {
-            turn: FRAC_PI_8,
-            vision_turn: FRAC_PI_4,
-            front: FRAC_PI_6,
-            smell_brake: 0.5,
-            far_speed: 0.5,
-        }
-    }
-}
+use std::f32::consts::FRAC_PI_2;
 
 impl EscapeRules {
     fn sectors(&self) -> Sectors {
@@ -116,27 +89,6 @@ pub fn escape_by_vision(
         yaw: away(bearing),
         pitch: away(elevation),
         speed,
-    }
-}
-
-/// The runtime's additions to the paper's escape (see the module header).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Leveling {
-    /// A predator whose elevation above the horizontal is within this band counts as level.
-    pub level_band: f32,
-    /// Largest pitch escape aims for.
-    pub max_pitch: f32,
-    /// Slowest escape speed, as a fraction of `V_max`.
-    pub speed_floor: f32,
-}
-
-impl Default for Leveling {
-    fn default() -> Self {
-        Leveling {
-            level_band: std::f32::consts::FRAC_PI_6,
-            max_pitch: FRAC_PI_4,
-            speed_floor: 0.5,
-        }
     }
 }
 
@@ -221,6 +173,7 @@ pub fn escape_mirror(kin: &Kinematics, threat: Vec3, v_max: f32) -> Steer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f32::consts::{FRAC_PI_4, FRAC_PI_8};
 
     fn turn(yaw: f32, pitch: f32, speed: f32) -> Steer {
         Steer::Turn { yaw, pitch, speed }

@@ -10,49 +10,11 @@
 //! [`VisionTurn::KeepHeading`] is 000 as printed.
 
 use super::{seek, Kinematics, Steer};
+pub use crate::params::steering::{GoalRules, Prediction, VisionTurn};
 pub use crate::perception::Sectors;
 use crate::perception::{Level, Sector};
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
-use std::f32::consts::{FRAC_PI_4, FRAC_PI_8};
-
-/// What move-to-goal does in vision with a target within the clamp (`|θ| < max_turn`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum VisionTurn {
-    /// Turn exactly by the bearing (seed 003's foraging; the digest's reading of 000).
-    #[default]
-    Bearing,
-    /// Keep the heading (seed 000 eq. 15–16 as printed); turn by ±`max_turn` beyond it.
-    KeepHeading,
-}
-
-/// The angles of move-to-goal (seed 000 §4.3); the defaults are the paper's.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GoalRules {
-    /// Smell-mode turn toward a target in a front side sector, and pitch toward one above or
-    /// below (π/8).
-    pub turn: f32,
-    /// Smell-mode turn toward a target in a rear sector (π/4).
-    pub rear_turn: f32,
-    /// Sector bounds (π/6, 5π/6).
-    pub sectors: Sectors,
-    /// Largest turn per step in vision mode (π/4).
-    pub max_turn: f32,
-    /// Within the clamp in vision mode: turn by the bearing or keep the heading.
-    pub vision: VisionTurn,
-}
-
-impl Default for GoalRules {
-    fn default() -> Self {
-        GoalRules {
-            turn: FRAC_PI_8,
-            rear_turn: FRAC_PI_4,
-            sectors: Sectors::default(),
-            max_turn: FRAC_PI_4,
-            vision: VisionTurn::Bearing,
-        }
-    }
-}
+use std::f32::consts::FRAC_PI_4;
 
 /// Move to goal, smell mode (`v_r < d < O_r`), seed 000 §4.3: by the sector of the target's
 /// bearing θ — front keeps θc; left-front −`turn` (π/8); right-front +`turn`; left-rear or rear
@@ -155,18 +117,6 @@ pub fn intercept_point(from: Vec3, speed: f32, target: Vec3, target_vel: Vec3) -
     }
 }
 
-/// How a pursuer predicts its target.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize, Default)]
-pub enum Prediction {
-    /// Aim at where the target is.
-    None,
-    /// `2·X_t − X_{t−1}` (seed 002's robust choice).
-    #[default]
-    Linear,
-    /// The intercept point from the target's velocity.
-    Intercept,
-}
-
 /// Pursuit: seek the predicted position of a target now at `now` that was at `before` one tick
 /// ago (`dt` seconds).
 pub fn pursue(
@@ -195,7 +145,7 @@ pub fn pursue(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_6, PI};
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_6, FRAC_PI_8, PI};
 
     fn turn(yaw: f32, pitch: f32, speed: f32) -> Steer {
         Steer::Turn { yaw, pitch, speed }

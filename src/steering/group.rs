@@ -6,11 +6,11 @@
 //! Forces are turned into [`Steer::Velocity`]`(v + F)` by the recipe layer.
 
 use super::Steer;
+pub use crate::params::steering::Zones;
 use crate::perception::group::Near;
 use crate::perception::{GroupQuery, GroupSum};
 use crate::world::Rng;
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 
 /// A neighbor as the group rules see it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,30 +98,6 @@ pub fn mean(sum: Vec3, count: u32) -> Option<Vec3> {
     (count > 0).then(|| sum / count as f32)
 }
 
-/// Radii of seed 003's zones, `r_r < r_m < r_a`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Zones {
-    /// Repulsion radius r_r.
-    pub repulsion: f32,
-    /// Velocity-matching radius r_m.
-    pub matching: f32,
-    /// Attraction radius r_a.
-    pub attraction: f32,
-    /// Soft repulsion band, a fraction of r_r (runtime addition; 0 is seed 003's hard zone). A
-    /// neighbor entering r_r repels with a weight rising from 0 at r_r to 1 at `(1 − soft)·r_r`
-    /// and keeps being matched with the rest; the other zones count for what repulsion leaves.
-    /// With the hard zone, a neighbor crossing r_r flips the heading between "away from it" and
-    /// "with the school" from one tick to the next: schools zig-zag (turning 4–5× the net
-    /// heading change in `school_formation`).
-    #[serde(default = "default_soft")]
-    pub soft: f32,
-}
-
-fn default_soft() -> f32 {
-    0.5
-}
-
 impl Zones {
     /// The neighborhood sums these zones read.
     pub fn query(&self) -> GroupQuery {
@@ -130,17 +106,6 @@ impl Zones {
             matching: self.matching,
             attraction: self.attraction,
             soft: self.soft,
-        }
-    }
-}
-
-impl Default for Zones {
-    fn default() -> Self {
-        Zones {
-            repulsion: 1.0,
-            matching: 4.0,
-            attraction: 10.0,
-            soft: default_soft(),
         }
     }
 }

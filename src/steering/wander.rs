@@ -3,32 +3,7 @@
 //! limit.
 
 use super::Steer;
-use serde::{Deserialize, Serialize};
-
-/// Wander parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct WanderParams {
-    /// Largest random yaw increment per step (rad).
-    pub yaw_jitter: f32,
-    /// Largest random pitch increment per step (rad).
-    pub pitch_jitter: f32,
-    /// Fraction of the current pitch undone each step (keeps wandering near level).
-    pub level_bias: f32,
-    /// Cruise speed as a fraction of the maximum speed.
-    pub cruise: f32,
-}
-
-impl Default for WanderParams {
-    fn default() -> Self {
-        WanderParams {
-            yaw_jitter: 0.3,
-            pitch_jitter: 0.1,
-            level_bias: 0.1,
-            cruise: 0.5,
-        }
-    }
-}
+pub use crate::params::steering::WanderParams;
 
 /// A wander step from two uniform numbers `u` in [0, 1).
 pub fn wander(pitch: f32, v_max: f32, params: &WanderParams, u: (f32, f32)) -> Steer {

@@ -4,6 +4,7 @@
 //! the start of the tick and the pipeline applies the results in agent order at the end.
 
 mod agent;
+pub mod board;
 mod rng;
 
 pub use agent::{
@@ -303,7 +304,7 @@ pub struct World {
     /// line of sight over it.
     pub terrain: Option<Arc<crate::terrain::Terrain>>,
     /// The squads' plans as scripts see them, published by the scenario layer before each tick.
-    pub squads: Option<Arc<crate::squad::Board>>,
+    pub squads: Option<Arc<board::Board>>,
 }
 
 impl World {

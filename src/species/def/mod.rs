@@ -6,10 +6,10 @@
 
 use crate::drives::DriveParams;
 pub use crate::events::MessageKind;
-use crate::locomotion::anim::AnimParams;
-use crate::locomotion::{BodyLimits, Mode};
+use crate::params::locomotion::AnimParams;
+use crate::params::locomotion::{BodyLimits, Mode};
+use crate::params::steering::AvoidParams;
 use crate::perception::{Category, Level, Sector, SenseParams};
-use crate::steering::avoid::AvoidParams;
 use crate::terrain::Mobility;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

@@ -3,12 +3,13 @@
 //! [`crate::species::RecipeNode`]s.
 
 use super::Value;
+use crate::params::steering::AvoidParams;
+use crate::params::steering::EscapeRules;
+use crate::params::steering::WanderParams;
+use crate::params::steering::Zones;
+use crate::params::steering::{GoalRules, Prediction, VisionTurn};
 use crate::perception::Category;
-use crate::steering::avoid::AvoidParams;
-use crate::steering::escape::EscapeRules;
-use crate::steering::goal::{GoalRules, Prediction, Sectors, VisionTurn};
-use crate::steering::group::Zones;
-use crate::steering::wander::WanderParams;
+use crate::perception::Sectors;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -111,7 +112,7 @@ pub struct EscapeDef {
 
 impl Default for EscapeDef {
     fn default() -> Self {
-        let l = crate::steering::escape::Leveling::default();
+        let l = crate::params::steering::Leveling::default();
         let r = EscapeRules::default();
         EscapeDef {
             from: Category::Predator,
@@ -141,8 +142,8 @@ impl EscapeDef {
     }
 
     /// The runtime's additions to the paper's escape.
-    pub fn leveling(&self) -> crate::steering::escape::Leveling {
-        crate::steering::escape::Leveling {
+    pub fn leveling(&self) -> crate::params::steering::Leveling {
+        crate::params::steering::Leveling {
             level_band: self.level_band,
             max_pitch: self.max_pitch,
             speed_floor: self.speed_floor,

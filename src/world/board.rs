@@ -2,10 +2,13 @@
 //! ([`SquadShared`]), each member's view ([`SquadView`]) gathered for a tick on the [`Board`]
 //! (published on `World::squads`), and the plans scripts make with `plan_path` ([`Planned`]),
 //! adopted after the tick.
+//!
+//! Data the world holds, so it lives here (the world imports nothing above it: formations and
+//! terrain sit below it); `crate::squad` fills it between ticks and re-exports every type.
 
+use super::AgentId;
 use crate::formation::{Formation, Plan, PlanningParams, TaskClass};
 use crate::terrain::{CostGrid, Terrain};
-use crate::world::AgentId;
 use glam::{Vec2, Vec3};
 use std::sync::{Arc, Mutex};
 
@@ -97,7 +100,7 @@ impl SquadView {
 /// The squads' views for one tick, by agent id.
 #[derive(Debug, Default)]
 pub struct Board {
-    pub(super) views: Vec<(AgentId, SquadView)>,
+    pub(crate) views: Vec<(AgentId, SquadView)>,
 }
 
 impl Board {

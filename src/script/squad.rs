@@ -4,7 +4,8 @@
 //! Part of stage 4 (decision): registered on every script engine next to the agent view. The
 //! view carries a snapshot published before the tick; a plan made by `plan_path` is computed in
 //! the call (it reads only that snapshot) and adopted by the runtime after the tick, so runs stay
-//! deterministic.
+//! deterministic. The task classes' names ([`task_named`]) are defined here and shared with the
+//! scenario's squad setup (`crate::squad`, which re-exports this module as `squad::script`).
 //!
 //! | on `this` | what |
 //! |---|---|
@@ -21,11 +22,19 @@
 //! | `can_see(p)` | whether the line from this agent's eye (its position raised by its body height) to `p` raised by the same height clears the terrain (always true without terrain) |
 //! | `ground_height(x, z)` | terrain height there (0 without terrain) |
 
-use super::{task_named, Planned};
-use crate::formation::{Formation, PlanRequest};
-use crate::script::AgentView;
+use super::AgentView;
+use crate::formation::{Formation, PlanRequest, TaskClass};
+use crate::world::board::Planned;
 use glam::{Vec2, Vec3};
 use rhai::{Array, Dynamic, Engine, EvalAltResult, ImmutableString, Map, Position, FLOAT, INT};
+
+/// The task class written `text`: `MustKeep`, `MayChangeRarely`, `ShortestFirst` or
+/// `Custom(k1: …, k2: …, may_change: …)`.
+pub fn task_named(text: &str) -> Option<TaskClass> {
+    let t: TaskClass = ron::from_str(text.trim()).ok()?;
+    t.weights().validate().ok()?;
+    Some(t)
+}
 
 fn err(msg: String) -> Box<EvalAltResult> {
     Box::new(EvalAltResult::ErrorRuntime(
