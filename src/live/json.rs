@@ -153,6 +153,7 @@ struct SpeciesJson<'a> {
     color: &'a str,
     length: f32,
     behaviors: Vec<&'a str>,
+    behavior_info: Vec<serde_json::Value>,
 }
 
 #[derive(Serialize)]
@@ -211,6 +212,7 @@ pub fn world_json(run: &Run, removed_at: &[Option<u64>]) -> String {
             color: &s.def.color,
             length: s.def.body.size.z,
             behaviors: s.behaviors.iter().map(|b| &*b.name).collect(),
+            behavior_info: crate::record::behavior_info(s),
         })
         .collect();
     serde_json::to_string(&WorldJson {

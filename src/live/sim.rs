@@ -3,6 +3,8 @@
 //! publishes frames to the viewers and answers inspections. Nothing here parses or compiles: new
 //! versions arrive ready to install.
 
+use super::breakpoints::{Breakpoint, Breakpoints};
+use super::errors::ScriptFailure;
 use super::files::FileEntry;
 use super::hub::{cap_message, Hub};
 use super::json::{self, Decision, DecisionLog, DECISIONS_KEPT};
@@ -43,6 +45,8 @@ pub(crate) enum Command {
     Fork(Sender<Box<Run>>, Duration),
     World(Sender<Box<World>>),
     Swap(Box<Swap>),
+    Break(Breakpoint, Sender<Result<u32, String>>),
+    Unbreak(Option<u32>),
     Stop,
 }
 
@@ -71,6 +75,7 @@ pub(crate) struct Sim {
     monitor: Monitor,
     health_since: u64,
     last_health: Option<Instant>,
+    breakpoints: Breakpoints,
 }
 
 /// How often the run-health figures are sent to the viewers.
@@ -108,6 +113,7 @@ impl Sim {
             monitor,
             health_since,
             last_health: None,
+            breakpoints: Breakpoints::default(),
         }
     }
 
@@ -140,7 +146,9 @@ impl Sim {
             self.run.world.agents.len(),
         );
         let (version, paused, speed) = (self.version, self.paused, self.speed);
+        let breakpoints = self.breakpoints.listed();
         self.hub.update_status(|s| {
+            s.breakpoints = breakpoints;
             s.tick = tick;
             s.time = time;
             s.agents = agents;
@@ -215,12 +223,14 @@ impl Sim {
                         }
                     }
                     Control::Resume => {
+                        self.hub.set_hit(None);
                         if self.paused {
                             self.paused = false;
                             self.next_due = Instant::now() + self.period();
                         }
                     }
                     Control::Step => {
+                        self.hub.set_hit(None);
                         self.paused = true;
                         self.step_once = true;
                     }
@@ -256,6 +266,14 @@ impl Sim {
                 let _ = reply.send(Box::new(self.run.world.clone()));
             }
             Command::Swap(s) => self.swap(*s),
+            Command::Break(b, reply) => {
+                let _ = reply.send(self.breakpoints.add(b));
+                self.publish_status();
+            }
+            Command::Unbreak(id) => {
+                self.breakpoints.remove(id);
+                self.publish_status();
+            }
             Command::Stop => {}
         }
     }
@@ -443,17 +461,36 @@ impl Sim {
                 Event::Death { agent, .. } => {
                     self.decisions.remove(&agent.0);
                 }
-                Event::ScriptError { message, .. }
-                    if self.reported.len() < MAX_REPORTED_ERRORS
-                        && self.reported.insert(message.clone()) =>
+                Event::ScriptError {
+                    agent,
+                    species,
+                    message,
+                } if self.reported.len() < MAX_REPORTED_ERRORS
+                    && self.reported.insert(message.clone()) =>
                 {
+                    let f =
+                        ScriptFailure::new(tick, agent.0, &set.species[*species as usize], message);
+                    self.hub
+                        .push_script_error(serde_json::to_string(&f).unwrap_or_default());
                     let _ = self.events.send(LiveEvent::ScriptError {
                         time: SystemTime::now(),
                         tick,
                         message: cap_message(message),
+                        agent: f.agent,
+                        species: f.species,
+                        function: f.function,
                     });
                 }
                 _ => {}
+            }
+        }
+        // Checked right after the tick that triggers them: the run stops at that tick.
+        if !self.breakpoints.is_empty() {
+            let done = self.run.world.tick;
+            if let Some(hit) = self.breakpoints.check(&self.run.pipeline.events, &set, done) {
+                self.paused = true;
+                self.hub.set_hit(Some(hit.clone()));
+                let _ = self.events.send(LiveEvent::Breakpoint(hit));
             }
         }
         let mut world_changed = false;

@@ -188,6 +188,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
             color: SPARE_COLORS[i % SPARE_COLORS.len()].to_string(),
             length: 1.0,
             behaviors: Vec::new(),
+            behavior_info: Vec::new(),
         });
     }
 
@@ -272,6 +273,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
         "script_errors": events.script_errors,
         "reloads": events.reloads,
         "event_counts": events.counts,
+        "transition_counts": events.edge_list(),
         "health": health,
     });
     Ok(Payload { meta, columns })

@@ -50,6 +50,10 @@ pub(crate) struct SpeciesInfo {
     pub length: f32,
     #[serde(default)]
     pub behaviors: Vec<String>,
+    /// Per behavior: priority, interrupt flag, condition texts and source location (passed to
+    /// the page's state-machine graph as written; absent in older runs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub behavior_info: Vec<serde_json::Value>,
 }
 
 fn default_color() -> String {

@@ -83,6 +83,9 @@
     speciesCount: () => (state.world && state.world.species ? state.world.species.length : 0),
     stats: () => ({ renders: state.renders, frames: state.applied }),
     play: (speed) => { if (speed) source.setSpeed(speed); source.setPlaying(true); },
+    graph: () => graph.snapshot(),
+    breakHit: () => breakState.hit,
+    scriptErrors: () => breakState.errors.slice(),
   };
   window.shoal = hook;
 
