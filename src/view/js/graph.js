@@ -74,7 +74,7 @@
       const mk = (tag, a) => attr(document.createElementNS(SVG_NS, tag), a);
       attr(svg, { viewBox: '0 0 ' + W + ' ' + H, width: String(W), height: String(H), 'data-testid': 'graph-svg' });
       const defs = mk('defs', {});
-      const marker = mk('marker', { id: 'graph-arrow', viewBox: '0 0 8 8', refX: '7', refY: '4', markerWidth: '6', markerHeight: '6', orient: 'auto-start-reverse' });
+      const marker = mk('marker', { id: 'graph-arrow', viewBox: '0 0 8 8', refX: '7', refY: '4', markerWidth: '7', markerHeight: '7', markerUnits: 'userSpaceOnUse', orient: 'auto-start-reverse' });
       marker.append(mk('path', { d: 'M0,0 L8,4 L0,8 z', fill: '#9fb3c8' }));
       defs.append(marker);
       svg.append(defs);
