@@ -193,14 +193,21 @@
       if (!LIVE) {
         const d = source.decisions(id, f.tick);
         const last = d.length ? d[d.length - 1].stack : '';
+        // The recorded stack holds the behaviors under the current one.
         const st = last ? last.split(' > ') : [];
-        return st.length && st[st.length - 1] === cur ? st : [cur];
+        if (st[st.length - 1] !== cur) st.push(cur);
+        return st;
       }
       const now = performance.now();
       if (now - this.stackAsked > 1000) {
         this.stackAsked = now;
         source.inspect(id).then((info) => {
-          if (info && state.selected === id && Array.isArray(info.stack)) { this.stack = info.stack; this.paint(); }
+          if (!info || state.selected !== id || !Array.isArray(info.stack)) return;
+          // The stack under the current behavior, then the current one.
+          const st = info.stack.slice();
+          if (info.behavior && st[st.length - 1] !== info.behavior) st.push(info.behavior);
+          this.stack = st;
+          this.paint();
         });
       }
       return this.stack.length && this.stack[this.stack.length - 1] === cur ? this.stack : [cur];
