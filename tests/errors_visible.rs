@@ -40,7 +40,10 @@ fn run_prints_the_first_script_errors_with_agent_species_and_place() {
         .lines()
         .find(|l| l.trim_start().starts_with("tick ") && l.contains("(fish): "))
         .unwrap_or_else(|| panic!("no script error line in:\n{t}"));
-    assert!(first.contains("fish.rhai:") && first.contains("gave up after 40 passes"), "{first}");
+    assert!(
+        first.contains("fish.rhai:") && first.contains("gave up after 40 passes"),
+        "{first}"
+    );
     // At most five printed in full.
     let listed = t.lines().filter(|l| l.contains("(fish): ")).count();
     assert!((1..=5).contains(&listed), "{t}");
@@ -94,7 +97,10 @@ fn a_live_record_opens_with_view_and_rerun() {
     let o = shoal(&["view".as_ref(), rec.as_os_str()]);
     let t = text(&o);
     assert!(!o.status.success());
-    assert!(t.contains(&rec.join("reloads.jsonl").display().to_string()), "{t}");
+    assert!(
+        t.contains(&rec.join("reloads.jsonl").display().to_string()),
+        "{t}"
+    );
 }
 
 #[test]

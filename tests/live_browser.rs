@@ -126,8 +126,12 @@ fn breakpoints_pause_at_their_tick_and_script_errors_show_in_chromium() {
         .expect("shoal watch printed no URL");
     let (dart_line, _) = line_col(DEBUG_FISH, "name: \"dart\"");
     let mut cmd = Command::new("node");
-    cmd.arg(repo().join("tests/browser/debug.test.mjs"))
-        .args(["--url", &url, "--dart-line", &dart_line.to_string()]);
+    cmd.arg(repo().join("tests/browser/debug.test.mjs")).args([
+        "--url",
+        &url,
+        "--dart-line",
+        &dart_line.to_string(),
+    ]);
     if let Ok(dir) = std::env::var("SHOAL_SHOTS") {
         cmd.args(["--shots", &dir]);
     }

@@ -188,7 +188,8 @@ fn state_machine_graph_follows_the_selected_agent_in_chromium() {
     assert!(run.status.success(), "{run:?}");
     let page = shoal::view::write_html(&dir).unwrap();
     let mut args: Vec<&std::ffi::OsStr> = vec!["--page".as_ref(), page.as_os_str()];
-    let shot = std::env::var_os("SHOAL_SHOTS").map(|d| std::path::Path::new(&d).join("viewer-graph.png"));
+    let shot =
+        std::env::var_os("SHOAL_SHOTS").map(|d| std::path::Path::new(&d).join("viewer-graph.png"));
     if let Some(s) = &shot {
         args.extend(["--shot".as_ref(), s.as_os_str()]);
     }

@@ -248,7 +248,9 @@ fn script_errors(run: &Run) -> impl Iterator<Item = String> + '_ {
             species,
             message,
         } => {
-            let sp = names.get(*species as usize).map_or("?", |s| s.name.as_str());
+            let sp = names
+                .get(*species as usize)
+                .map_or("?", |s| s.name.as_str());
             Some(format!(
                 "tick {tick}, agent {} ({sp}): {}",
                 agent.0,

@@ -128,9 +128,8 @@ impl Breakpoint {
     /// The reason `e` (an event of the tick just done) triggers this breakpoint, if it does.
     pub fn matches(&self, e: &Event, set: &SpeciesSet) -> Option<(u32, String, String)> {
         let (agent, species) = match e {
-            Event::Transition { agent, species, .. } | Event::ScriptError { agent, species, .. } => {
-                (agent.0, *species)
-            }
+            Event::Transition { agent, species, .. }
+            | Event::ScriptError { agent, species, .. } => (agent.0, *species),
             _ => return None,
         };
         let sp = set.species.get(species as usize)?;
@@ -142,15 +141,18 @@ impl Breakpoint {
         let name = |b: u16| sp.behavior_name(b).to_string();
         let reason = match (&self.trigger, e) {
             (Trigger::Enter(b), Event::Transition { from, to, .. }) if name(*to) == *b => {
-                format!("agent {agent} ({}) entered {b} from {}", sp.name, name(*from))
+                format!(
+                    "agent {agent} ({}) entered {b} from {}",
+                    sp.name,
+                    name(*from)
+                )
             }
             (Trigger::When(b), Event::Transition { to, cause, .. })
                 if name(*to) == *b && matches!(cause, Cause::Activated | Cause::Interrupted) =>
             {
                 format!(
                     "{b}'s when fired for agent {agent} ({}): {}",
-                    sp.name,
-                    sp.behaviors[*to as usize].when_text
+                    sp.name, sp.behaviors[*to as usize].when_text
                 )
             }
             (Trigger::Done(b), Event::Transition { from, cause, .. })
@@ -158,8 +160,7 @@ impl Breakpoint {
             {
                 format!(
                     "{b}'s done fired for agent {agent} ({}): {}",
-                    sp.name,
-                    sp.behaviors[*from as usize].done_text
+                    sp.name, sp.behaviors[*from as usize].done_text
                 )
             }
             (Trigger::ScriptError, Event::ScriptError { message, .. }) => format!(
@@ -243,7 +244,10 @@ mod tests {
         for (v, says) in [
             (json!({"cmd": "break"}), "needs \"on\""),
             (json!({"on": "enter"}), "needs a \"behavior\""),
-            (json!({"on": "enter", "behavior": 3}), "needs a \"behavior\""),
+            (
+                json!({"on": "enter", "behavior": 3}),
+                "needs a \"behavior\"",
+            ),
             (json!({"on": "jump"}), "unknown \"on\""),
             (
                 json!({"on": "enter", "behavior": "a", "agent": -1}),
@@ -281,7 +285,10 @@ mod tests {
             .enumerate()
             .find(|(_, s)| s.behaviors.len() >= 2)
             .unwrap();
-        let (a, b) = (sp.behaviors[0].name.to_string(), sp.behaviors[1].name.to_string());
+        let (a, b) = (
+            sp.behaviors[0].name.to_string(),
+            sp.behaviors[1].name.to_string(),
+        );
         let t = |agent: u32, from: u16, to: u16, cause: Cause| Event::Transition {
             agent: crate::world::AgentId(agent),
             species: s as u16,
@@ -318,10 +325,16 @@ mod tests {
         ))
         .unwrap();
         assert!(bps.check(&[t(3, 0, 1, Cause::Resumed)], &set, 9).is_none());
-        assert!(bps.check(&[t(3, 0, 1, Cause::Interrupted)], &set, 9).is_some());
-        bps.add(parse(json!({"on": "done", "behavior": a, "species": "nobody"})))
-            .unwrap();
-        assert!(bps.check(&[t(3, 0, 1, Cause::Completed)], &set, 9).is_none());
+        assert!(bps
+            .check(&[t(3, 0, 1, Cause::Interrupted)], &set, 9)
+            .is_some());
+        bps.add(parse(
+            json!({"on": "done", "behavior": a, "species": "nobody"}),
+        ))
+        .unwrap();
+        assert!(bps
+            .check(&[t(3, 0, 1, Cause::Completed)], &set, 9)
+            .is_none());
         bps.remove(None);
         assert!(bps.is_empty());
 

@@ -208,7 +208,12 @@ pub fn read(dir: &Path) -> Result<Recorded, Diagnostics> {
     let meta: serde_json::Value = std::fs::read_to_string(&meta_path)
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok())
-        .ok_or_else(|| bad(&meta_path, "no readable live.json: not a live session record"))?;
+        .ok_or_else(|| {
+            bad(
+                &meta_path,
+                "no readable live.json: not a live session record",
+            )
+        })?;
     let seed = meta["seed"]
         .as_u64()
         .ok_or_else(|| bad(&meta_path, "live.json has no seed"))?;

@@ -21,8 +21,8 @@
 //! loopback socket. Neither checks `Host`/`Origin`. The server stays dependency-free, and its
 //! parser is property-tested on arbitrary bytes.
 
-use super::http::{self, DeadlineReader, HttpLimits, Refusal};
 use super::breakpoints::Breakpoint;
+use super::http::{self, DeadlineReader, HttpLimits, Refusal};
 use super::hub::Seen;
 use super::{Control, SessionHandle};
 use std::collections::BTreeMap;
@@ -515,7 +515,11 @@ mod tests {
             br#"[1,2]"#,
             b"\xff\xfe",
         ] {
-            assert!(parse_request(bad).is_err(), "{:?}", String::from_utf8_lossy(bad));
+            assert!(
+                parse_request(bad).is_err(),
+                "{:?}",
+                String::from_utf8_lossy(bad)
+            );
         }
     }
 }

@@ -487,7 +487,10 @@ impl Sim {
         // Checked right after the tick that triggers them: the run stops at that tick.
         if !self.breakpoints.is_empty() {
             let done = self.run.world.tick;
-            if let Some(hit) = self.breakpoints.check(&self.run.pipeline.events, &set, done) {
+            if let Some(hit) = self
+                .breakpoints
+                .check(&self.run.pipeline.events, &set, done)
+            {
                 self.paused = true;
                 self.hub.set_hit(Some(hit.clone()));
                 let _ = self.events.send(LiveEvent::Breakpoint(hit));
