@@ -206,12 +206,13 @@ impl Hub {
         self.changed.notify_all();
     }
 
-    /// Publishes a runtime script error (JSON); the last few are kept for late readers.
+    /// Publishes a runtime script error (JSON, its message already cut with [`cap_message`]:
+    /// cutting the JSON itself would break it); the last few are kept for late readers.
     pub fn push_script_error(&self, json: String) {
         let mut s = self.lock();
         s.error_seq += 1;
         let seq = s.error_seq;
-        s.errors.push_back((seq, cap_message(&json).into()));
+        s.errors.push_back((seq, json.into()));
         while s.errors.len() > ERRORS_KEPT {
             s.errors.pop_front();
         }

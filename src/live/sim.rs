@@ -468,8 +468,12 @@ impl Sim {
                 } if self.reported.len() < MAX_REPORTED_ERRORS
                     && self.reported.insert(message.clone()) =>
                 {
-                    let f =
-                        ScriptFailure::new(tick, agent.0, &set.species[*species as usize], message);
+                    let f = ScriptFailure::new(
+                        tick,
+                        agent.0,
+                        &set.species[*species as usize],
+                        &cap_message(message),
+                    );
                     self.hub
                         .push_script_error(serde_json::to_string(&f).unwrap_or_default());
                     let _ = self.events.send(LiveEvent::ScriptError {
