@@ -8,7 +8,7 @@ mod browser_support;
 mod live_support;
 
 use browser_support::{browser_available, repo};
-use live_support::Project;
+use live_support::{line_col, Project, DEBUG_FISH};
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
@@ -90,4 +90,71 @@ fn shoal_watch_in_chromium_moves_shows_and_clears_the_error_overlay_and_inspects
         .iter()
         .filter(stamped)
         .any(|l| l.contains("accepted: version 1")));
+}
+
+#[test]
+fn breakpoints_pause_at_their_tick_and_script_errors_show_in_chromium() {
+    if !browser_available("breakpoints_and_script_errors_in_chromium") {
+        return;
+    }
+    let p = Project::debugging();
+    let mut child = Child(
+        Command::new(env!("CARGO_BIN_EXE_shoal"))
+            .arg("watch")
+            .arg(p.scenario())
+            .args(["--port", "0", "--paused"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .expect("start shoal watch"),
+    );
+    let stdout = child.0.stdout.take().unwrap();
+    let (tx, rx) = mpsc::channel();
+    let reader = std::thread::spawn(move || {
+        let mut log = Vec::new();
+        for line in BufReader::new(stdout).lines() {
+            let Ok(line) = line else { break };
+            if let Some(url) = line.strip_prefix("live view: ") {
+                let _ = tx.send(url.split_whitespace().next().unwrap_or("").to_string());
+            }
+            log.push(line);
+        }
+        log
+    });
+    let url = rx
+        .recv_timeout(Duration::from_secs(60))
+        .expect("shoal watch printed no URL");
+    let (dart_line, _) = line_col(DEBUG_FISH, "name: \"dart\"");
+    let mut cmd = Command::new("node");
+    cmd.arg(repo().join("tests/browser/debug.test.mjs")).args([
+        "--url",
+        &url,
+        "--dart-line",
+        &dart_line.to_string(),
+    ]);
+    if let Ok(dir) = std::env::var("SHOAL_SHOTS") {
+        cmd.args(["--shots", &dir]);
+    }
+    let out = cmd.output().expect("run node");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("{stdout}");
+    eprintln!("{stderr}");
+    drop(child);
+    let log = reader.join().unwrap();
+    println!("shoal watch printed:\n{}", log.join("\n"));
+    assert!(
+        out.status.success(),
+        "debug.test.mjs failed ({}):\n{stdout}\n{stderr}",
+        out.status
+    );
+    // The terminal names the agent, species and function of the script error, and the pause.
+    assert!(
+        log.iter()
+            .any(|l| l.contains("script error at tick") && l.contains("(fish) in `oops()`")),
+        "{log:#?}"
+    );
+    assert!(log
+        .iter()
+        .any(|l| l.contains("by breakpoint 1: agent") && l.contains("entered dart")));
 }

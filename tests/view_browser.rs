@@ -170,3 +170,28 @@ fn replay_page_of_a_recorded_run_in_chromium() {
     let page = dir.join("view.html");
     run_node("view.test.mjs", &["--page".as_ref(), page.as_os_str()]);
 }
+
+#[test]
+fn state_machine_graph_follows_the_selected_agent_in_chromium() {
+    if !browser_available("state_machine_graph_follows_the_selected_agent_in_chromium") {
+        return;
+    }
+    // A real recording: the tiny scenario run by the binary.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("tiny");
+    let run = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .current_dir(repo())
+        .args(["run", "scenarios/tiny.ron", "--quiet", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run shoal");
+    assert!(run.status.success(), "{run:?}");
+    let page = shoal::view::write_html(&dir).unwrap();
+    let mut args: Vec<&std::ffi::OsStr> = vec!["--page".as_ref(), page.as_os_str()];
+    let shot =
+        std::env::var_os("SHOAL_SHOTS").map(|d| std::path::Path::new(&d).join("viewer-graph.png"));
+    if let Some(s) = &shot {
+        args.extend(["--shot".as_ref(), s.as_os_str()]);
+    }
+    run_node("graph.test.mjs", &args);
+}

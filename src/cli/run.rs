@@ -93,17 +93,36 @@ fn interrupted() -> Arc<AtomicBool> {
     .clone()
 }
 
+/// Script errors `shoal run` prints in full (the summary counts them all).
+const ERRORS_PRINTED: usize = 5;
+
 /// Runs `run` to its end, recording into `dir`; prints a progress bar on a terminal. With
 /// `health`, a [`Monitor`] follows the run: its report goes to `health.json` and the manifest's
 /// summary, and (unless `quiet`) its section is printed after the summary.
 pub fn execute(
-    mut run: Run,
+    run: Run,
     dir: &Path,
     interval: u32,
     threads: Option<usize>,
     quiet: bool,
     health: bool,
 ) -> anyhow::Result<Outcome> {
+    execute_with_versions(run, Vec::new(), dir, interval, threads, quiet, health)
+}
+
+/// [`execute`], swapping in each of `versions` (`(tick, scenario)`, ascending) at its tick, as
+/// a live session did (a live record re-run: see [`rerun`]).
+fn execute_with_versions(
+    mut run: Run,
+    versions: Vec<(u64, Scenario)>,
+    dir: &Path,
+    interval: u32,
+    threads: Option<usize>,
+    quiet: bool,
+    health: bool,
+) -> anyhow::Result<Outcome> {
+    let mut versions = versions.into_iter().peekable();
+    let mut first_errors: Vec<String> = Vec::new();
     let (pool, n_threads) = pool(threads)?;
     let stop = interrupted();
     let mut rec = Recorder::start(dir, &run, interval, n_threads)?;
@@ -123,7 +142,15 @@ pub fn execute(
             if stop.load(Ordering::SeqCst) {
                 anyhow::bail!("interrupted (Ctrl-C or SIGTERM)");
             }
+            while let Some((_, scenario)) = versions.next_if(|v| v.0 <= run.world.tick) {
+                if let Err(d) = run.reload(scenario) {
+                    anyhow::bail!("a recorded version could not be swapped in:\n{d}");
+                }
+            }
             run.step();
+            if first_errors.len() < ERRORS_PRINTED {
+                first_errors.extend(script_errors(&run).take(ERRORS_PRINTED - first_errors.len()));
+            }
             let stepped = Instant::now();
             rec.record_tick(&run)?;
             recording += stepped.elapsed();
@@ -181,6 +208,7 @@ pub fn execute(
                     serde_json::to_string_pretty(&h.to_json())?.as_bytes(),
                 )?;
             }
+            print_errors(&first_errors, run.pipeline.stats.script_errors, quiet);
             if !quiet {
                 print_summary(&run, &summary);
                 for v in &verdicts {
@@ -210,6 +238,49 @@ pub fn execute(
                 complete: false,
                 script_timeouts: run.pipeline.stats.script_timeouts,
             })
+        }
+    }
+}
+
+/// This tick's script errors, one line each: tick, agent, species and the located message.
+fn script_errors(run: &Run) -> impl Iterator<Item = String> + '_ {
+    let tick = run.world.tick.saturating_sub(1);
+    let names = &run.pipeline.species.species;
+    run.pipeline.events.iter().filter_map(move |e| match e {
+        shoal::events::Event::ScriptError {
+            agent,
+            species,
+            message,
+        } => {
+            let sp = names
+                .get(*species as usize)
+                .map_or("?", |s| s.name.as_str());
+            Some(format!(
+                "tick {tick}, agent {} ({sp}): {}",
+                agent.0,
+                message.trim_end().replace('\n', "\n      ")
+            ))
+        }
+        _ => None,
+    })
+}
+
+/// Prints the first script errors of a run (each agent's first error is an event; `total`
+/// counts every failed call), on stderr when `quiet`.
+fn print_errors(first: &[String], total: u64, quiet: bool) {
+    if first.is_empty() {
+        return;
+    }
+    let head = format!(
+        "script errors: {total} failed call(s); the first {} reported:",
+        first.len()
+    );
+    let lines = std::iter::once(head).chain(first.iter().map(|l| format!("  {l}")));
+    for l in lines {
+        if quiet {
+            eprintln!("{l}");
+        } else {
+            println!("{l}");
         }
     }
 }
@@ -423,6 +494,21 @@ pub fn incomplete(dir: &Path, manifest: &serde_json::Value) -> Option<String> {
 /// Runs `shoal rerun`: replays the resolved scenario with the stored inputs and compares the
 /// recorded files byte for byte.
 pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
+    if shoal::live::record::is_record(&args.dir) && !args.dir.join("manifest.json").exists() {
+        let out = args.out.clone().unwrap_or_else(|| args.dir.join("rerun"));
+        return match replay_live(&args.dir, &out, args.threads, false)? {
+            Ok(o) if o.complete => {
+                println!(
+                    "live record {} re-run into {}",
+                    args.dir.display(),
+                    o.dir.display()
+                );
+                Ok(ExitCode::SUCCESS)
+            }
+            Ok(_) => Ok(ExitCode::from(130)),
+            Err(d) => Ok(super::report(&d)),
+        };
+    }
     let manifest_file = args.dir.join("manifest.json");
     let manifest: serde_json::Value = serde_json::from_slice(&read(&manifest_file)?)
         .with_context(|| format!("{}: not a run manifest", manifest_file.display()))?;
@@ -500,6 +586,52 @@ pub fn rerun(args: RerunArgs) -> anyhow::Result<ExitCode> {
         );
         Ok(ExitCode::from(1))
     }
+}
+
+/// Re-runs the live session recorded in `dir` (a `shoal watch --record` folder) into the run
+/// folder `out`: its first version from tick 0 with the session's seed, each later version swapped
+/// in at the tick it took effect at, as far as the session ran (or the scenario's duration, when
+/// the record does not say). The outer error is a failure to write; the inner one names the
+/// record's file at fault.
+pub fn replay_live(
+    dir: &Path,
+    out: &Path,
+    threads: Option<usize>,
+    quiet: bool,
+) -> anyhow::Result<Result<Outcome, shoal::diag::Diagnostics>> {
+    let rec = match shoal::live::record::read(dir) {
+        Ok(r) => r,
+        Err(d) => return Ok(Err(d)),
+    };
+    let mut scenarios = Vec::new();
+    for (tick, file) in &rec.versions {
+        match Scenario::load(file) {
+            Ok(s) => scenarios.push((*tick, s)),
+            Err(d) => return Ok(Err(d)),
+        }
+    }
+    let (_, first) = scenarios.remove(0);
+    let interval = first.def.record.interval.max(1);
+    let mut run = Run::new(
+        first,
+        Overrides {
+            seed: Some(rec.seed),
+            duration: None,
+        },
+    );
+    if let Some(t) = rec.ticks {
+        run.total_ticks = t;
+    }
+    scenarios.retain(|v| v.0 < run.total_ticks);
+    if !quiet {
+        println!(
+            "{} is a live session record: re-running its {} version(s) over {} ticks",
+            dir.display(),
+            scenarios.len() + 1,
+            run.total_ticks
+        );
+    }
+    execute_with_versions(run, scenarios, out, interval, threads, quiet, true).map(Ok)
 }
 
 /// The bytes of a run-folder file; an error names the file.

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 /// Arguments of `shoal view`.
 #[derive(clap::Args, Debug, Default)]
 pub struct ViewArgs {
-    /// A run folder written by `shoal run`.
+    /// A run folder written by `shoal run`, or a live session's record (`shoal watch --record`).
     pub dir: PathBuf,
     /// Open the page in the default browser afterwards.
     #[arg(long)]
@@ -15,7 +15,25 @@ pub struct ViewArgs {
 
 /// Runs `shoal view`.
 pub fn view(args: ViewArgs) -> anyhow::Result<ExitCode> {
-    let page = match shoal::view::write_html(&args.dir) {
+    let mut dir = args.dir.clone();
+    // A live session's record holds versions, not frames: re-run it once into `replay/`.
+    if shoal::live::record::is_record(&dir) && !dir.join("manifest.json").exists() {
+        let out = dir.join("replay");
+        if !out.join("manifest.json").exists() {
+            match super::run::replay_live(&dir, &out, None, true)? {
+                Ok(o) if o.complete => {}
+                Ok(_) => return Ok(ExitCode::from(130)),
+                Err(d) => return Ok(super::report(&d)),
+            }
+        }
+        println!(
+            "{} is a live session record: its re-run is in {}",
+            dir.display(),
+            out.display()
+        );
+        dir = out;
+    }
+    let page = match shoal::view::write_html(&dir) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("{e}");

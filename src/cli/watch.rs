@@ -101,12 +101,28 @@ fn print_event(e: &LiveEvent) {
             time,
             tick,
             message,
+            agent,
+            species,
+            function,
         } => {
-            println!("[{}] script error at tick {tick}:", clock(*time));
+            let function = function
+                .as_deref()
+                .map_or(String::new(), |f| format!(" in `{f}()`"));
+            println!(
+                "[{}] script error at tick {tick}, agent {agent} ({species}){function}:",
+                clock(*time)
+            );
             for line in message.lines() {
                 println!("    {line}");
             }
         }
+        LiveEvent::Breakpoint(hit) => println!(
+            "[{}] paused at tick {} by breakpoint {}: {}",
+            clock(SystemTime::now()),
+            hit.tick,
+            hit.breakpoint,
+            hit.reason
+        ),
         LiveEvent::WatchError { time, message } => {
             println!("[{}] watcher: {message}", clock(*time))
         }

@@ -9,6 +9,10 @@ use std::time::Duration;
 /// Reload messages kept for readers that connect late (only the newest matter).
 const RELOADS_KEPT: usize = 8;
 
+/// Runtime script errors kept, and sent to a reader that connects late: an error raised before
+/// the page opened must still show.
+const ERRORS_KEPT: usize = 8;
+
 /// Longest message kept (bytes): a diagnostic that echoes a huge line, or a huge script error,
 /// must not grow every `/status` answer, stream event and record line with it.
 pub const MAX_MESSAGE: usize = 4 * 1024;
@@ -44,6 +48,10 @@ pub struct SessionStatus {
     pub agents: usize,
     /// Diagnostics of the last rejected edit, empty once it is fixed.
     pub diagnostics: Vec<String>,
+    /// The breakpoints set ([`super::breakpoints`]).
+    pub breakpoints: Vec<super::breakpoints::Listed>,
+    /// The breakpoint that paused the run, until it runs again.
+    pub hit: Option<super::breakpoints::Hit>,
 }
 
 #[derive(Debug, Clone, Default)]
@@ -60,6 +68,9 @@ struct State {
     health: Item,
     reloads: VecDeque<(u64, Arc<str>)>,
     reload_seq: u64,
+    errors: VecDeque<(u64, Arc<str>)>,
+    error_seq: u64,
+    breakpoint: Item,
     status: SessionStatus,
     closed: bool,
 }
@@ -80,6 +91,8 @@ pub struct Seen {
     frame: u64,
     health: u64,
     reload: u64,
+    error: u64,
+    breakpoint: u64,
     started: bool,
 }
 
@@ -95,6 +108,10 @@ pub mod event {
     pub const RELOAD: &str = "reload";
     /// The run-health figures of the version running (about once a second).
     pub const HEALTH: &str = "health";
+    /// A runtime script error (agent, species, function, place, message).
+    pub const SCRIPT_ERROR: &str = "script_error";
+    /// The breakpoint that paused the run (`null` once it runs again).
+    pub const BREAKPOINT: &str = "breakpoint";
 }
 
 impl Hub {
@@ -111,6 +128,9 @@ impl Hub {
                 health: Item::default(),
                 reloads: VecDeque::new(),
                 reload_seq: 0,
+                errors: VecDeque::new(),
+                error_seq: 0,
+                breakpoint: Item::default(),
                 status: SessionStatus {
                     tick: 0,
                     time: 0.0,
@@ -119,6 +139,8 @@ impl Hub {
                     speed: 1.0,
                     agents: 0,
                     diagnostics: Vec::new(),
+                    breakpoints: Vec::new(),
+                    hit: None,
                 },
                 closed: false,
             }),
@@ -184,6 +206,33 @@ impl Hub {
         self.changed.notify_all();
     }
 
+    /// Publishes a runtime script error (JSON, its message already cut with [`cap_message`]:
+    /// cutting the JSON itself would break it); the last few are kept for late readers.
+    pub fn push_script_error(&self, json: String) {
+        let mut s = self.lock();
+        s.error_seq += 1;
+        let seq = s.error_seq;
+        s.errors.push_back((seq, json.into()));
+        while s.errors.len() > ERRORS_KEPT {
+            s.errors.pop_front();
+        }
+        drop(s);
+        self.changed.notify_all();
+    }
+
+    /// Publishes the breakpoint that paused the run (`None`: running again).
+    pub fn set_hit(&self, hit: Option<super::breakpoints::Hit>) {
+        let json = serde_json::to_string(&hit).unwrap_or_else(|_| "null".into());
+        let mut s = self.lock();
+        if s.status.hit == hit {
+            return;
+        }
+        s.status.hit = hit;
+        Self::bump(&mut s.breakpoint, json.into());
+        drop(s);
+        self.changed.notify_all();
+    }
+
     /// Updates the status with `f`.
     pub fn update_status(&self, f: impl FnOnce(&mut SessionStatus)) {
         f(&mut self.lock().status);
@@ -220,6 +269,8 @@ impl Hub {
                 || (s.frame.data.is_some() && s.frame.seq != seen.frame)
                 || (s.health.data.is_some() && s.health.seq != seen.health)
                 || (seen.started && s.reload_seq != seen.reload)
+                || s.error_seq != seen.error
+                || (s.breakpoint.data.is_some() && s.breakpoint.seq != seen.breakpoint)
         };
         if !s.closed && !fresh(&s, seen) {
             s = self
@@ -251,6 +302,19 @@ impl Hub {
                 }
             }
             seen.reload = s.reload_seq;
+        }
+        if s.error_seq != seen.error {
+            // A late reader gets the kept ones too.
+            for (seq, d) in &s.errors {
+                if *seq > seen.error {
+                    out.push((event::SCRIPT_ERROR, d.clone()));
+                }
+            }
+            seen.error = s.error_seq;
+        }
+        if let (Some(d), true) = (&s.breakpoint.data, s.breakpoint.seq != seen.breakpoint) {
+            out.push((event::BREAKPOINT, d.clone()));
+            seen.breakpoint = s.breakpoint.seq;
         }
         // Frames need a world first.
         if let (Some(d), true) = (&s.frame.data, s.frame.seq != seen.frame && seen.world != 0) {

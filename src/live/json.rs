@@ -167,6 +167,7 @@ struct SpeciesJson<'a> {
     length: f32,
     behaviors: Vec<&'a str>,
     look: crate::species::def::look::Look<'a>,
+    behavior_info: Vec<serde_json::Value>,
 }
 
 #[derive(Serialize)]
@@ -226,6 +227,7 @@ pub fn world_json(run: &Run, removed_at: &[Option<u64>]) -> String {
             length: s.def.body.size.z,
             behaviors: s.behaviors.iter().map(|b| &*b.name).collect(),
             look: s.def.look.resolve(&s.def.color, &s.def.body),
+            behavior_info: crate::record::behavior_info(s),
         })
         .collect();
     serde_json::to_string(&WorldJson {

@@ -9,6 +9,8 @@
 //! server ([`server`]). What a viewer is sent lives in a
 //! [`Hub`]. Everything the session does is reported as a [`LiveEvent`] for the caller to print.
 
+pub mod breakpoints;
+pub mod errors;
 pub mod files;
 pub mod http;
 pub mod hub;
@@ -192,7 +194,15 @@ pub enum LiveEvent {
         tick: u64,
         /// `file:line:col: message` and the offending line.
         message: String,
+        /// The agent whose call failed.
+        agent: u32,
+        /// Its species.
+        species: String,
+        /// The script function the failure is in, when known.
+        function: Option<String>,
     },
+    /// A breakpoint paused the run.
+    Breakpoint(breakpoints::Hit),
     /// The file watcher reported a problem.
     WatchError {
         /// When.
@@ -235,6 +245,22 @@ impl SessionHandle {
     /// Sends a control command.
     pub fn control(&self, c: Control) {
         let _ = self.sim.send(Command::Control(c));
+    }
+
+    /// Adds a breakpoint (checked after every tick from the next one on); returns its number,
+    /// or why it was refused.
+    pub fn add_breakpoint(&self, b: breakpoints::Breakpoint) -> Result<u32, String> {
+        let (tx, rx) = mpsc::channel();
+        self.sim
+            .send(Command::Break(b, tx))
+            .map_err(|_| "the session stopped".to_string())?;
+        rx.recv_timeout(Duration::from_secs(10))
+            .map_err(|_| "the session did not answer".to_string())?
+    }
+
+    /// Removes breakpoint `id` (`None`: all of them).
+    pub fn remove_breakpoint(&self, id: Option<u32>) {
+        let _ = self.sim.send(Command::Unbreak(id));
     }
 
     /// Inspects agent `id` (at the next tick boundary). `None` if it does not exist or the

@@ -185,43 +185,84 @@ fn bad(dir: &Path, msg: impl Into<String>) -> Diagnostics {
     Diagnostic::file(dir, msg).into()
 }
 
-/// Re-runs the live session recorded in `dir` up to tick `ticks`: the first version from tick 0,
-/// each later one swapped in at the tick it took effect at. The result is bit-identical to the
-/// live session at that tick.
-pub fn rerun(dir: &Path, ticks: u64) -> Result<Run, Diagnostics> {
-    let meta: serde_json::Value = std::fs::read_to_string(dir.join("live.json"))
+/// What a live session's record holds: the seed, how far the session ran (when it was stopped
+/// rather than killed) and each version's scenario file with the tick it took effect at.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recorded {
+    /// The session's seed.
+    pub seed: u64,
+    /// Ticks the session ran, if it was stopped (a killed process does not say).
+    pub ticks: Option<u64>,
+    /// `(tick, scenario file)` of every version swapped in, the first at tick 0.
+    pub versions: Vec<(u64, PathBuf)>,
+}
+
+/// Whether `dir` looks like the record of a live session (it has a `live.json`).
+pub fn is_record(dir: &Path) -> bool {
+    dir.join("live.json").is_file()
+}
+
+/// Reads the record in `dir`; errors name the file at fault.
+pub fn read(dir: &Path) -> Result<Recorded, Diagnostics> {
+    let meta_path = dir.join("live.json");
+    let meta: serde_json::Value = std::fs::read_to_string(&meta_path)
         .ok()
         .and_then(|t| serde_json::from_str(&t).ok())
-        .ok_or_else(|| bad(dir, "no readable live.json: not a live session record"))?;
+        .ok_or_else(|| {
+            bad(
+                &meta_path,
+                "no readable live.json: not a live session record",
+            )
+        })?;
     let seed = meta["seed"]
         .as_u64()
-        .ok_or_else(|| bad(dir, "live.json has no seed"))?;
-    let log = std::fs::read_to_string(dir.join("reloads.jsonl"))
-        .map_err(|e| bad(dir, format!("cannot read reloads.jsonl: {e}")))?;
+        .ok_or_else(|| bad(&meta_path, "live.json has no seed"))?;
+    let log_path = dir.join("reloads.jsonl");
+    let log = std::fs::read_to_string(&log_path)
+        .map_err(|e| bad(&log_path, format!("cannot read it: {e}")))?;
     let mut versions: Vec<(u64, PathBuf)> = Vec::new();
+    let mut ticks = meta["ticks"].as_u64();
     for (i, line) in log.lines().enumerate() {
         let v: serde_json::Value = serde_json::from_str(line).map_err(|e| {
             Diagnostics::from(Diagnostic::new(
-                dir.join("reloads.jsonl"),
+                &log_path,
                 i + 1,
                 e.column(),
                 e.to_string(),
                 Some(&log),
             ))
         })?;
-        if matches!(v["status"].as_str(), Some("initial" | "accepted")) {
-            let tick = v["tick"].as_u64().unwrap_or(0);
-            let scenario = dir.join(v["scenario"].as_str().unwrap_or_default());
-            versions.push((tick, scenario));
+        match v["status"].as_str() {
+            Some("initial" | "accepted") => {
+                let tick = v["tick"].as_u64().unwrap_or(0);
+                let scenario = dir.join(v["scenario"].as_str().unwrap_or_default());
+                versions.push((tick, scenario));
+            }
+            Some("stopped") => ticks = ticks.or(v["tick"].as_u64()),
+            _ => {}
         }
     }
-    let Some((_, first)) = versions.first() else {
-        return Err(bad(dir, "reloads.jsonl records no version"));
-    };
+    if versions.is_empty() {
+        return Err(bad(&log_path, "reloads.jsonl records no version"));
+    }
+    Ok(Recorded {
+        seed,
+        ticks,
+        versions,
+    })
+}
+
+/// Re-runs the live session recorded in `dir` up to tick `ticks`: the first version from tick 0,
+/// each later one swapped in at the tick it took effect at. The result is bit-identical to the
+/// live session at that tick.
+pub fn rerun(dir: &Path, ticks: u64) -> Result<Run, Diagnostics> {
+    let rec = read(dir)?;
+    let versions = rec.versions;
+    let first = &versions[0].1;
     let mut run = Run::new(
         Scenario::load(first)?,
         Overrides {
-            seed: Some(seed),
+            seed: Some(rec.seed),
             duration: None,
         },
     );

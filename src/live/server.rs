@@ -21,6 +21,7 @@
 //! loopback socket. Neither checks `Host`/`Origin`. The server stays dependency-free, and its
 //! parser is property-tested on arbitrary bytes.
 
+use super::breakpoints::Breakpoint;
 use super::http::{self, DeadlineReader, HttpLimits, Refusal};
 use super::hub::Seen;
 use super::{Control, SessionHandle};
@@ -212,8 +213,37 @@ pub fn parse_control(body: &[u8]) -> Result<Control, String> {
             }
         }
         other => Err(format!(
-            "unknown cmd \"{other}\": expected pause, resume, step or speed"
+            "unknown cmd \"{other}\": expected pause, resume, step, speed, break or unbreak"
         )),
+    }
+}
+
+/// A `/control` request: a [`Control`], or a change to the breakpoints.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Request {
+    /// Pause, resume, step or speed.
+    Control(Control),
+    /// `{"cmd":"break", ...}`: add a breakpoint ([`Breakpoint::parse`]).
+    Break(Breakpoint),
+    /// `{"cmd":"unbreak","id":N}` removes one, `{"cmd":"unbreak"}` all.
+    Unbreak(Option<u32>),
+}
+
+/// Parses a `/control` body; a bad one gets a reason, never a panic.
+pub fn parse_request(body: &[u8]) -> Result<Request, String> {
+    let v: serde_json::Value =
+        serde_json::from_slice(body).map_err(|e| format!("body is not JSON: {e}"))?;
+    match v["cmd"].as_str() {
+        Some("break") => Breakpoint::parse(&v).map(Request::Break),
+        Some("unbreak") => match &v["id"] {
+            serde_json::Value::Null => Ok(Request::Unbreak(None)),
+            id => id
+                .as_u64()
+                .and_then(|i| u32::try_from(i).ok())
+                .map(|i| Request::Unbreak(Some(i)))
+                .ok_or_else(|| "\"id\" must be a breakpoint number".to_string()),
+        },
+        _ => parse_control(body).map(Request::Control),
     }
 }
 
@@ -300,13 +330,25 @@ fn handle_connection(
                 );
             }
         }
-        ("GET", "/status") => {
+        // The control state (paused, tick, breakpoints, the hit) is the status.
+        ("GET", "/status") | ("GET", "/control") => {
             let body = serde_json::to_string(&handle.status()).unwrap_or_default();
             respond(&mut stream, "200 OK", "application/json", body.as_bytes());
         }
-        ("POST", "/control") => match parse_control(&req.body) {
-            Ok(c) => {
+        ("POST", "/control") => match parse_request(&req.body) {
+            Ok(Request::Control(c)) => {
                 handle.control(c);
+                respond(&mut stream, "200 OK", "application/json", b"{\"ok\":true}");
+            }
+            Ok(Request::Break(b)) => match handle.add_breakpoint(b) {
+                Ok(id) => {
+                    let body = serde_json::json!({ "ok": true, "id": id }).to_string();
+                    respond(&mut stream, "200 OK", "application/json", body.as_bytes());
+                }
+                Err(e) => json_error(&mut stream, "400 Bad Request", &e),
+            },
+            Ok(Request::Unbreak(id)) => {
+                handle.remove_breakpoint(id);
                 respond(&mut stream, "200 OK", "application/json", b"{\"ok\":true}");
             }
             Err(e) => json_error(&mut stream, "400 Bad Request", &e),
@@ -444,5 +486,40 @@ mod tests {
             .unwrap_err()
             .contains("unknown cmd"));
         assert!(parse_control(b"nope").is_err());
+    }
+
+    #[test]
+    fn breakpoint_bodies() {
+        assert_eq!(
+            parse_request(br#"{"cmd":"step"}"#),
+            Ok(Request::Control(Control::Step))
+        );
+        match parse_request(br#"{"cmd":"break","on":"enter","behavior":"graze","species":"fish"}"#)
+        {
+            Ok(Request::Break(b)) => assert_eq!(b.text(), "any fish: enters graze"),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(
+            parse_request(br#"{"cmd":"unbreak","id":3}"#),
+            Ok(Request::Unbreak(Some(3)))
+        );
+        assert_eq!(
+            parse_request(br#"{"cmd":"unbreak"}"#),
+            Ok(Request::Unbreak(None))
+        );
+        for bad in [
+            &br#"{"cmd":"break"}"#[..],
+            br#"{"cmd":"break","on":"enter"}"#,
+            br#"{"cmd":"break","on":"enter","behavior":"a","agent":"x"}"#,
+            br#"{"cmd":"unbreak","id":-2}"#,
+            br#"[1,2]"#,
+            b"\xff\xfe",
+        ] {
+            assert!(
+                parse_request(bad).is_err(),
+                "{:?}",
+                String::from_utf8_lossy(bad)
+            );
+        }
     }
 }

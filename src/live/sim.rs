@@ -3,6 +3,8 @@
 //! publishes frames to the viewers and answers inspections. Nothing here parses or compiles: new
 //! versions arrive ready to install.
 
+use super::breakpoints::{Breakpoint, Breakpoints};
+use super::errors::ScriptFailure;
 use super::files::FileEntry;
 use super::hub::{cap_message, Hub};
 use super::json::{self, Decision, DecisionLog, DECISIONS_KEPT};
@@ -43,6 +45,8 @@ pub(crate) enum Command {
     Fork(Sender<Box<Run>>, Duration),
     World(Sender<Box<World>>),
     Swap(Box<Swap>),
+    Break(Breakpoint, Sender<Result<u32, String>>),
+    Unbreak(Option<u32>),
     Stop,
 }
 
@@ -77,6 +81,7 @@ pub(crate) struct Sim {
     explained_decisions: std::collections::VecDeque<serde_json::Value>,
     /// Meals, catches and matings by agent id: `[tick, kind, other]`, the latest kept.
     contacts: BTreeMap<u32, std::collections::VecDeque<serde_json::Value>>,
+    breakpoints: Breakpoints,
 }
 
 /// Explained decisions and contacts kept per agent.
@@ -120,6 +125,7 @@ impl Sim {
             explained: None,
             explained_decisions: Default::default(),
             contacts: BTreeMap::new(),
+            breakpoints: Breakpoints::default(),
         }
     }
 
@@ -152,7 +158,9 @@ impl Sim {
             self.run.world.agents.len(),
         );
         let (version, paused, speed) = (self.version, self.paused, self.speed);
+        let breakpoints = self.breakpoints.listed();
         self.hub.update_status(|s| {
+            s.breakpoints = breakpoints;
             s.tick = tick;
             s.time = time;
             s.agents = agents;
@@ -227,12 +235,14 @@ impl Sim {
                         }
                     }
                     Control::Resume => {
+                        self.hub.set_hit(None);
                         if self.paused {
                             self.paused = false;
                             self.next_due = Instant::now() + self.period();
                         }
                     }
                     Control::Step => {
+                        self.hub.set_hit(None);
                         self.paused = true;
                         self.step_once = true;
                     }
@@ -283,6 +293,14 @@ impl Sim {
                 let _ = reply.send(Box::new(self.run.world.clone()));
             }
             Command::Swap(s) => self.swap(*s),
+            Command::Break(b, reply) => {
+                let _ = reply.send(self.breakpoints.add(b));
+                self.publish_status();
+            }
+            Command::Unbreak(id) => {
+                self.breakpoints.remove(id);
+                self.publish_status();
+            }
             Command::Stop => {}
         }
     }
@@ -493,17 +511,43 @@ impl Sim {
                 Event::Death { agent, .. } => {
                     self.decisions.remove(&agent.0);
                 }
-                Event::ScriptError { message, .. }
-                    if self.reported.len() < MAX_REPORTED_ERRORS
-                        && self.reported.insert(message.clone()) =>
+                Event::ScriptError {
+                    agent,
+                    species,
+                    message,
+                } if self.reported.len() < MAX_REPORTED_ERRORS
+                    && self.reported.insert(message.clone()) =>
                 {
+                    let f = ScriptFailure::new(
+                        tick,
+                        agent.0,
+                        &set.species[*species as usize],
+                        &cap_message(message),
+                    );
+                    self.hub
+                        .push_script_error(serde_json::to_string(&f).unwrap_or_default());
                     let _ = self.events.send(LiveEvent::ScriptError {
                         time: SystemTime::now(),
                         tick,
                         message: cap_message(message),
+                        agent: f.agent,
+                        species: f.species,
+                        function: f.function,
                     });
                 }
                 _ => {}
+            }
+        }
+        // Checked right after the tick that triggers them: the run stops at that tick.
+        if !self.breakpoints.is_empty() {
+            let done = self.run.world.tick;
+            if let Some(hit) = self
+                .breakpoints
+                .check(&self.run.pipeline.events, &set, done)
+            {
+                self.paused = true;
+                self.hub.set_hit(Some(hit.clone()));
+                let _ = self.events.send(LiveEvent::Breakpoint(hit));
             }
         }
         let mut world_changed = false;

@@ -74,6 +74,27 @@ pub fn event_json(e: &Event, tick: u64, dt: f32, set: &SpeciesSet) -> Value {
     Value::Object(out)
 }
 
+/// Per behavior of `s`, in the order of its `behaviors` names, what the viewer's state-machine
+/// graph draws: priority level, whether an equal level may interrupt it, its `when` and `done`
+/// text, whether it is the initial behavior, and where its name is written (`file:line:col`).
+pub fn behavior_info(s: &crate::species::Species) -> Vec<Value> {
+    s.behaviors
+        .iter()
+        .enumerate()
+        .map(|(i, b)| {
+            let (line, col) = b.source;
+            json!({
+                "priority": b.priority,
+                "equal_may_interrupt": b.equal_may_interrupt,
+                "when": &*b.when_text,
+                "done": &*b.done_text,
+                "initial": i == s.initial as usize,
+                "source": format!("{}:{line}:{col}", s.file.display()),
+            })
+        })
+        .collect()
+}
+
 /// The world description of `world.json`: bounds, obstacles (with the tick each was removed at),
 /// species with colors and behavior names, terrain and the squads' plans.
 pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
@@ -109,6 +130,7 @@ pub fn world_json(run: &Run, removed: &[Option<u64>]) -> Value {
                 "length": s.def.body.size.z,
                 "behaviors": s.behaviors.iter().map(|b| b.name.to_string()).collect::<Vec<_>>(),
                 "look": s.def.look.resolve(&s.def.color, &s.def.body),
+                "behavior_info": behavior_info(s),
             })
         })
         .collect();

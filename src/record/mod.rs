@@ -14,7 +14,7 @@
 mod json;
 pub mod schema;
 
-pub use json::{event_json, world_json};
+pub use json::{behavior_info, event_json, world_json};
 
 use crate::events::Event;
 use crate::scenario::Run;

@@ -167,6 +167,9 @@ pub struct Behavior {
     pub response: Option<f32>,
     /// What its steering reads (`None`: everything; [`crate::decision::focus`]).
     pub focus: Option<crate::params::decision::Focus>,
+    /// Line and column (1-based) of its `name` in the species file (0, 0: not found), for the
+    /// viewer's state-machine graph.
+    pub source: (u32, u32),
 }
 
 /// What a script slot returns.

@@ -297,6 +297,7 @@ impl Builder<'_> {
                 on_enter,
                 response: b.response,
                 focus,
+                source: behavior_source(self.text, &b.name),
             });
         }
         // Two behaviors of one level with the same trigger can never be told apart.
@@ -403,4 +404,21 @@ impl Builder<'_> {
             has_on_event,
         })
     }
+}
+
+/// Line and column of behavior `name`'s `name: "..."` in `text` (the first one written as a
+/// behavior's name, not as `initial` or in a condition); (0, 0) if not found.
+fn behavior_source(text: &str, name: &str) -> (u32, u32) {
+    let needle = format!("\"{name}\"");
+    let mut from = 0;
+    while let Some((line, col, at)) = locate(text, &needle, from) {
+        let before = text[..at].trim_end();
+        if let Some(key) = before.strip_suffix(':') {
+            if key.trim_end().ends_with("name") {
+                return (line as u32, col as u32);
+            }
+        }
+        from = at + 1;
+    }
+    (0, 0)
 }

@@ -51,6 +51,8 @@ pub(crate) struct Events {
     pub counts: BTreeMap<String, u64>,
     /// Line number of a truncated last line that was skipped, if any.
     pub truncated_line: Option<usize>,
+    /// Every transition of the run counted by (species, from, to), for the state-machine graph.
+    pub edges: BTreeMap<(String, String, String), u64>,
 }
 
 fn field<'v>(
@@ -84,7 +86,36 @@ fn string(v: &Value, name: &str) -> String {
     }
 }
 
+/// One line for a `script_error` event: its message (which starts with `file:line:col:`), then
+/// the agent and species. Older records that kept the place in `file`, `line` and `col` fields
+/// get it put in front.
+fn script_error_text(v: &Value) -> String {
+    let mut text = String::new();
+    let file = string(v, "file");
+    if !file.is_empty() {
+        text = format!("{file}:{}:{}: ", string(v, "line"), string(v, "col"));
+    }
+    // The message's first line; the rest quotes the offending line of the script.
+    text.push_str(string(v, "message").lines().next().unwrap_or(""));
+    let (agent, species) = (string(v, "agent"), string(v, "species"));
+    match (agent.is_empty(), species.is_empty()) {
+        (false, false) => text.push_str(&format!(" (agent {agent}, {species})")),
+        (false, true) => text.push_str(&format!(" (agent {agent})")),
+        (true, false) => text.push_str(&format!(" ({species})")),
+        (true, true) => {}
+    }
+    text
+}
+
 impl Events {
+    /// The transition counts as `[species, from, to, count]` rows, for the page.
+    pub(crate) fn edge_list(&self) -> Vec<(&str, &str, &str, u64)> {
+        self.edges
+            .iter()
+            .map(|((s, f, t), n)| (s.as_str(), f.as_str(), t.as_str(), *n))
+            .collect()
+    }
+
     /// Reads `events.jsonl`; a missing file means no events were recorded.
     pub(crate) fn read(path: &Path, allow_truncated_tail: bool) -> Result<Events, ViewError> {
         let mut ev = Events::default();
@@ -156,6 +187,10 @@ impl Events {
                     stack: self.strings.intern(&stack) as u32,
                 };
                 self.transitions.push(t);
+                *self
+                    .edges
+                    .entry((string(&v, "species"), string(&v, "from"), string(&v, "to")))
+                    .or_default() += 1;
             }
             "death" => {
                 let agent = uint(&v, "agent", path, line, text)?;
@@ -163,15 +198,7 @@ impl Events {
                     .insert(agent as u32, (tick, string(&v, "cause")));
             }
             "script_error" if self.script_errors.len() < MAX_LISTED => {
-                let text = format!(
-                    "{}:{}:{}: {} (agent {}, {})",
-                    string(&v, "file"),
-                    string(&v, "line"),
-                    string(&v, "col"),
-                    string(&v, "message"),
-                    string(&v, "agent"),
-                    string(&v, "species"),
-                );
+                let text = script_error_text(&v);
                 self.script_errors.push(ListedEvent { tick, text });
             }
             "reload" if self.reloads.len() < MAX_LISTED => {
@@ -186,5 +213,44 @@ impl Events {
             _ => {}
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn script_errors_read_as_one_line_without_empty_places() {
+        let v: Value = serde_json::from_str(
+            r#"{"tick":3,"kind":"script_error","agent":2,"species":"shark","message":"b/s.rhai:4:9: boom\n4 | x\n"}"#,
+        )
+        .unwrap();
+        assert_eq!(script_error_text(&v), "b/s.rhai:4:9: boom (agent 2, shark)");
+        let old: Value = serde_json::from_str(
+            r#"{"agent":2,"species":"shark","file":"h.rhai","line":4,"col":9,"message":"bad"}"#,
+        )
+        .unwrap();
+        assert_eq!(script_error_text(&old), "h.rhai:4:9: bad (agent 2, shark)");
+    }
+
+    #[test]
+    fn transitions_are_counted_per_species_and_edge() {
+        let mut ev = Events::default();
+        let p = Path::new("events.jsonl");
+        for (i, line) in [
+            r#"{"tick":1,"kind":"transition","agent":1,"species":"fish","from":"a","to":"b"}"#,
+            r#"{"tick":2,"kind":"transition","agent":2,"species":"fish","from":"a","to":"b"}"#,
+            r#"{"tick":3,"kind":"transition","agent":1,"species":"fish","from":"b","to":"a"}"#,
+        ]
+        .iter()
+        .enumerate()
+        {
+            ev.add(p, i + 1, line).unwrap();
+        }
+        assert_eq!(
+            ev.edge_list(),
+            [("fish", "a", "b", 2), ("fish", "b", "a", 1)]
+        );
     }
 }

@@ -39,6 +39,7 @@ const SCRIPT: &str = concat!(
     include_str!("js/health.js"),
     include_str!("js/replay.js"),
     include_str!("js/live.js"),
+    include_str!("js/graph.js"),
     include_str!("js/main.js"),
 );
 /// The page's style sheet.

@@ -189,6 +189,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
             length: 1.0,
             behaviors: Vec::new(),
             look: None,
+            behavior_info: Vec::new(),
         });
     }
 
@@ -273,6 +274,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
         "script_errors": events.script_errors,
         "reloads": events.reloads,
         "event_counts": events.counts,
+        "transition_counts": events.edge_list(),
         "health": health,
     });
     Ok(Payload { meta, columns })

@@ -62,6 +62,10 @@ pub(crate) struct SpeciesInfo {
     /// How the page draws the species; recordings from before looks were written have none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub look: Option<LookInfo>,
+    /// Per behavior: priority, interrupt flag, condition texts and source location (passed to
+    /// the page's state-machine graph as written; absent in older runs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub behavior_info: Vec<serde_json::Value>,
 }
 
 /// A species' look as `world.json` carries it (see `species::def::look::Look`).

@@ -73,6 +73,50 @@ Scenario(
 )
 "#;
 
+/// A fish for debugging tests: `dart` (priority 2, by chance) over `wander`; its script fails in
+/// `oops()` on its 40th decision pass.
+pub const DEBUG_FISH: &str = r##"// Debugging test fish: darts now and then; its script fails after a while.
+Species(
+    name: "fish",
+    color: "#f0a030",
+    body: (limits: (max_speed: 2.0, max_turn: 1.0)),
+    drives: (native: false),
+    script: Some("fish.rhai"),
+    decision_interval: 2,
+    initial: "wander",
+    behaviors: [
+        Behavior(
+            name: "dart",
+            priority: 2,
+            when: Chance(0.5),
+            done: TimeIn(0.5),
+            steer: Priority([Contain(), Cruise(speed: 1.0)]),
+        ),
+        Behavior(
+            name: "wander",
+            priority: 3,
+            steer: Priority([Contain(), Wander(cruise: 0.4)]),
+        ),
+    ],
+)
+"##;
+
+/// The debugging fish's script.
+pub const DEBUG_FISH_RHAI: &str = r#"import "common/util" as util;
+
+fn on_tick() {
+    let n = if this.has("n") { this["n"] } else { 0 };
+    this["n"] = util::next(n);
+    if n == 40 {
+        oops(n);
+    }
+}
+
+fn oops(n) {
+    throw "gave up after " + n + " passes";
+}
+"#;
+
 /// A project folder with the files above.
 pub struct Project {
     /// Keeps the folder alive.
@@ -90,6 +134,14 @@ impl Project {
         p.write("behaviors/fish.rhai", FISH_RHAI);
         p.write("behaviors/common/util.rhai", UTIL_RHAI);
         p.write("scenarios/live.ron", SCENARIO);
+        p
+    }
+
+    /// The project with the debugging fish ([`DEBUG_FISH`]) in place of the test fish.
+    pub fn debugging() -> Project {
+        let p = Project::new();
+        p.write("behaviors/fish.ron", DEBUG_FISH);
+        p.write("behaviors/fish.rhai", DEBUG_FISH_RHAI);
         p
     }
 

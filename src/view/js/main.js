@@ -83,6 +83,15 @@
     speciesCount: () => (state.world && state.world.species ? state.world.species.length : 0),
     stats: () => ({ renders: state.renders, frames: state.applied }),
     play: (speed) => { if (speed) source.setSpeed(speed); source.setPlaying(true); },
+    graph: () => graph.snapshot(),
+    frameTick: () => (state.frame ? state.frame.tick : null),
+    behaviorOf: (id) => {
+      const i = state.frame ? indexOfId(state.frame, id) : -1;
+      return i < 0 ? null : state.behaviors[state.frame.behavior[i]];
+    },
+    select: (id) => select(id),
+    breakHit: () => breakState.hit,
+    scriptErrors: () => breakState.errors.slice(),
   };
   window.shoal = hook;
 
