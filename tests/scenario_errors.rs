@@ -166,3 +166,22 @@ fn a_region_inside_obstacles_is_located() {
     let (code, err) = check(&t.path().join("scenarios"), "ok.ron", &text);
     assert_eq!(code, 0, "{err}");
 }
+
+#[test]
+fn a_bad_expectation_stops_the_run_with_its_location() {
+    let t = setup();
+    let text = GOOD.replace(
+        "    ],\n)",
+        "    ],\n    expect: [MinAlive(\"tuna\", 1)],\n)",
+    );
+    assert_ne!(text, GOOD);
+    let dir = t.path().join("scenarios");
+    let (code, err) = check(&dir, "bad.ron", &text);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("bad.ron:8:23: unknown species \"tuna\" in `expect`"),
+        "{err}"
+    );
+    // Nothing that looks like a run.
+    assert!(!dir.join("out").join("trajectories.csv").exists());
+}

@@ -128,7 +128,11 @@ fn execute_with_versions(
     let mut rec = Recorder::start(dir, &run, interval, n_threads)?;
     rec.states(&run)?;
     // Expectations the scenario declares are judged along the way and reported in the summary.
-    let mut tracker = shoal::scenario::expect::Tracker::new(&run.scenario).ok();
+    // Loading checked them, so this fails only for a scenario built some other way: say so.
+    let mut tracker = Some(
+        shoal::scenario::expect::Tracker::new(&run.scenario)
+            .map_err(|d| anyhow::anyhow!("expectations: {d}"))?,
+    );
     let mut monitor = health.then(|| Monitor::new(&run.pipeline.species, run.world.dt));
     let mut monitoring = Duration::ZERO;
     let progress = !quiet && std::io::stderr().is_terminal();

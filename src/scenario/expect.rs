@@ -730,9 +730,9 @@ mod tests {
             r#"        MaxSwitchRate("reef_fsh", 0.5),
         MaxShortEpisodes("reef_fish", 1.5),
         MaxTurningWaste("reef_fish", 0.5),"#,
-        )
-        .unwrap();
-        let d = Tracker::new(&sc).unwrap_err().to_string();
+        );
+        // Loading the scenario resolves its expectations, so `check` reports them.
+        let d = sc.unwrap_err().to_string();
         assert!(
             d.contains("health.ron:10:23: unknown species \"reef_fsh\" in `expect`"),
             "{d}"

@@ -277,7 +277,7 @@ impl Scenario {
             lib.join(format!("{n}.ron")).is_file()
         })?);
         let (ground, squads) = crate::squad::setup::load(file, text, &def, &species)?;
-        Ok(Scenario {
+        let scenario = Scenario {
             name: def.name.clone().unwrap_or_else(|| {
                 file.file_stem()
                     .map(|s| s.to_string_lossy().into_owned())
@@ -290,7 +290,11 @@ impl Scenario {
             species,
             ground,
             squads,
-        })
+        };
+        // The expectations name species and behaviors: resolved here so that `check`, `run` and
+        // a reload reject a bad one with its location instead of a run judging nothing.
+        crate::scenario::expect::Tracker::new(&scenario)?;
+        Ok(scenario)
     }
 }
 

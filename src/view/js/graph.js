@@ -231,7 +231,8 @@
     graph.seenFrame = null;
   });
 
-  (function graphLoop() {
+  // Called by the page's animation loop (main.js) right after the frame advances, so the
+  // highlight is never a frame behind the agents.
+  function followGraph() {
     try { graph.follow(); } catch (err) { /* the graph must never stop the page */ }
-    requestAnimationFrame(graphLoop);
-  })();
+  }

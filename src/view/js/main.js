@@ -59,6 +59,7 @@
     last = now;
     source.advance(dt);
     followSelected();
+    followGraph();
     if (state.dirty) { state.dirty = false; render(); }
     requestAnimationFrame(loop);
   }
