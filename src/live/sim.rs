@@ -229,6 +229,11 @@ impl Sim {
             Command::Control(c) => {
                 match c {
                     Control::Pause => {
+                        // Frames go out at most every frame interval, so the last one sent may be
+                        // a tick or two old: send the tick the run stops at.
+                        if !self.paused {
+                            self.publish_frame();
+                        }
                         self.paused = true;
                         for reply in std::mem::take(&mut self.pending_forks) {
                             let _ = reply.send(Box::new(self.run.fork()));
