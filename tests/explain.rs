@@ -6,7 +6,7 @@
 
 mod browser_support;
 
-use browser_support::{browser_available, repo};
+use browser_support::{browser_available, repo, run_node};
 use std::path::Path;
 use std::process::Command;
 
@@ -83,23 +83,15 @@ fn replay_page_draws_the_selected_agents_target_and_perception_in_chromium() {
     let squad = tmp.path().join("squad");
     shoal_run("scenarios/squad_march.ron", "3", &squad, &["--explain"]);
     let walker = shoal::view::write_html(&squad).unwrap();
-    let mut cmd = Command::new("node");
-    cmd.arg(repo().join("tests/browser/explain.test.mjs"))
-        .arg("--page")
-        .arg(&page)
-        .arg("--walker")
-        .arg(&walker);
+    let mut args = vec![
+        "--page".into(),
+        page.into_os_string(),
+        "--walker".into(),
+        walker.into_os_string(),
+    ];
     // Screenshots for docs/viewer.md, when asked for.
     if let Some(dir) = std::env::var_os("SHOAL_EXPLAIN_SHOTS") {
-        cmd.arg("--shots").arg(dir);
+        args.extend(["--shots".into(), dir]);
     }
-    let out = cmd.output().expect("run node");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
-    eprintln!("{stderr}");
-    assert!(
-        out.status.success(),
-        "explain.test.mjs failed:\n{stdout}\n{stderr}"
-    );
+    run_node("explain.test.mjs", &args);
 }

@@ -5,28 +5,10 @@
 mod browser_support;
 mod fixtures;
 
-use browser_support::{browser_available, repo};
+use browser_support::{browser_available, repo, run_node};
 use std::process::Command;
 
 use fixtures::{write_run, FixtureSpec};
-
-/// Runs `node tests/browser/<script> <args…>` and fails with its output when it fails.
-fn run_node(script: &str, args: &[&std::ffi::OsStr]) {
-    let out = Command::new("node")
-        .arg(repo().join("tests/browser").join(script))
-        .args(args)
-        .output()
-        .expect("run node");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
-    eprintln!("{stderr}");
-    assert!(
-        out.status.success(),
-        "{script} failed ({}):\n{stdout}\n{stderr}",
-        out.status
-    );
-}
 
 #[test]
 fn replay_page_renders_scrubs_and_inspects_in_chromium() {

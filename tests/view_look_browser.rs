@@ -7,29 +7,11 @@
 mod browser_support;
 mod fixtures;
 
-use browser_support::{browser_available, repo};
+use browser_support::{browser_available, repo, run_node};
 use fixtures::{write_run, FixtureSpec};
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// Runs `node tests/browser/<script> <args…>` and fails with its output when it fails.
-fn run_node(script: &str, args: &[OsString]) {
-    let out = Command::new("node")
-        .arg(repo().join("tests/browser").join(script))
-        .args(args)
-        .output()
-        .expect("run node");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
-    eprintln!("{stderr}");
-    assert!(
-        out.status.success(),
-        "{script} failed ({}):\n{stdout}\n{stderr}",
-        out.status
-    );
-}
 
 /// `shoal run <scenario> --duration <seconds>` into `dir`, then `shoal view`; the page's path.
 fn record(scenario: &Path, dir: &Path, seconds: f32) -> PathBuf {
@@ -117,5 +99,5 @@ fn replay_of_10k_agents_600_frames_frame_rate() {
     if let Some(keep) = std::env::var_os("SHOAL_FPS_KEEP") {
         std::fs::copy(&page, keep).unwrap();
     }
-    run_node("look.test.mjs", &["--fps".into(), page.into()]);
+    run_node::<OsString>("look.test.mjs", &["--fps".into(), page.into()]);
 }

@@ -1,7 +1,10 @@
 //! Shared by the browser tests: whether headless Chromium, node and playwright-core are there.
 //! Under CI (`CI` set) a missing prerequisite fails the test; locally it skips with a visible
 //! message.
+// Each test crate uses its own part of this module.
+#![allow(dead_code)]
 
+use std::ffi::OsStr;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -51,4 +54,23 @@ pub fn browser_available(test: &str) -> bool {
         "SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it"
     );
     false
+}
+
+/// Runs `node tests/browser/<script> <args…>`, prints its output, and fails with it when the
+/// script fails.
+pub fn run_node<A: AsRef<OsStr>>(script: &str, args: &[A]) {
+    let out = Command::new("node")
+        .arg(repo().join("tests/browser").join(script))
+        .args(args)
+        .output()
+        .expect("run node");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("{stdout}");
+    eprintln!("{stderr}");
+    assert!(
+        out.status.success(),
+        "{script} failed ({}):\n{stdout}\n{stderr}",
+        out.status
+    );
 }
