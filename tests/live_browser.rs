@@ -24,23 +24,20 @@ impl Drop for Child {
     }
 }
 
-#[test]
-fn shoal_watch_in_chromium_moves_shows_and_clears_the_error_overlay_and_inspects() {
-    if !browser_available("shoal_watch_in_chromium") {
-        return;
-    }
-    let p = Project::new();
+/// Starts `shoal watch` on `p`'s scenario (any port, plus `extra` arguments) and reads its
+/// terminal in the background: the URL it serves, then the log, returned when it exits.
+fn watch(p: &Project, extra: &[&str]) -> (Child, String, std::thread::JoinHandle<Vec<String>>) {
     let mut child = Child(
         Command::new(env!("CARGO_BIN_EXE_shoal"))
             .arg("watch")
             .arg(p.scenario())
             .args(["--port", "0"])
+            .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
             .expect("start shoal watch"),
     );
-    // Read the terminal in the background: the URL first, then the reload log.
     let stdout = child.0.stdout.take().unwrap();
     let (tx, rx) = mpsc::channel();
     let reader = std::thread::spawn(move || {
@@ -57,6 +54,16 @@ fn shoal_watch_in_chromium_moves_shows_and_clears_the_error_overlay_and_inspects
     let url = rx
         .recv_timeout(Duration::from_secs(60))
         .expect("shoal watch printed no URL");
+    (child, url, reader)
+}
+
+#[test]
+fn shoal_watch_in_chromium_moves_shows_and_clears_the_error_overlay_and_inspects() {
+    if !browser_available("shoal_watch_in_chromium") {
+        return;
+    }
+    let p = Project::new();
+    let (child, url, reader) = watch(&p, &[]);
     assert!(url.starts_with("http://127.0.0.1:"), "{url}");
 
     let out = Command::new("node")
@@ -98,32 +105,7 @@ fn breakpoints_pause_at_their_tick_and_script_errors_show_in_chromium() {
         return;
     }
     let p = Project::debugging();
-    let mut child = Child(
-        Command::new(env!("CARGO_BIN_EXE_shoal"))
-            .arg("watch")
-            .arg(p.scenario())
-            .args(["--port", "0", "--paused"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::inherit())
-            .spawn()
-            .expect("start shoal watch"),
-    );
-    let stdout = child.0.stdout.take().unwrap();
-    let (tx, rx) = mpsc::channel();
-    let reader = std::thread::spawn(move || {
-        let mut log = Vec::new();
-        for line in BufReader::new(stdout).lines() {
-            let Ok(line) = line else { break };
-            if let Some(url) = line.strip_prefix("live view: ") {
-                let _ = tx.send(url.split_whitespace().next().unwrap_or("").to_string());
-            }
-            log.push(line);
-        }
-        log
-    });
-    let url = rx
-        .recv_timeout(Duration::from_secs(60))
-        .expect("shoal watch printed no URL");
+    let (child, url, reader) = watch(&p, &["--paused"]);
     let (dart_line, _) = line_col(DEBUG_FISH, "name: \"dart\"");
     let mut cmd = Command::new("node");
     cmd.arg(repo().join("tests/browser/debug.test.mjs")).args([
