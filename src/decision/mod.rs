@@ -13,6 +13,7 @@
 
 pub mod focus;
 pub mod scripts;
+pub mod tree;
 
 use crate::events::{Cause, MessageKind};
 pub use crate::params::decision::{level_bit, sector_bit};
@@ -110,6 +111,10 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
             let q = ctx.agent.pos;
             (q - b.min).min_element() < *m || (b.max - q).min_element() < *m
         }
+        CondNode::Contacted => mind.reached,
+        CondNode::AtStation(d) => mind
+            .station
+            .is_some_and(|s| s.distance(ctx.agent.pos) <= *d),
         CondNode::Script(slot) => {
             mind.script_values
                 .get(*slot as usize)
@@ -137,7 +142,12 @@ pub struct Transition {
 pub type Transitions = [Option<Transition>; 2];
 
 fn can_start(i: usize, mind: &Mind, tick: u64) -> bool {
-    mind.cooldown_until.get(i).is_none_or(|&t| tick >= t) && !mind.stack().contains(&(i as u16))
+    can_start_node(i, mind, tick) && !mind.stack().contains(&(i as u16))
+}
+
+/// Whether behavior `i`'s cooldown has run out.
+fn can_start_node(i: usize, mind: &Mind, tick: u64) -> bool {
+    mind.cooldown_until.get(i).is_none_or(|&t| tick >= t)
 }
 
 /// The highest-priority behavior (earliest declared among equals) other than the current one
@@ -189,6 +199,9 @@ fn enter(mind: &mut Mind, to: u16, tick: u64) {
 
 /// One step of arbitration for one agent. Returns the transitions it made.
 pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
+    if ctx.species.depth > 0 {
+        return tree::arbitrate(ctx, mind, rng);
+    }
     let bs = &ctx.species.behaviors;
     let tick = ctx.tick;
     let cur = mind.current.min(bs.len().saturating_sub(1) as u16);

@@ -27,9 +27,27 @@ pub enum Cause {
     Fallback,
     /// A script requested the change.
     Script,
+    /// The current behavior (or a composed one holding it) succeeded: its `done` held, or
+    /// its last step did; the next step or its `on_success` started.
+    Succeeded,
+    /// The current behavior (or a composed one holding it) failed: its `fail` held, or a step
+    /// of a sequence (the last of a fallback) did; its `on_failure` or the list's choice
+    /// started.
+    Failed,
 }
 
 impl Cause {
+    /// Every cause, in the order the docs list them.
+    pub const ALL: [Cause; 8] = [
+        Cause::Activated,
+        Cause::Interrupted,
+        Cause::Completed,
+        Cause::Resumed,
+        Cause::Fallback,
+        Cause::Script,
+        Cause::Succeeded,
+        Cause::Failed,
+    ];
     /// Lower-case name, as in the event log.
     pub fn name(self) -> &'static str {
         match self {
@@ -39,6 +57,8 @@ impl Cause {
             Cause::Resumed => "resumed",
             Cause::Fallback => "fallback",
             Cause::Script => "script",
+            Cause::Succeeded => "succeeded",
+            Cause::Failed => "failed",
         }
     }
 }

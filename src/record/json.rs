@@ -77,14 +77,32 @@ pub fn event_json(e: &Event, tick: u64, dt: f32, set: &SpeciesSet) -> Value {
 /// Per behavior of `s`, in the order of its `behaviors` names, what the viewer's state-machine
 /// graph draws: priority level, whether an equal level may interrupt it, its `when` and `done`
 /// text, whether it is the initial behavior, and where its name is written (`file:line:col`).
+/// A part of a composed behavior is drawn on the level of the behavior of the species' list
+/// that holds it, and names what it is part of (`parent`), its `fail` and its kind.
 pub fn behavior_info(s: &crate::species::Species) -> Vec<Value> {
+    use crate::species::Compose;
+    let root = |mut i: usize| {
+        while let Some(p) = s.behaviors[i].parent {
+            i = p as usize;
+        }
+        i
+    };
     s.behaviors
         .iter()
         .enumerate()
         .map(|(i, b)| {
             let (line, col) = b.source;
+            let kind = match b.compose {
+                Compose::Leaf => "leaf",
+                Compose::Select => "behaviors",
+                Compose::Sequence => "sequence",
+                Compose::Fallback => "fallback",
+            };
             json!({
-                "priority": b.priority,
+                "priority": s.behaviors[root(i)].priority,
+                "parent": b.parent.map(|p| s.behavior_name(p)),
+                "kind": kind,
+                "fail": &*b.fail_text,
                 "equal_may_interrupt": b.equal_may_interrupt,
                 "when": &*b.when_text,
                 "done": &*b.done_text,

@@ -11,7 +11,7 @@ use crate::params::decision::Focus;
 fn steered_by(r: &Recipe, out: &mut Vec<(Category, &'static str)>) {
     let target = |t: &Target| match *t {
         Target::Nearest(c) | Target::Centroid(c) => Some(c),
-        Target::Point(_) | Target::Home => None,
+        Target::Point(_) | Target::Home | Target::Station => None,
     };
     let need = match r {
         Recipe::Priority(v) => {
@@ -58,7 +58,9 @@ impl Builder<'_> {
         }
         let focus = Focus::of(list);
         let mut needs = Vec::new();
-        steered_by(&b.steer, &mut needs);
+        if let Some(steer) = &b.steer {
+            steered_by(steer, &mut needs);
+        }
         let mut reported = Vec::new();
         for (c, what) in needs {
             if !focus.contains(c) && !reported.contains(&c) {
@@ -215,6 +217,12 @@ impl Builder<'_> {
                 CondNode::NearBounds(*m)
             }
             Cond::Script(name) => CondNode::Script(self.slot(name, SlotKind::Bool)),
+            Cond::Contacted => CondNode::Contacted,
+            Cond::AtStation(d) => {
+                self.nums.enter("AtStation");
+                self.nums.non_negative("AtStation", *d);
+                CondNode::AtStation(*d)
+            }
         }
     }
 }

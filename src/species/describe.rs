@@ -106,5 +106,9 @@ fn describe_into(c: &Cond, s: &mut String) {
         Cond::Script(n) => {
             let _ = write!(s, "{n}()");
         }
+        Cond::Contacted => s.push_str("contact made"),
+        Cond::AtStation(d) => {
+            let _ = write!(s, "within {d} of its station");
+        }
     }
 }

@@ -57,7 +57,11 @@ impl Builder<'_> {
                 }
             }
         }
-        let names: Vec<&str> = def.behaviors.iter().map(|b| b.name.as_str()).collect();
+        let paths: Vec<String> = super::compose::flatten(&def.behaviors)
+            .into_iter()
+            .map(|n| n.path)
+            .collect();
+        let names: Vec<&str> = paths.iter().map(|p| p.as_str()).collect();
         for (name, c) in &look.behavior_colors {
             if !names.contains(&name.as_str()) {
                 self.error_at(

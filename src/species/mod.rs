@@ -6,6 +6,7 @@
 //! perception and drive types, the later stages' parameter types in [`crate::params`], scripts)
 //! and below the stages that read it (`ctx`, steering, decision, the tick).
 
+pub mod compose;
 mod conditions;
 pub mod def;
 pub mod describe;
@@ -112,6 +113,10 @@ pub enum CondNode {
     NearBounds(f32),
     /// Cached script condition slot.
     Script(u16),
+    /// The current behavior's contact happened.
+    Contacted,
+    /// Within this distance of the station.
+    AtStation(f32),
 }
 
 /// A steering recipe, resolved.
@@ -134,6 +139,8 @@ pub enum ActionNode {
     Send(MessageKind, f32),
     /// Call a script function.
     Call(String),
+    /// Mark the agent's station where it is.
+    MarkStation,
 }
 
 /// One behavior, resolved.
@@ -170,6 +177,35 @@ pub struct Behavior {
     /// Line and column (1-based) of its `name` in the species file (0, 0: not found), for the
     /// viewer's state-machine graph.
     pub source: (u32, u32),
+    /// Failure condition (checked after `done`, which is success).
+    pub fail: CondNode,
+    /// Text of the failure condition.
+    pub fail_text: Arc<str>,
+    /// The composed behavior holding it (`None`: the species' own list).
+    pub parent: Option<u16>,
+    /// Nesting level (0: the species' own list).
+    pub level: u8,
+    /// What it is made of.
+    pub compose: Compose,
+    /// Its sub-behaviors or steps, in the order written.
+    pub children: Vec<u16>,
+    /// The sibling started when it succeeds.
+    pub on_success: Option<u16>,
+    /// The sibling started when it fails.
+    pub on_failure: Option<u16>,
+}
+
+/// What a behavior is made of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Compose {
+    /// Nothing: it steers.
+    Leaf,
+    /// A prioritized list of sub-behaviors (`behaviors:`).
+    Select,
+    /// Steps in order, each success starting the next (`sequence:`).
+    Sequence,
+    /// Steps in order, each failure starting the next (`fallback:`).
+    Fallback,
 }
 
 /// What a script slot returns.
@@ -221,10 +257,17 @@ pub struct Species {
     /// Seconds before an agent sends a message of the same kind again on entering a behavior
     /// (≥ 0).
     pub resend_after: f32,
-    /// Behaviors.
+    /// Behaviors, composed ones before their parts, named by path (`eat/chase`).
     pub behaviors: Vec<Behavior>,
-    /// Index of the initial behavior.
+    /// Index of the behavior an agent starts in: the initial behavior, or its first part when
+    /// it is composed (always one that steers).
     pub initial: u16,
+    /// Index of the initial behavior as named (composed or not).
+    pub initial_node: u16,
+    /// The species' own list (behaviors not inside another).
+    pub roots: Vec<u16>,
+    /// Nesting levels holding composed behaviors (0: none, the flat rules of seed 000 §3).
+    pub depth: u8,
     /// Named recipes (for scripts).
     pub recipes: Vec<RecipeNode>,
     /// Their names.

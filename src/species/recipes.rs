@@ -143,6 +143,11 @@ impl Builder<'_> {
                 n.enter("Arrive");
                 seek(n, s)
             }
+            Recipe::HoldStation(h) => {
+                n.enter("HoldStation");
+                n.non_negative("slow_radius", h.slow_radius);
+                n.non_negative("speed", h.speed);
+            }
             Recipe::Separation(g) => {
                 n.enter("Separation");
                 group(n, g)

@@ -183,45 +183,53 @@ impl Builder<'_> {
         if def.behaviors.is_empty() {
             self.error_at("behaviors", "a species needs at least one behavior".into());
         }
-        if def.behaviors.len() > 64 {
+        let nodes = compose::flatten(&def.behaviors);
+        if nodes.len() > 64 {
             self.error_at(
                 "behaviors",
-                "a species may have at most 64 behaviors".into(),
+                "a species may have at most 64 behaviors (composed ones and their parts \
+                 included)"
+                    .into(),
             );
+        }
+        // Where each behavior's name is written, in the order written.
+        let mut at = Vec::with_capacity(nodes.len());
+        let mut from = 0;
+        for n in &nodes {
+            let found = name_at(self.text, &n.def.name, from)
+                .or_else(|| name_at(self.text, &n.def.name, 0));
+            let x = found.unwrap_or(0);
+            if found.is_some() {
+                from = x + 1;
+            }
+            at.push(x);
         }
         let mut seen: BTreeMap<&str, usize> = BTreeMap::new();
         let mut behaviors = Vec::new();
-        for (i, b) in def.behaviors.iter().enumerate() {
+        for (i, n) in nodes.iter().enumerate() {
+            let b = n.def;
+            let name = n.path.as_str();
             let needle = format!("\"{}\"", b.name);
-            self.cursor = locate(self.text, &needle, 0).map_or(0, |x| x.2);
-            if let Some(j) = seen.insert(&b.name, i) {
-                let from = locate(self.text, &needle, 0).map_or(0, |x| x.2 + 1);
-                self.cursor = from;
+            self.cursor = at[i];
+            if let Some(j) = seen.insert(name, i) {
+                self.cursor = at[i] + 1;
                 self.error_at(
                     &needle,
                     format!(
                         "behavior \"{}\" is defined twice (first as behavior {})",
-                        b.name,
+                        name,
                         j + 1
                     ),
                 );
+                self.cursor = at[i];
             }
-            if b.priority == 0 {
-                self.error_at(
-                    "priority",
-                    format!(
-                        "behavior \"{}\": priority levels start at 1 (the highest)",
-                        b.name
-                    ),
-                );
-            }
-            let initial_defined = def.behaviors.iter().any(|x| x.name == def.initial);
-            if b.when == Cond::Never && b.name != def.initial && initial_defined {
+            let initial_defined = nodes.iter().any(|x| x.path == def.initial);
+            if initial_defined && !Builder::reachable(&nodes, i, &def.initial) {
                 self.error_at(
                     &needle,
                     format!(
                         "behavior \"{}\" is unreachable: it has no `when` condition and is not the initial behavior",
-                        b.name
+                        name
                     ),
                 );
             }
@@ -262,8 +270,14 @@ impl Builder<'_> {
             self.nums.enter("done");
             let done = self.cond(&b.done);
             self.nums.from = self.cursor;
+            self.nums.enter("fail");
+            let fail = self.cond(&b.fail);
+            self.nums.from = self.cursor;
             self.nums.enter("steer");
-            let steer = self.recipe(&b.steer);
+            let steer = match &b.steer {
+                Some(r) => self.recipe(r),
+                None => RecipeNode::Priority(Vec::new()),
+            };
             let focus = b.focus.as_deref().map(|f| self.focus(b, f));
             let on_enter = b
                 .on_enter
@@ -280,13 +294,16 @@ impl Builder<'_> {
                         }
                         ActionNode::Call(f.clone())
                     }
+                    Action::MarkStation => ActionNode::MarkStation,
                 })
                 .collect();
             behaviors.push(Behavior {
-                name: b.name.as_str().into(),
+                name: name.into(),
                 priority: b.priority,
                 when_text: describe(&b.when).into(),
                 done_text: describe(&b.done).into(),
+                fail_text: describe(&b.fail).into(),
+                fail,
                 when,
                 done,
                 steer,
@@ -297,16 +314,26 @@ impl Builder<'_> {
                 on_enter,
                 response: b.response,
                 focus,
-                source: behavior_source(self.text, &b.name),
+                source: line_col(self.text, at[i]),
+                parent: None,
+                level: 0,
+                compose: Compose::Leaf,
+                children: Vec::new(),
+                on_success: None,
+                on_failure: None,
             });
         }
-        // Two behaviors of one level with the same trigger can never be told apart.
-        for i in 0..def.behaviors.len() {
-            for j in i + 1..def.behaviors.len() {
-                let (a, b) = (&def.behaviors[i], &def.behaviors[j]);
-                if a.priority == b.priority && a.when == b.when && a.when != Cond::Never {
-                    self.cursor =
-                        locate(self.text, &format!("\"{}\"", b.name), 0).map_or(0, |x| x.2);
+        self.compose(&nodes, &at, &mut behaviors);
+        // Two behaviors of one list and level with the same trigger can never be told apart.
+        for i in 0..nodes.len() {
+            for j in i + 1..nodes.len() {
+                let (a, b) = (nodes[i].def, nodes[j].def);
+                if nodes[i].parent == nodes[j].parent
+                    && a.priority == b.priority
+                    && a.when == b.when
+                    && a.when != Cond::Never
+                {
+                    self.cursor = at[j];
                     self.error_at(
                         &format!("\"{}\"", b.name),
                         format!(
@@ -318,10 +345,10 @@ impl Builder<'_> {
             }
         }
         self.cursor = 0;
-        let initial = match def.behaviors.iter().position(|b| b.name == def.initial) {
+        let initial_node = match nodes.iter().position(|n| n.path == def.initial) {
             Some(i) => i as u16,
             None => {
-                let names: Vec<&str> = def.behaviors.iter().map(|b| b.name.as_str()).collect();
+                let names: Vec<&str> = nodes.iter().map(|n| n.path.as_str()).collect();
                 // Point at the name after `initial:`, not at the first mention of it.
                 self.cursor = locate(self.text, "initial", 0).map_or(0, |x| x.2);
                 self.error_at(
@@ -393,8 +420,18 @@ impl Builder<'_> {
             drives: def.drives.clone(),
             decision_interval: def.decision_interval,
             resend_after: def.resend_after,
+            initial: first_leaf(&behaviors, initial_node),
+            roots: (0..behaviors.len() as u16)
+                .filter(|&i| behaviors[i as usize].parent.is_none())
+                .collect(),
+            depth: behaviors
+                .iter()
+                .filter(|b| b.compose != Compose::Leaf)
+                .map(|b| b.level + 1)
+                .max()
+                .unwrap_or(0),
             behaviors,
-            initial,
+            initial_node,
             recipes,
             recipe_names: recipe_names.into(),
             script,
@@ -406,19 +443,55 @@ impl Builder<'_> {
     }
 }
 
-/// Line and column of behavior `name`'s `name: "..."` in `text` (the first one written as a
-/// behavior's name, not as `initial` or in a condition); (0, 0) if not found.
-fn behavior_source(text: &str, name: &str) -> (u32, u32) {
+/// The leaf a behavior starts in when nothing has been evaluated yet (spawn, a test's
+/// `behavior:`): its default part ([`default_part`]), down to a leaf.
+pub fn first_leaf(behaviors: &[Behavior], mut i: u16) -> u16 {
+    while let Some(c) = default_part(behaviors, i) {
+        i = c;
+    }
+    i
+}
+
+/// The part a composed behavior starts in when none of its parts' `when` holds: a sequence's or
+/// fallback's first step; for sub-behaviors, the first without a `when` (as the species'
+/// `initial` is the behavior that runs when nothing else applies), else the first. `None` for
+/// a behavior that steers.
+pub fn default_part(behaviors: &[Behavior], i: u16) -> Option<u16> {
+    let b = behaviors.get(i as usize)?;
+    let first = *b.children.first()?;
+    if b.compose != Compose::Select {
+        return Some(first);
+    }
+    Some(
+        b.children
+            .iter()
+            .copied()
+            .find(|&c| behaviors[c as usize].when == CondNode::Never)
+            .unwrap_or(first),
+    )
+}
+
+/// Byte offset of the first `name: "<name>"` at or after `from` in `text` (a behavior's name,
+/// not `initial` or a condition naming it).
+fn name_at(text: &str, name: &str, from: usize) -> Option<usize> {
     let needle = format!("\"{name}\"");
-    let mut from = 0;
-    while let Some((line, col, at)) = locate(text, &needle, from) {
+    let mut from = from;
+    while let Some((_, _, at)) = locate(text, &needle, from) {
         let before = text[..at].trim_end();
         if let Some(key) = before.strip_suffix(':') {
             if key.trim_end().ends_with("name") {
-                return (line as u32, col as u32);
+                return Some(at);
             }
         }
         from = at + 1;
     }
-    (0, 0)
+    None
+}
+
+/// Line and column (1-based) of byte offset `at`; (0, 0) for offset 0 (not found).
+fn line_col(text: &str, at: usize) -> (u32, u32) {
+    if at == 0 {
+        return (0, 0);
+    }
+    locate(text, "", at).map_or((0, 0), |(l, c, _)| (l as u32, c as u32))
 }

@@ -60,7 +60,7 @@ impl Scratch {
     }
 }
 
-fn target_point(t: &Target, ctx: &Ctx) -> Option<Vec3> {
+fn target_point(t: &Target, ctx: &Ctx, station: Option<Vec3>) -> Option<Vec3> {
     match *t {
         Target::Nearest(c) => ctx.nearest(c).map(|p| ctx.agent.pos + p.offset),
         Target::Centroid(c) => {
@@ -68,6 +68,7 @@ fn target_point(t: &Target, ctx: &Ctx) -> Option<Vec3> {
         }
         Target::Point(p) => Some(p),
         Target::Home => Some(ctx.world.bounds.center()),
+        Target::Station => station,
     }
 }
 
@@ -104,7 +105,13 @@ fn group_sum(ctx: &Ctx, scratch: &mut Scratch, q: &GroupQuery) -> GroupSum {
 }
 
 /// Evaluates a leaf primitive.
-fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
+fn leaf(
+    r: &Recipe,
+    ctx: &Ctx,
+    station: Option<Vec3>,
+    rng: &mut Rng,
+    scratch: &mut Scratch,
+) -> Steer {
     let kin = ctx.kin();
     let limits = &ctx.species.body.limits;
     let vmax = limits.max_speed;
@@ -189,12 +196,15 @@ fn leaf(r: &Recipe, ctx: &Ctx, rng: &mut Rng, scratch: &mut Scratch) -> Steer {
                 goal::pursue(&kin, now, before, ctx.dt, pd.prediction, vmax)
             }
         },
-        Recipe::Seek(s) => target_point(&s.target, ctx)
+        Recipe::Seek(s) => target_point(&s.target, ctx, station)
             .map_or(Steer::None, |t| super::seek(&kin, t, vmax * s.speed)),
-        Recipe::Flee(s) => target_point(&s.target, ctx)
+        Recipe::Flee(s) => target_point(&s.target, ctx, station)
             .map_or(Steer::None, |t| super::flee(&kin, t, vmax * s.speed)),
-        Recipe::Arrive(s) => target_point(&s.target, ctx).map_or(Steer::None, |t| {
+        Recipe::Arrive(s) => target_point(&s.target, ctx, station).map_or(Steer::None, |t| {
             super::arrive(&kin, t, vmax * s.speed, s.slow_radius)
+        }),
+        Recipe::HoldStation(h) => station.map_or(Steer::None, |t| {
+            super::arrive(&kin, t, vmax * h.speed, h.slow_radius)
         }),
         Recipe::Separation(g) | Recipe::Alignment(g) | Recipe::Cohesion(g) => {
             let own_velocity = scratch.velocity(&kin);
@@ -281,7 +291,7 @@ pub fn evaluate(
         return Steer::None;
     }
     match node {
-        RecipeNode::Leaf(r) => leaf(r, ctx, rng, scratch),
+        RecipeNode::Leaf(r) => leaf(r, ctx, mind.station, rng, scratch),
         RecipeNode::Priority(v) => {
             for r in v {
                 let s = evaluate(r, ctx, mind, rng, scratch, depth + 1);

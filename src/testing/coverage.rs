@@ -4,7 +4,7 @@
 
 use super::world::lock;
 use crate::events::Cause;
-use crate::species::{load_species, CondNode, Species};
+use crate::species::{load_species, Compose, CondNode, Species};
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -59,9 +59,79 @@ fn contradicts(a: &CondNode, b: &CondNode) -> bool {
 ///   and resumes instead);
 /// - resumed: from a behavior that can complete, to one that can be interrupted (so stacked) at
 ///   the same level or below (the top of the stack never outranks the current behavior).
+///
+/// For composed behaviors the same analysis runs inside each prioritized list (the species'
+/// own, each `behaviors:`) over its members, and a sequence's or fallback's steps and each
+/// `on_success` / `on_failure` add their transitions; a transition between parts is counted
+/// between the members of the innermost list that holds both ([`lift`]).
 pub fn possible(sp: &Species) -> Vec<Possible> {
     let bs = &sp.behaviors;
-    let initial = sp.initial as usize;
+    if sp.depth == 0 {
+        let all: Vec<usize> = (0..bs.len()).collect();
+        return possible_in(sp, &all, sp.initial as usize);
+    }
+    let mut out = possible_in(
+        sp,
+        &sp.roots.iter().map(|&i| i as usize).collect::<Vec<_>>(),
+        sp.initial_node as usize,
+    );
+    for (i, b) in bs.iter().enumerate() {
+        let kids: Vec<usize> = b.children.iter().map(|&c| c as usize).collect();
+        match b.compose {
+            Compose::Leaf => {}
+            Compose::Select => {
+                let init = crate::species::validate::default_part(bs, i as u16).unwrap_or(0);
+                out.extend(possible_in(sp, &kids, init as usize));
+            }
+            Compose::Sequence | Compose::Fallback => {
+                let cause = if b.compose == Compose::Sequence {
+                    Cause::Succeeded
+                } else {
+                    Cause::Failed
+                };
+                for w in b.children.windows(2) {
+                    if bs[w[0] as usize].on_success.is_none() || cause == Cause::Failed {
+                        out.push((w[0], w[1], cause));
+                    }
+                }
+            }
+        }
+        if let Some(t) = b.on_success {
+            out.push((i as u16, t, Cause::Succeeded));
+        }
+        if let Some(t) = b.on_failure {
+            out.push((i as u16, t, Cause::Failed));
+        }
+    }
+    out.sort_by_key(|&(f, t, c)| (f, t, c as u8));
+    out.dedup();
+    out
+}
+
+/// A transition between two parts, as the members of the innermost list holding both: from
+/// `hunt/strike` to `feed` is from `hunt` to `feed`; from `eat/search` to `eat/chase` stays.
+pub fn lift(sp: &Species, from: u16, to: u16) -> (u16, u16) {
+    let bs = &sp.behaviors;
+    let chain = |mut i: u16| {
+        let mut v = vec![i];
+        while let Some(p) = bs[i as usize].parent {
+            v.push(p);
+            i = p;
+        }
+        v.reverse();
+        v
+    };
+    let (a, b) = (chain(from), chain(to));
+    let k = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    match (a.get(k), b.get(k)) {
+        (Some(&x), Some(&y)) => (x, y),
+        _ => (from, to),
+    }
+}
+
+/// The analysis over `members`, one prioritized list whose default is `initial`.
+fn possible_in(sp: &Species, members: &[usize], initial: usize) -> Vec<Possible> {
+    let bs = &sp.behaviors;
     let triggers = |i: usize| bs[i].when != CondNode::Never;
     let level_allows = |from: usize, to: usize| {
         bs[to].priority < bs[from].priority
@@ -79,11 +149,11 @@ pub fn possible(sp: &Species) -> Vec<Possible> {
             .any(|c| disjuncts(&bs[from].done).contains(c));
         !(completes_first && shared)
     };
-    let stackable = |i: usize| (0..bs.len()).any(|x| x != i && interrupts(i, x));
+    let stackable = |i: usize| members.iter().any(|&x| x != i && interrupts(i, x));
     let mut out = Vec::new();
-    for from in 0..bs.len() {
+    for &from in members {
         let completes = bs[from].done != CondNode::Never;
-        for to in 0..bs.len() {
+        for &to in members {
             if from == to {
                 continue;
             }
@@ -171,13 +241,46 @@ impl Coverage {
 fn species_report(sp: &Species, s: &Seen) -> String {
     let mut out = String::new();
     let name = &sp.name;
+    // A composed behavior ran when one of its parts did.
+    let ran = |b: &str| {
+        s.behaviors.iter().any(|(sn, x)| {
+            sn == name && (x == b || x.strip_prefix(b).is_some_and(|r| r.starts_with('/')))
+        })
+    };
     let missing_b: Vec<&str> = sp
         .behaviors
         .iter()
         .map(|b| &*b.name)
-        .filter(|b| !s.behaviors.contains(&(name.clone(), b.to_string())))
+        .filter(|b| !ran(b))
         .collect();
     let all = possible(sp);
+    // Transitions between parts count between the members of the list holding both.
+    let mut seen = s.transitions.clone();
+    if sp.depth > 0 {
+        for (sn, f, t, c) in &s.transitions {
+            if sn != name {
+                continue;
+            }
+            let (Some(fi), Some(ti)) = (sp.behavior_index(f), sp.behavior_index(t)) else {
+                continue;
+            };
+            let (a, b) = lift(sp, fi, ti);
+            let (a, b) = (
+                sp.behavior_name(a).to_string(),
+                sp.behavior_name(b).to_string(),
+            );
+            seen.insert((name.clone(), a.clone(), b.clone(), c));
+            // A failure the list then handles starts what its rules choose, as a completion.
+            if *c == "failed" {
+                seen.insert((name.clone(), a, b, Cause::Completed.name()));
+            }
+        }
+    }
+    let s = Seen {
+        roots: BTreeSet::new(),
+        behaviors: BTreeSet::new(),
+        transitions: seen,
+    };
     let mut missing_t: BTreeMap<&str, Vec<String>> = BTreeMap::new();
     let mut missing = 0;
     // Observed transitions the rule set did not predict still count as exercised.

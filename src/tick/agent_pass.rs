@@ -402,6 +402,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
                         }
                     }
                 }
+                ActionNode::MarkStation => mind.station = Some(me.pos),
                 _ => {}
             }
         }

@@ -406,7 +406,13 @@ fn source(p: &Percept, ctx: &Ctx, ids: &[u32]) -> Value {
 }
 
 /// The target of the leaf in control, and a pursuit's predicted intercept point.
-fn target(leaf: &Recipe, ctx: &Ctx, plan: Option<Vec3>, ids: &[u32]) -> (Value, Value) {
+fn target(
+    leaf: &Recipe,
+    ctx: &Ctx,
+    plan: Option<Vec3>,
+    station: Option<Vec3>,
+    ids: &[u32],
+) -> (Value, Value) {
     let nearest = |c: Category| ctx.nearest(c).map_or(Value::Null, |p| source(p, ctx, ids));
     let point =
         |p: Vec3| json!({ "kind": "point", "pos": v3(p), "dist": r(p.distance(ctx.agent.pos)) });
@@ -438,6 +444,7 @@ fn target(leaf: &Recipe, ctx: &Ctx, plan: Option<Vec3>, ids: &[u32]) -> (Value, 
                     .then(|| ctx.summaries[c as usize].centroid),
                 Target::Point(p) => Some(p),
                 Target::Home => Some(ctx.world.bounds.center()),
+                Target::Station => station,
             };
             (t.map_or(Value::Null, point), Value::Null)
         }
@@ -445,6 +452,7 @@ fn target(leaf: &Recipe, ctx: &Ctx, plan: Option<Vec3>, ids: &[u32]) -> (Value, 
             (nearest(Category::Obstacle), Value::Null)
         }
         Recipe::FollowPlan(_) => (plan.map_or(Value::Null, point), Value::Null),
+        Recipe::HoldStation(_) => (station.map_or(Value::Null, point), Value::Null),
         _ => (Value::Null, Value::Null),
     }
 }
@@ -482,7 +490,7 @@ pub(super) fn frame(ctx: &Ctx, mind: &Mind, b: &Behavior, st: &Steering) -> Valu
     };
     let (_, leaf) = winner(&b.steer, sctx, mind, &mut rng, &mut scratch, &mut path);
     let (target, intercept) = leaf.map_or((Value::Null, Value::Null), |l| {
-        target(l, sctx, st.plan_target, st.ids)
+        target(l, sctx, st.plan_target, mind.station, st.ids)
     });
     let kin = ctx.kin();
     let p = ctx.static_pressures(&sp.avoid);

@@ -79,7 +79,9 @@ fn reads_percepts(sp: &Species) -> Kinds {
             | CondNode::TimeIn(_)
             | CondNode::Chance(_)
             | CondNode::NearBounds(_)
-            | CondNode::Script(_) => Kinds::None,
+            | CondNode::Script(_)
+            | CondNode::Contacted
+            | CondNode::AtStation(_) => Kinds::None,
         }
     }
     fn nearest(c: Category) -> Kinds {
@@ -98,7 +100,9 @@ fn reads_percepts(sp: &Species) -> Kinds {
             Recipe::Pursue(p) => nearest(p.target),
             Recipe::Seek(s) | Recipe::Flee(s) | Recipe::Arrive(s) => match s.target {
                 Target::Nearest(c) => nearest(c),
-                Target::Centroid(_) | Target::Point(_) | Target::Home => Kinds::None,
+                Target::Centroid(_) | Target::Point(_) | Target::Home | Target::Station => {
+                    Kinds::None
+                }
             },
             // Group sums, summaries, bounds, the plan or nothing.
             Recipe::Priority(_)
@@ -114,7 +118,8 @@ fn reads_percepts(sp: &Species) -> Kinds {
             | Recipe::Wander(_)
             | Recipe::Cruise(_)
             | Recipe::Stop
-            | Recipe::FollowPlan(_) => Kinds::None,
+            | Recipe::FollowPlan(_)
+            | Recipe::HoldStation(_) => Kinds::None,
         }
     }
     if sp.script.is_some() || sp.drives.native || sp.behaviors.iter().any(|b| b.contact.is_some()) {
@@ -164,7 +169,9 @@ pub fn bearing_range(sp: &Species) -> f32 {
             | CondNode::TimeIn(_)
             | CondNode::Chance(_)
             | CondNode::NearBounds(_)
-            | CondNode::Script(_) => 0.0,
+            | CondNode::Script(_)
+            | CondNode::Contacted
+            | CondNode::AtStation(_) => 0.0,
         }
     }
     fn leaf(r: &Recipe) -> f32 {
@@ -193,7 +200,8 @@ pub fn bearing_range(sp: &Species) -> f32 {
             | Recipe::Wander(_)
             | Recipe::Cruise(_)
             | Recipe::Stop
-            | Recipe::FollowPlan(_) => 0.0,
+            | Recipe::FollowPlan(_)
+            | Recipe::HoldStation(_) => 0.0,
         }
     }
     fn recipe(r: &RecipeNode) -> f32 {

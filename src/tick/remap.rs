@@ -137,10 +137,18 @@ impl Pipeline {
                     remap.fell_back[ns] += 1;
                 }
             }
+            // What was a plain behavior may now be composed: its first part runs.
+            let leaf = |b: u16| crate::species::validate::first_leaf(&nsp.behaviors, b);
+            m.current = leaf(m.current);
+            let depth = nsp.depth as usize;
+            if m.scope_entered.len() != depth {
+                m.scope_entered.resize(depth, world.tick);
+            }
             let stack: Vec<u16> = m
                 .stack()
                 .iter()
                 .filter_map(|&b| bmap.get(b as usize).copied().flatten())
+                .map(leaf)
                 .filter(|&b| b != m.current)
                 .collect();
             m.depth = 0;

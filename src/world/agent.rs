@@ -112,6 +112,13 @@ pub struct Mind {
     /// start of the tick); `None` when none of them knows food.
     #[serde(default)]
     pub school_best: Option<Vec3>,
+    /// Its station (the `MarkStation` action), which `HoldStation` returns to.
+    #[serde(default)]
+    pub station: Option<Vec3>,
+    /// Per depth of composed behaviors: the tick the composite current at that depth was
+    /// entered (empty for species without composites).
+    #[serde(default)]
+    pub scope_entered: Vec<u64>,
 }
 
 impl Mind {
@@ -132,6 +139,8 @@ impl Mind {
             reached: false,
             best_food: None,
             school_best: None,
+            station: None,
+            scope_entered: Vec::new(),
         }
     }
     /// The stack, bottom first.

@@ -234,16 +234,43 @@ impl Default for RelationsDef {
 pub struct BehaviorDef {
     /// Unique name within the species.
     pub name: String,
-    /// Priority level: 1 is the highest. Higher levels interrupt lower ones.
+    /// Priority level: 1 is the highest. Higher levels interrupt lower ones. Required in a
+    /// prioritized list (the species' `behaviors`, a behavior's `behaviors`); steps of a
+    /// `sequence` or `fallback` run in order and take none.
+    #[serde(default)]
     pub priority: u8,
     /// Activation condition.
     #[serde(default = "never")]
     pub when: Cond,
-    /// Completion condition.
+    /// Completion condition: the behavior ends with success.
     #[serde(default = "never")]
     pub done: Cond,
-    /// Steering recipe.
-    pub steer: Recipe,
+    /// Failure condition: the behavior ends with failure (when `done` does not hold; not held
+    /// back by `min_time`).
+    #[serde(default = "never")]
+    pub fail: Cond,
+    /// Steering recipe (a behavior made of sub-behaviors or steps has none: theirs steers).
+    #[serde(default)]
+    pub steer: Option<Recipe>,
+    /// Sub-behaviors: a prioritized list of its own, with the same interrupt and stack rules
+    /// as the species' list, run while this behavior is current.
+    #[serde(default)]
+    pub behaviors: Vec<BehaviorDef>,
+    /// Steps run in order: each success starts the next, the last one's success is this
+    /// behavior's success, any step's failure is its failure.
+    #[serde(default)]
+    pub sequence: Vec<BehaviorDef>,
+    /// Steps tried in order: each failure starts the next, the last one's failure is this
+    /// behavior's failure, any step's success is its success.
+    #[serde(default)]
+    pub fallback: Vec<BehaviorDef>,
+    /// The sibling behavior (same list) to start when this one succeeds, in place of the
+    /// list's own rule.
+    #[serde(default)]
+    pub on_success: Option<String>,
+    /// The sibling behavior to start when this one fails.
+    #[serde(default)]
+    pub on_failure: Option<String>,
     /// Whether a behavior of the same level may interrupt this one.
     #[serde(default = "yes")]
     pub equal_may_interrupt: bool,
@@ -301,6 +328,9 @@ pub enum Action {
     Send(MessageKind, f32),
     /// Call a script function (with the agent as `this`).
     Call(String),
+    /// Remember where the agent is now as its station (`HoldStation`, `Target::Station`,
+    /// `AtStation` read it), until it marks another.
+    MarkStation,
 }
 
 /// A drive.
@@ -413,4 +443,8 @@ pub enum Cond {
     NearBounds(f32),
     /// A Rhai function returning a bool (evaluated at the decision rate).
     Script(String),
+    /// The current behavior's `contact` happened (it ate, caught or mated).
+    Contacted,
+    /// Within this distance of its station (`MarkStation`); false while it has none.
+    AtStation(f32),
 }

@@ -24,6 +24,8 @@ pub enum Target {
     Point(Vec3),
     /// The centre of the world bounds.
     Home,
+    /// The agent's station (marked by the `MarkStation` action); none until marked.
+    Station,
 }
 
 /// Parameters of move-to-goal (seed 000 §4.3, seed 003's foraging); the angles default to the
@@ -192,6 +194,25 @@ impl Default for SeekDef {
     }
 }
 
+/// Parameters of hold-station.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HoldDef {
+    /// Slow-down radius around the station.
+    pub slow_radius: f32,
+    /// Fraction of the maximum speed on the way back.
+    pub speed: f32,
+}
+
+impl Default for HoldDef {
+    fn default() -> Self {
+        HoldDef {
+            slow_radius: 3.0,
+            speed: 0.5,
+        }
+    }
+}
+
 /// Parameters of separation / alignment / cohesion (seed 001).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -352,4 +373,7 @@ pub enum Recipe {
     Stop,
     /// Follow the agent's planned path (leader) or keep its formation slot (member).
     FollowPlan(CruiseDef),
+    /// Hold station: arrive at the agent's station (`MarkStation`) and stay there; nothing
+    /// to do while it has none.
+    HoldStation(HoldDef),
 }

@@ -142,14 +142,7 @@ pub(super) fn register(e: &mut Engine, ctx: &Arc<TestCtx>) {
             tw.check_behavior(a.id, from).map_err(error)?;
             tw.check_behavior(a.id, to).map_err(error)?;
         }
-        let causes = [
-            Cause::Activated,
-            Cause::Interrupted,
-            Cause::Completed,
-            Cause::Resumed,
-            Cause::Fallback,
-            Cause::Script,
-        ];
+        let causes = Cause::ALL;
         if let Some(c) = cause {
             if !causes.iter().any(|x| x.name() == c) {
                 return Err(error(format!(

@@ -380,7 +380,11 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
         })
     };
     if let Some(d) = opts.get("behavior") {
-        a.mind.current = behavior_of(&string(d, "behavior")?)?;
+        // A composed behavior starts in its first part.
+        a.mind.current = crate::species::validate::first_leaf(
+            &sp.behaviors,
+            behavior_of(&string(d, "behavior")?)?,
+        );
     }
     if let Some(d) = opts.get("stack") {
         let arr = d
@@ -388,7 +392,7 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
             .try_cast::<Array>()
             .ok_or_else(|| error("`stack` must be an array of behavior names, bottom first"))?;
         for n in strings(&arr, "stack")? {
-            let b = behavior_of(&n)?;
+            let b = crate::species::validate::first_leaf(&sp.behaviors, behavior_of(&n)?);
             a.mind.push(b);
         }
     }
