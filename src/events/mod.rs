@@ -4,9 +4,11 @@
 //! (recording, viewers, tests) reads, with the cause of every behavior transition.
 
 mod apply;
+mod named;
 
 use crate::world::AgentId;
-pub use crate::world::MessageKind;
+pub use crate::world::{MessageKind, Payload, Signal};
+use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 /// Why a behavior transition happened (seed 000 §3 arbitration).
@@ -109,6 +111,17 @@ pub enum Event {
         /// Radius.
         radius: f32,
     },
+    /// A declared event was broadcast (logged as a message, with its name and payload).
+    Named {
+        /// Sender.
+        from: AgentId,
+        /// The event's name, as its species declares it.
+        name: Arc<str>,
+        /// The fields the sender gave.
+        payload: Payload,
+        /// Radius.
+        radius: f32,
+    },
     /// A script failed for an agent (reported once per agent).
     ScriptError {
         /// Who.
@@ -130,7 +143,7 @@ impl Event {
             Event::Catch { .. } => "catch",
             Event::Mating { .. } => "mating",
             Event::Transition { .. } => "transition",
-            Event::Message { .. } => "message",
+            Event::Message { .. } | Event::Named { .. } => "message",
             Event::ScriptError { .. } => "script_error",
         }
     }
