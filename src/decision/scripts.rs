@@ -102,7 +102,9 @@ pub fn fill_view(
     match a.heard_event {
         // A declared event: its name (shared by the species) and its payload.
         Some(h) => {
-            let name = ctx.species.signal_name(crate::world::Signal::Event(h.event));
+            let name = ctx
+                .species
+                .signal_name(crate::world::Signal::Event(h.event));
             if v.heard.as_str() != name {
                 v.heard = ImmutableString::from(name);
             }

@@ -8,8 +8,8 @@ mod named;
 
 use crate::world::AgentId;
 pub use crate::world::{MessageKind, Payload, Signal};
-use std::sync::Arc;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Why a behavior transition happened (seed 000 §3 arbitration).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

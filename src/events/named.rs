@@ -96,3 +96,152 @@ impl Pipeline {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::events::{Event, MessageKind};
+    use crate::species::{Species, SpeciesSet};
+    use crate::tick::Pipeline;
+    use crate::world::{Aabb, AgentId, MemValue, Signal, World};
+    use glam::Vec3;
+    use std::sync::Arc;
+
+    /// A caller that shouts (`on_enter`) when near the +X bound, a listener that declares the
+    /// caller's events, and a species that declares none.
+    fn world_of(on_enter: &str) -> (Pipeline, World, [AgentId; 4]) {
+        let events = r#"events: [
+            (name: "alarm_call", priority: 25, fields: {"strength": Float}, shared: true),
+            (name: "chirp", priority: 5),
+        ]"#;
+        let caller = format!(
+            r#"(
+            name: "caller",
+            initial: "idle",
+            behaviors: [
+                Behavior(name: "idle", priority: 3, steer: Stop),
+                Behavior(name: "shout", priority: 1, when: NearBounds(3.0), steer: Stop,
+                    on_enter: [{on_enter}]),
+            ],
+            {events},
+        )"#
+        );
+        let listener = format!(
+            r#"(name: "listener", initial: "idle",
+                behaviors: [Behavior(name: "idle", priority: 1, steer: Stop)], {events})"#
+        );
+        let deaf = r#"(name: "deaf", initial: "idle",
+            behaviors: [Behavior(name: "idle", priority: 1, steer: Stop)])"#;
+        let set = SpeciesSet::new(
+            [
+                ("caller.ron", &*caller),
+                ("listener.ron", &*listener),
+                ("deaf.ron", deaf),
+            ]
+            .iter()
+            .map(|(f, t)| Arc::new(Species::parse(f, t).unwrap()))
+            .collect(),
+        )
+        .unwrap();
+        let bounds = Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 40.0, 50.0));
+        let mut w = World::new(bounds, 0.05, 3);
+        let mut p = Pipeline::new(Arc::new(set));
+        let at = |x: f32| Vec3::new(x, 10.0, 0.0);
+        let ids = [
+            p.spawn(&mut w, 0, at(48.0), 0.0, 0.0),
+            p.spawn(&mut w, 0, at(44.0), 0.0, 0.0),
+            p.spawn(&mut w, 1, at(44.0), 0.0, 0.0),
+            p.spawn(&mut w, 2, at(44.0), 0.0, 0.0),
+        ];
+        (p, w, ids)
+    }
+
+    #[test]
+    fn a_declared_event_is_heard_by_kin_and_by_species_that_declare_a_shared_one() {
+        let (mut p, mut w, _) = world_of(r#"Send("alarm_call", 10.0)"#);
+        p.step(&mut w);
+        let named: Vec<_> = p
+            .events
+            .iter()
+            .filter_map(|e| match e {
+                Event::Named { name, payload, .. } => Some((name.to_string(), payload.clone())),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(named.len(), 1);
+        assert_eq!(named[0].0, "alarm_call");
+        // Sent from `on_enter`: every declared field at its zero.
+        assert_eq!(
+            &named[0].1[..],
+            &[("strength".into(), MemValue::Float(0.0))]
+        );
+        let heard: Vec<_> = w.agents.iter().map(|a| a.heard_event).collect();
+        assert_eq!(heard[0], None, "the sender does not hear itself");
+        let kin = heard[1].expect("kin hears it");
+        let other = heard[2].expect("a species that declares the shared event hears it");
+        assert_eq!((kin.event, other.event), (0, 0));
+        assert_eq!(heard[3], None, "a species that does not declare it");
+        assert_eq!(kin.payload, other.payload);
+        assert_eq!(
+            w.event_payloads[kin.payload as usize][0].1,
+            MemValue::Float(0.0)
+        );
+        assert!(w.agents.iter().all(|a| a.inbox.is_none()));
+        // Heard for one tick, like a built-in message.
+        p.step(&mut w);
+        assert!(w.agents.iter().all(|a| a.heard_event.is_none()));
+    }
+
+    #[test]
+    fn an_event_not_shared_is_heard_by_the_sender_species_only() {
+        let (mut p, mut w, _) = world_of(r#"Send("chirp", 10.0)"#);
+        p.step(&mut w);
+        assert_eq!(w.agents[1].heard_event.map(|h| h.event), Some(1));
+        assert_eq!(w.agents[2].heard_event, None);
+    }
+
+    #[test]
+    fn one_inbox_slot_keeps_the_highest_rank() {
+        // alarm_call (25) over Mate (10), in either order.
+        for send in [
+            r#"Send("alarm_call", 10.0), Send(Mate, 10.0)"#,
+            r#"Send(Mate, 10.0), Send("alarm_call", 10.0)"#,
+        ] {
+            let (mut p, mut w, _) = world_of(send);
+            p.step(&mut w);
+            assert_eq!(w.agents[1].heard_event.map(|h| h.event), Some(0), "{send}");
+            assert_eq!(w.agents[1].inbox, None, "{send}");
+        }
+        // Danger (30) over alarm_call, in either order.
+        for send in [
+            r#"Send("alarm_call", 10.0), Send(Danger, 10.0)"#,
+            r#"Send(Danger, 10.0), Send("alarm_call", 10.0)"#,
+        ] {
+            let (mut p, mut w, _) = world_of(send);
+            p.step(&mut w);
+            assert_eq!(w.agents[1].inbox, Some(MessageKind::Danger), "{send}");
+            assert_eq!(w.agents[1].heard_event, None, "{send}");
+            // The listener hears only the shared event.
+            assert_eq!(w.agents[2].heard_event.map(|h| h.event), Some(0), "{send}");
+        }
+        // chirp (5) under Mate (10).
+        let (mut p, mut w, _) = world_of(r#"Send("chirp", 10.0), Send(Mate, 10.0)"#);
+        p.step(&mut w);
+        assert_eq!(w.agents[1].inbox, Some(MessageKind::Mate));
+        assert_eq!(w.agents[1].heard_event, None);
+    }
+
+    #[test]
+    fn a_delivered_kind_does_not_replace_a_higher_declared_event() {
+        let (mut p, mut w, ids) = world_of(r#"Send("alarm_call", 10.0)"#);
+        p.step(&mut w);
+        assert!(p.deliver(&mut w, ids[1], MessageKind::Obstacle));
+        assert_eq!(w.agents[1].heard_event.map(|h| h.event), Some(0));
+        assert_eq!(w.agents[1].inbox, None);
+        assert!(p.deliver(&mut w, ids[1], MessageKind::Danger));
+        assert_eq!(w.agents[1].heard_event, None);
+        assert_eq!(w.agents[1].inbox, Some(MessageKind::Danger));
+        let sp = &p.species.species[0];
+        assert_eq!(sp.rank(Signal::Event(0)), 25);
+        assert_eq!(sp.signal_name(Signal::Event(1)), "chirp");
+    }
+}

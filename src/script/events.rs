@@ -43,7 +43,13 @@ fn signal(v: &AgentView, name: &str) -> Result<Signal, Box<EvalAltResult>> {
                 } else {
                     format!("declared events are {}", declared.join(", "))
                 },
-                did_you_mean(name, declared.iter().copied().chain(["danger", "obstacle", "mate"]))
+                did_you_mean(
+                    name,
+                    declared
+                        .iter()
+                        .copied()
+                        .chain(["danger", "obstacle", "mate"])
+                )
             )))
         }
     }
@@ -115,7 +121,10 @@ pub(super) fn register(e: &mut Engine) {
         },
     );
     e.register_get("heard_payload", |v: &mut AgentView| -> Map {
-        v.heard_payload.as_ref().map(payload_map).unwrap_or_default()
+        v.heard_payload
+            .as_ref()
+            .map(payload_map)
+            .unwrap_or_default()
     });
     e.register_set(
         "heard_payload",

@@ -41,8 +41,16 @@ impl Builder<'_> {
     /// built-in's) and the script's `send` literals against them.
     pub(super) fn events(&mut self, def: &SpeciesDef) -> Vec<EventSpec> {
         let mut out: Vec<EventSpec> = Vec::new();
+        // Each declaration is located after the one before it, from the `events` key on.
+        let start = locate(self.text, "events:", 0).map_or(0, |x| x.2);
+        let mut from = start;
         for e in &def.events {
             let needle = format!("\"{}\"", e.name);
+            self.cursor = from;
+            if let Some((_, _, at)) = locate(self.text, &needle, from) {
+                self.cursor = at;
+                from = at + 1;
+            }
             if e.name.trim().is_empty() {
                 self.error_at("events", "an event's `name` is empty".into());
             } else if out.iter().any(|o| *o.name == e.name) {
@@ -63,9 +71,13 @@ impl Builder<'_> {
                     ),
                 );
             }
-            if let Some(k) = [MessageKind::Danger, MessageKind::Obstacle, MessageKind::Mate]
-                .into_iter()
-                .find(|k| k.rank() == e.priority)
+            if let Some(k) = [
+                MessageKind::Danger,
+                MessageKind::Obstacle,
+                MessageKind::Mate,
+            ]
+            .into_iter()
+            .find(|k| k.rank() == e.priority)
             {
                 self.error_at(
                     &needle,
@@ -86,6 +98,7 @@ impl Builder<'_> {
                 shared: e.shared,
             });
         }
+        self.cursor = 0;
         self.script_sends(&out);
         out
     }
@@ -121,11 +134,24 @@ impl Builder<'_> {
             if let Some(ASTNode::Expr(Expr::MethodCall(call, _))) = path.last() {
                 if call.name == "send" && call.args.len() >= 2 {
                     if let Expr::StringConstant(name, pos) = &call.args[0] {
-                        let map = match (&call.args.len(), &call.args[1]) {
-                            (3, Expr::Map(m, _)) => Some(m),
-                            _ => None,
+                        let fields = match (call.args.len(), &call.args[1]) {
+                            (3, Expr::Map(m, _)) => {
+                                m.0.iter()
+                                    .map(|(k, v)| (k.name.to_string(), k.pos, literal_type(v)))
+                                    .collect()
+                            }
+                            // A map of constants is folded into one value when compiled.
+                            (3, Expr::DynamicConstant(d, pos)) => d
+                                .read_lock::<rhai::Map>()
+                                .map(|m| {
+                                    m.iter()
+                                        .map(|(k, v)| (k.to_string(), *pos, dynamic_type(v)))
+                                        .collect()
+                                })
+                                .unwrap_or_default(),
+                            _ => Vec::new(),
                         };
-                        if let Some(msg) = check_send(events, name, map.map(|m| &m.0[..])) {
+                        if let Some(msg) = check_send(events, name, &fields) {
                             found.push((msg.1.unwrap_or(*pos), msg.0));
                         }
                     }
@@ -135,13 +161,8 @@ impl Builder<'_> {
         });
         for (pos, msg) in found {
             let (l, c) = crate::script::position_of(pos);
-            self.diags.push(Diagnostic::new(
-                &script.file,
-                l,
-                c,
-                msg,
-                Some(&script.text),
-            ));
+            self.diags
+                .push(Diagnostic::new(&script.file, l, c, msg, Some(&script.text)));
         }
     }
 }
@@ -165,14 +186,20 @@ fn unknown_event<'a>(name: &str, what: &str, declared: impl Iterator<Item = &'a 
 fn check_send(
     events: &[EventSpec],
     name: &str,
-    fields: Option<&[(rhai::Ident, Expr)]>,
+    fields: &[(String, rhai::Position, Literal)],
 ) -> Option<(String, Option<rhai::Position>)> {
     if MessageKind::parse(name).is_some() {
         return None;
     }
     let Some(e) = events.iter().find(|e| &*e.name == name) else {
         let declared: Vec<&str> = events.iter().map(|e| &*e.name).collect();
-        let hint = did_you_mean(name, declared.iter().copied().chain(["danger", "obstacle", "mate"]));
+        let hint = did_you_mean(
+            name,
+            declared
+                .iter()
+                .copied()
+                .chain(["danger", "obstacle", "mate"]),
+        );
         let list = if declared.is_empty() {
             "the species declares no `events`".to_string()
         } else {
@@ -183,32 +210,34 @@ fn check_send(
             None,
         ));
     };
-    for (key, value) in fields.unwrap_or_default() {
-        let Some(t) = e.field(&key.name) else {
+    for (key, pos, literal) in fields {
+        let Some(t) = e.field(key) else {
             let names: Vec<&str> = e.fields.iter().map(|(f, _)| &**f).collect();
             return Some((
                 format!(
                     "event \"{name}\" has no field `{}`: its fields are {}{}",
-                    key.name,
-                    if names.is_empty() { "none".to_string() } else { names.join(", ") },
-                    did_you_mean(&key.name, names.iter().copied())
+                    key,
+                    if names.is_empty() {
+                        "none".to_string()
+                    } else {
+                        names.join(", ")
+                    },
+                    did_you_mean(key, names.iter().copied())
                 ),
-                Some(key.pos),
+                Some(*pos),
             ));
         };
-        let literal = match value {
-            Expr::FloatConstant(..) => Some(FieldType::Float),
-            Expr::IntegerConstant(..) => Some(FieldType::Int),
-            Expr::BoolConstant(..) => Some(FieldType::Bool),
-            Expr::StringConstant(..) => None,
-            _ => continue,
+        let literal = match literal {
+            Literal::Known(t) => Some(*t),
+            Literal::Str => None,
+            Literal::Other => continue,
         };
         let fits = literal == Some(t) || (t == FieldType::Float && literal == Some(FieldType::Int));
         if !fits {
             return Some((
                 format!(
                     "field `{}` of event \"{name}\" is a {}, not {}",
-                    key.name,
+                    key,
                     t.name(),
                     literal.map_or("a string", |l| match l {
                         FieldType::Float => "a float",
@@ -217,9 +246,44 @@ fn check_send(
                         FieldType::Vec3 => "a vec3",
                     })
                 ),
-                Some(value.position()),
+                Some(*pos),
             ));
         }
     }
     None
+}
+
+/// What a literal in a `send` payload is, as far as the compiled script tells.
+enum Literal {
+    /// A value of a field type.
+    Known(FieldType),
+    /// A string (no field takes one).
+    Str,
+    /// Anything else (computed at run time, checked then).
+    Other,
+}
+
+fn literal_type(e: &Expr) -> Literal {
+    match e {
+        Expr::FloatConstant(..) => Literal::Known(FieldType::Float),
+        Expr::IntegerConstant(..) => Literal::Known(FieldType::Int),
+        Expr::BoolConstant(..) => Literal::Known(FieldType::Bool),
+        Expr::StringConstant(..) => Literal::Str,
+        Expr::DynamicConstant(d, _) => dynamic_type(d),
+        _ => Literal::Other,
+    }
+}
+
+fn dynamic_type(d: &rhai::Dynamic) -> Literal {
+    if d.is::<rhai::FLOAT>() {
+        Literal::Known(FieldType::Float)
+    } else if d.is::<rhai::INT>() {
+        Literal::Known(FieldType::Int)
+    } else if d.is::<bool>() {
+        Literal::Known(FieldType::Bool)
+    } else if d.is::<rhai::ImmutableString>() {
+        Literal::Str
+    } else {
+        Literal::Other
+    }
 }

@@ -11,7 +11,6 @@ use super::Pipeline;
 use crate::decision::{self, focus, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
-use crate::world::{Payload, Signal};
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{
     Category, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary,
@@ -21,6 +20,7 @@ use crate::species::{ActionNode, Contact, Species, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{Agent, ForwardCache, Mind, World};
+use crate::world::{Payload, Signal};
 use glam::Vec3;
 use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
