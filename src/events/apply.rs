@@ -4,7 +4,9 @@
 //! transition and script-error events, messages delivered for the next tick (seed 003: danger >
 //! obstacle > mate), contacts (seed 000: eating removes the food or kills the prey, mating resets
 //! libido) with the script `on_event` calls they make; then the dead and the eaten food leave the
-//! world and its clock advances.
+//! world and its clock advances. Events a species declares are delivered by `apply/named.rs`.
+
+mod named;
 
 use super::{Event, MessageKind, Signal};
 use crate::decision::{scripts, Ctx};

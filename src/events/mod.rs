@@ -4,7 +4,6 @@
 //! (recording, viewers, tests) reads, with the cause of every behavior transition.
 
 mod apply;
-mod named;
 
 use crate::world::AgentId;
 pub use crate::world::{MessageKind, Payload, Signal};

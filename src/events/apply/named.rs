@@ -7,7 +7,7 @@
 //! get their species' `on_event(name, payload)`. Touches `Pipeline`'s next inboxes and event
 //! log, and the world's agents through `on_event` only.
 
-use super::{Event, Signal};
+use crate::events::{Event, Signal};
 use crate::species::SpeciesSet;
 use crate::tick::Pipeline;
 use crate::world::{HeardEvent, Payload, World};
