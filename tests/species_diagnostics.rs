@@ -130,7 +130,7 @@ fn unknown_field_is_located_and_the_near_miss_suggested() {
             "minnow.ron",
             3,
             5,
-            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `resend_after`, `initial`, `behaviors`, `recipes`, `look`"
+            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `resend_after`, `initial`, `behaviors`, `recipes`, `look`, `events`"
         )
     );
     let bad = MINNOW.replace("Cruise(speed: 1.0)", "Cruise(sped: 1.0)");

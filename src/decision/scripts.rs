@@ -99,15 +99,33 @@ pub fn fill_view(
     v.age = a.attrs.age;
     v.mass = a.attrs.mass;
     v.kind = a.attrs.kind as i64;
-    let heard = a.inbox.map_or("", |k| k.name());
-    if v.heard.as_str() != heard {
-        v.heard = shared_name(heard);
+    match a.heard_event {
+        // A declared event: its name (shared by the species) and its payload.
+        Some(h) => {
+            let name = ctx
+                .species
+                .signal_name(crate::world::Signal::Event(h.event));
+            if v.heard.as_str() != name {
+                v.heard = ImmutableString::from(name);
+            }
+            v.heard_payload = ctx.world.event_payloads.get(h.payload as usize).cloned();
+        }
+        None => {
+            let heard = a.inbox.map_or("", |k| k.name());
+            if v.heard.as_str() != heard {
+                v.heard = shared_name(heard);
+            }
+            v.heard_payload = None;
+        }
     }
     v.memory.clone_from(&a.memory);
     v.rng = a.rng;
     v.outbox.clear();
     if !Arc::ptr_eq(&v.recipes, &ctx.species.recipe_names) {
         v.recipes = ctx.species.recipe_names.clone();
+    }
+    if !Arc::ptr_eq(&v.events, &ctx.species.events) {
+        v.events = ctx.species.events.clone();
     }
     v.drives_written = false;
     v.terrain = ctx.world.terrain.clone();

@@ -4,9 +4,11 @@
 //! transition and script-error events, messages delivered for the next tick (seed 003: danger >
 //! obstacle > mate), contacts (seed 000: eating removes the food or kills the prey, mating resets
 //! libido) with the script `on_event` calls they make; then the dead and the eaten food leave the
-//! world and its clock advances.
+//! world and its clock advances. Events a species declares are delivered by `apply/named.rs`.
 
-use super::{Event, MessageKind};
+mod named;
+
+use super::{Event, MessageKind, Signal};
 use crate::decision::{scripts, Ctx};
 use crate::perception::{Category, GroupQueries, Source, Summary};
 use crate::species::{Contact, SpeciesSet};
@@ -35,6 +37,10 @@ impl Pipeline {
         self.mated.resize(n, false);
         self.next_inbox.clear();
         self.next_inbox.resize(n, None);
+        self.next_events.clear();
+        self.next_events.resize(n, None);
+        self.next_payloads.clear();
+        let mut named = false;
         let tick = world.tick;
         let mut delivered = false;
         // In agent order (each agent's own record was rewritten by its pass), what reaches
@@ -54,8 +60,10 @@ impl Pipeline {
             let Rare {
                 transitions,
                 messages,
+                payloads,
                 error,
             } = out.rare.take().map(|r| *r).unwrap_or_default();
+            let contact = out.contact.take();
             for t in transitions.into_iter().flatten() {
                 self.stats.transitions += 1;
                 self.events.push(Event::Transition {
@@ -80,7 +88,17 @@ impl Pipeline {
                 }
             }
             let (aid, pos, sid) = (a.id, a.pos, a.species);
-            for (kind, radius) in messages.into_iter().flatten() {
+            for (slot, m) in messages.into_iter().enumerate() {
+                let Some((signal, radius)) = m else { continue };
+                let kind = match signal {
+                    Signal::Kind(kind) => kind,
+                    Signal::Event(e) => {
+                        let given = payloads.iter().find(|(k, _)| *k == slot).map(|p| &p.1);
+                        named |= self.send_event(world, &set, i, e, given, radius);
+                        delivered |= named;
+                        continue;
+                    }
+                };
                 self.events.push(Event::Message {
                     from: aid,
                     kind,
@@ -89,16 +107,25 @@ impl Pipeline {
                 let radius = radius.max(0.0);
                 let agents = &world.agents;
                 let inbox = &mut self.next_inbox;
+                let heard = &mut self.next_events;
                 let delivered = &mut delivered;
+                let sp = &set.species[sid.0 as usize];
                 self.agent_grid.for_each_within(pos, radius, |j, _, _| {
                     let j = j as usize;
                     if j != i && agents[j].species == sid {
-                        inbox[j] = Some(MessageKind::max_priority(inbox[j], kind));
+                        // One slot: a declared event ranked above this kind keeps it.
+                        match heard[j] {
+                            Some(h) if sp.rank(Signal::Event(h.event)) > kind.rank() => {}
+                            _ => {
+                                heard[j] = None;
+                                inbox[j] = Some(MessageKind::max_priority(inbox[j], kind));
+                            }
+                        }
                         *delivered = true;
                     }
                 });
             }
-            if let Some((contact, source)) = out.contact.take() {
+            if let Some((contact, source)) = contact {
                 self.contacts.push((i, contact, source));
             }
         }
@@ -115,11 +142,21 @@ impl Pipeline {
         self.contacts.clear();
         // Without a message this tick or the last, every inbox is and stays empty.
         if delivered || self.delivered {
-            for (a, m) in world.agents.iter_mut().zip(self.next_inbox.iter()) {
+            for ((a, m), h) in world
+                .agents
+                .iter_mut()
+                .zip(self.next_inbox.iter())
+                .zip(self.next_events.iter())
+            {
                 a.inbox = *m;
+                a.heard_event = *h;
             }
+            world.event_payloads = std::mem::take(&mut self.next_payloads);
         }
         self.delivered = delivered;
+        if named {
+            self.on_heard_events(world, &set, tick);
+        }
         if self.dead.iter().any(|&d| d) {
             let dead = &self.dead;
             let mut k = 0;
@@ -214,9 +251,22 @@ impl Pipeline {
     /// Calls the species' `on_event(kind)` for agent `i`, if it has one (sequential: events are
     /// rare).
     fn on_event(&mut self, world: &mut World, i: usize, kind: &str, tick: u64) {
+        self.on_event_with(world, i, kind, None, tick);
+    }
+
+    /// Calls the species' `on_event(kind, payload)` for agent `i` (an empty map for a contact),
+    /// or its `on_event(kind)` when it defines only that one.
+    pub(super) fn on_event_with(
+        &mut self,
+        world: &mut World,
+        i: usize,
+        kind: &str,
+        payload: Option<&crate::world::Payload>,
+        tick: u64,
+    ) {
         let set = self.species.clone();
         let sp = &set.species[world.agents[i].species.0 as usize];
-        let (Some(script), true) = (&sp.script, sp.has_on_event) else {
+        let (Some(script), true) = (&sp.script, sp.has_on_event || sp.has_on_event_payload) else {
             return;
         };
         let agent = world.agents[i].clone();
@@ -249,12 +299,22 @@ impl Pipeline {
         let mut this = Dynamic::from(view);
         let mut scope = Scope::new();
         let r: Result<Dynamic, _> = crate::script::with_tick(&self.script_clock, || {
-            script.call_args(
-                &mut scope,
-                &mut this,
-                "on_event",
-                (ImmutableString::from(kind),),
-            )
+            if sp.has_on_event_payload {
+                let map = payload.map(crate::script::events::payload_map);
+                script.call_args(
+                    &mut scope,
+                    &mut this,
+                    "on_event",
+                    (ImmutableString::from(kind), map.unwrap_or_default()),
+                )
+            } else {
+                script.call_args(
+                    &mut scope,
+                    &mut this,
+                    "on_event",
+                    (ImmutableString::from(kind),),
+                )
+            }
         });
         match r {
             Ok(_) => {

@@ -6,8 +6,9 @@
 mod apply;
 
 use crate::world::AgentId;
-pub use crate::world::MessageKind;
+pub use crate::world::{MessageKind, Payload, Signal};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Why a behavior transition happened (seed 000 §3 arbitration).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -129,6 +130,17 @@ pub enum Event {
         /// Radius.
         radius: f32,
     },
+    /// A declared event was broadcast (logged as a message, with its name and payload).
+    Named {
+        /// Sender.
+        from: AgentId,
+        /// The event's name, as its species declares it.
+        name: Arc<str>,
+        /// The fields the sender gave.
+        payload: Payload,
+        /// Radius.
+        radius: f32,
+    },
     /// A script failed for an agent (reported once per agent).
     ScriptError {
         /// Who.
@@ -150,7 +162,7 @@ impl Event {
             Event::Catch { .. } => "catch",
             Event::Mating { .. } => "mating",
             Event::Transition { .. } => "transition",
-            Event::Message { .. } => "message",
+            Event::Message { .. } | Event::Named { .. } => "message",
             Event::ScriptError { .. } => "script_error",
         }
     }

@@ -52,6 +52,18 @@ pub fn event_json(e: &Event, tick: u64, dt: f32, set: &SpeciesSet) -> Value {
         Event::Message { from, kind, radius } => {
             json!({"from": from.0, "kind": kind.name(), "radius": radius})
         }
+        Event::Named {
+            from,
+            name,
+            payload,
+            radius,
+        } => {
+            let fields: serde_json::Map<String, Value> = payload
+                .iter()
+                .map(|(k, v)| (k.to_string(), mem_json(v)))
+                .collect();
+            json!({"from": from.0, "message": &**name, "payload": fields, "radius": radius})
+        }
         Event::ScriptError {
             agent,
             species,
@@ -72,6 +84,18 @@ pub fn event_json(e: &Event, tick: u64, dt: f32, set: &SpeciesSet) -> Value {
     }
     out.extend(std::mem::take(obj));
     Value::Object(out)
+}
+
+/// A payload field as JSON (a vector as `[x, y, z]`).
+fn mem_json(v: &crate::world::MemValue) -> Value {
+    use crate::world::MemValue;
+    match v {
+        MemValue::Bool(b) => json!(b),
+        MemValue::Int(i) => json!(i),
+        MemValue::Float(f) => json!(f),
+        MemValue::Vec3(x) => json!([x.x, x.y, x.z]),
+        MemValue::Str(s) => json!(s),
+    }
 }
 
 /// Per behavior of `s`, in the order of its `behaviors` names, what the viewer's state-machine

@@ -20,6 +20,7 @@
 
 pub mod budget;
 pub mod calls;
+pub mod events;
 mod imports;
 pub mod squad;
 mod view;
@@ -222,6 +223,11 @@ impl Script {
             imports,
             functions,
         })
+    }
+
+    /// The compiled script (for load-time checks of what it writes).
+    pub fn ast(&self) -> &AST {
+        &self.ast
     }
 
     /// Whether the script defines `name` taking `params` parameters.

@@ -1,9 +1,8 @@
 //! The script API: the typed [`AgentView`] bound as `this`, glam vectors with operators, the
 //! blackboard, deterministic random numbers, messages and steering values.
 
-use crate::events::MessageKind;
 use crate::perception::{Category, Level, Sector, Strength};
-use crate::world::{MemValue, Rng, MEMORY_CAPACITY};
+use crate::world::{EventSpec, MemValue, Payload, Rng, Signal, MEMORY_CAPACITY};
 use glam::Vec3;
 use rhai::{Dynamic, Engine, EvalAltResult, ImmutableString, Position, FLOAT, INT};
 use std::sync::Arc;
@@ -109,8 +108,8 @@ pub struct AgentView {
     pub memory: Vec<(String, MemValue)>,
     /// The agent's random stream.
     pub rng: Rng,
-    /// Messages to broadcast: (kind, radius).
-    pub outbox: Vec<(MessageKind, f32)>,
+    /// Messages to broadcast: (kind or declared event, radius, payload of a declared event).
+    pub outbox: Vec<(Signal, f32, Option<Payload>)>,
     /// Names of the species' named recipes.
     pub recipes: Arc<[String]>,
     /// Whether a script wrote a drive.
@@ -121,6 +120,10 @@ pub struct AgentView {
     pub eye_height: FLOAT,
     /// The agent's squad and plan, when it is a squad member.
     pub squad: Option<crate::world::board::SquadView>,
+    /// The species' declared events (what `send` names may be).
+    pub events: Arc<[EventSpec]>,
+    /// The payload of the declared event heard last tick, if that is what was heard.
+    pub heard_payload: Option<Payload>,
 }
 
 fn err(msg: impl Into<String>) -> Box<EvalAltResult> {
@@ -372,20 +375,7 @@ fn register_agent(e: &mut Engine) {
     e.register_fn("random_range", |v: &mut AgentView, lo: FLOAT, hi: FLOAT| {
         v.rng.range(lo, hi)
     });
-    e.register_fn(
-        "send",
-        |v: &mut AgentView, kind: &str, radius: FLOAT| -> Result<(), Box<EvalAltResult>> {
-            let k = MessageKind::parse(kind).ok_or_else(|| {
-                err(format!(
-                    "unknown message kind \"{kind}\": expected danger, obstacle or mate"
-                ))
-            })?;
-            if v.outbox.len() < 8 {
-                v.outbox.push((k, radius));
-            }
-            Ok(())
-        },
-    );
+    super::events::register(e);
     // Steering values.
     e.register_fn(
         "recipe",

@@ -200,7 +200,7 @@ impl Builder<'_> {
             Cond::EscapeDone => CondNode::EscapeDone,
             Cond::ObstacleNear => CondNode::ObstacleNear,
             Cond::TrafficNear => CondNode::TrafficNear,
-            Cond::Heard(m) => CondNode::Heard(*m),
+            Cond::Heard(m) => CondNode::Heard(self.signal(m, "Heard")),
             Cond::TimeIn(t) => {
                 self.nums.enter("TimeIn");
                 self.nums.non_negative("TimeIn", *t);

@@ -91,8 +91,11 @@ fn describe_into(c: &Cond, s: &mut String) {
         Cond::EscapeDone => s.push_str("predator behind and out of sight"),
         Cond::ObstacleNear => s.push_str("obstacle pressure above M_min"),
         Cond::TrafficNear => s.push_str("moving obstacle pressure above M_min"),
-        Cond::Heard(m) => {
+        Cond::Heard(MessageRef::Kind(m)) => {
             let _ = write!(s, "heard {}", m.name());
+        }
+        Cond::Heard(MessageRef::Event(n)) => {
+            let _ = write!(s, "heard {n}");
         }
         Cond::TimeIn(t) => {
             let _ = write!(s, "{t} s in behavior");

@@ -10,6 +10,7 @@ pub mod compose;
 mod conditions;
 pub mod def;
 pub mod describe;
+pub mod events;
 mod look_check;
 mod params;
 mod recipes;
@@ -18,6 +19,7 @@ pub mod set;
 pub mod validate;
 
 pub use def::*;
+pub use events::EventSpec;
 pub use set::SpeciesSet;
 pub use validate::{load_species, load_species_str};
 
@@ -25,6 +27,7 @@ use crate::load::Diagnostics;
 use crate::params::steering::AvoidParams;
 use crate::perception::{Category, SenseParams};
 use crate::script::Script;
+use crate::world::Signal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -103,8 +106,8 @@ pub enum CondNode {
     ObstacleNear,
     /// Dynamic obstacle pressure above M_min.
     TrafficNear,
-    /// Heard a message.
-    Heard(MessageKind),
+    /// Heard a message (a built-in kind or a declared event).
+    Heard(Signal),
     /// Time in behavior at least (s).
     TimeIn(f32),
     /// Chance per second.
@@ -135,8 +138,8 @@ pub enum RecipeNode {
 /// A resolved on-enter action.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ActionNode {
-    /// Broadcast a message.
-    Send(MessageKind, f32),
+    /// Broadcast a message (a built-in kind or a declared event).
+    Send(Signal, f32),
     /// Call a script function.
     Call(String),
     /// Mark the agent's station where it is.
@@ -282,6 +285,10 @@ pub struct Species {
     pub has_on_tick: bool,
     /// Whether the script defines `on_event(kind)`.
     pub has_on_event: bool,
+    /// Declared events, in declaration order ([`Signal::Event`] indexes them).
+    pub events: Arc<[EventSpec]>,
+    /// Whether the script defines `on_event(kind, payload)`.
+    pub has_on_event_payload: bool,
 }
 
 impl Species {

@@ -283,7 +283,7 @@ impl Builder<'_> {
                 .on_enter
                 .iter()
                 .map(|a| match a {
-                    Action::Send(k, r) => ActionNode::Send(*k, *r),
+                    Action::Send(k, r) => ActionNode::Send(self.signal(k, "Send"), *r),
                     Action::Call(f) => {
                         match self.script {
                             Some(s) if s.has_fn(f, 0) => {}
@@ -376,6 +376,7 @@ impl Builder<'_> {
             recipes.push(self.recipe(r));
             recipe_names.push(name.clone());
         }
+        let events = self.events(def);
         self.species_numbers(def);
         self.look(def);
         if def.decision_interval == 0 {
@@ -409,6 +410,7 @@ impl Builder<'_> {
             Some(s) => (s.has_fn("on_tick", 0), s.has_fn("on_event", 1)),
             None => (false, false),
         };
+        let has_on_event_payload = script.as_ref().is_some_and(|s| s.has_fn("on_event", 2));
         Ok(Species {
             name: def.name.clone(),
             file: self.file.to_path_buf(),
@@ -439,6 +441,8 @@ impl Builder<'_> {
             steer_slots,
             has_on_tick,
             has_on_event,
+            events: events.into(),
+            has_on_event_payload,
         })
     }
 }

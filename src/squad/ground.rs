@@ -90,6 +90,7 @@ mod tests {
             rng: Rng::new(1, 1),
             memory: Vec::new(),
             inbox: None,
+            heard_event: None,
             forward_cache: crate::world::ForwardCache::NONE,
         }
     }

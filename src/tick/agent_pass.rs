@@ -11,7 +11,6 @@ use super::Pipeline;
 use crate::decision::{self, focus, scripts, Ctx, Transitions};
 use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
-use crate::events::MessageKind;
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{
     Category, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary,
@@ -21,6 +20,7 @@ use crate::species::{ActionNode, Contact, Species, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
 use crate::world::{Agent, ForwardCache, Mind, World};
+use crate::world::{Payload, Signal};
 use glam::Vec3;
 use rayon::prelude::*;
 use rhai::{Dynamic, ImmutableString, Scope};
@@ -68,7 +68,9 @@ pub(crate) struct Outcome {
 #[derive(Debug, Default)]
 pub(crate) struct Rare {
     pub(crate) transitions: Transitions,
-    pub(crate) messages: [Option<(MessageKind, f32)>; 4],
+    pub(crate) messages: [Option<(Signal, f32)>; 4],
+    /// Payloads of the declared events among `messages`, by slot.
+    pub(crate) payloads: Vec<(usize, Payload)>,
     pub(crate) error: Option<Diagnostic>,
 }
 
@@ -319,7 +321,8 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     }
     remember_food(mind, me.pos, percepts, sp.senses.vision_radius, known_food);
     let mut error = None;
-    let mut messages: [Option<(MessageKind, f32)>; 4] = [None; 4];
+    let mut messages: [Option<(Signal, f32)>; 4] = [None; 4];
+    let mut payloads: Vec<(usize, Payload)> = Vec::new();
 
     // 4. Decision: scripts at the decision rate, then arbitration.
     let script = sp
@@ -354,8 +357,11 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             if let Some(mut v) = view.write_lock::<AgentView>() {
                 scripts::write_back(&v, me);
                 *rng = v.rng;
-                for (k, m) in v.outbox.drain(..).take(2).enumerate() {
-                    messages[2 + k] = Some(m);
+                for (k, (m, r, p)) in v.outbox.drain(..).take(2).enumerate() {
+                    messages[2 + k] = Some((m, r));
+                    if let Some(p) = p {
+                        payloads.push((2 + k, p));
+                    }
                 }
             }
             if let Err(e) = r {
@@ -377,11 +383,20 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         let mut k = 0;
         for a in &b.on_enter {
             match a {
-                ActionNode::Send(kind, r) if k < 2 => {
-                    let quiet = &mut mind.quiet_until[*kind as usize];
+                ActionNode::Send(signal, r) if k < 2 => {
+                    let quiet = match *signal {
+                        Signal::Kind(kind) => &mut mind.quiet_until[kind as usize],
+                        Signal::Event(e) => {
+                            let q = &mut mind.quiet_events;
+                            if q.len() <= e as usize {
+                                q.resize(sp.events.len().max(e as usize + 1), 0);
+                            }
+                            &mut q[e as usize]
+                        }
+                    };
                     if tick >= *quiet {
                         *quiet = tick.saturating_add((sp.resend_after.max(0.0) / dt).ceil() as u64);
-                        messages[k] = Some((*kind, *r));
+                        messages[k] = Some((*signal, *r));
                         k += 1;
                     }
                 }
@@ -522,6 +537,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         Box::new(Rare {
             transitions,
             messages,
+            payloads,
             error,
         })
     });

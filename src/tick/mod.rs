@@ -60,6 +60,10 @@ pub struct Pipeline {
     pub(crate) dead: Vec<bool>,
     pub(crate) mated: Vec<bool>,
     pub(crate) next_inbox: Vec<Option<MessageKind>>,
+    /// The declared event each agent hears next tick (the other half of its one inbox slot).
+    pub(crate) next_events: Vec<Option<crate::world::HeardEvent>>,
+    /// Payloads of the declared events sent this tick, for `next_events`.
+    pub(crate) next_payloads: Vec<crate::world::Payload>,
     /// Whether the last tick delivered any message (some agent's inbox may be set).
     pub(crate) delivered: bool,
     pub(crate) contacts: Vec<(usize, Contact, Source)>,
@@ -122,6 +126,8 @@ impl Pipeline {
             dead: Vec::new(),
             mated: Vec::new(),
             next_inbox: Vec::new(),
+            next_events: Vec::new(),
+            next_payloads: Vec::new(),
             delivered: false,
             contacts: Vec::new(),
             events: Vec::new(),

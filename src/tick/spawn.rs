@@ -85,6 +85,7 @@ impl Pipeline {
             rng,
             memory: Vec::new(),
             inbox: None,
+            heard_event: None,
             forward_cache: crate::world::ForwardCache::NONE,
         };
         world.agents.push(agent);
@@ -101,7 +102,15 @@ impl Pipeline {
         let Some(a) = world.agent_index(id).map(|i| &mut world.agents[i]) else {
             return false;
         };
-        a.inbox = Some(MessageKind::max_priority(a.inbox, kind));
+        // One slot: a declared event ranked above this kind keeps it.
+        let sp = &self.species.species[a.species.0 as usize];
+        match a.heard_event {
+            Some(h) if sp.rank(crate::world::Signal::Event(h.event)) > kind.rank() => {}
+            _ => {
+                a.heard_event = None;
+                a.inbox = Some(MessageKind::max_priority(a.inbox, kind));
+            }
+        }
         // The tick clears every inbox it did not fill only when one was filled.
         self.delivered = true;
         true

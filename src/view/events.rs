@@ -47,6 +47,8 @@ pub(crate) struct Events {
     pub script_errors: Vec<ListedEvent>,
     /// Reloads, at most [`MAX_LISTED`].
     pub reloads: Vec<ListedEvent>,
+    /// Declared (named) events sent, with their payload, at most [`MAX_LISTED`].
+    pub named: Vec<ListedEvent>,
     /// How many events of each kind the file holds.
     pub counts: BTreeMap<String, u64>,
     /// Line number of a truncated last line that was skipped, if any.
@@ -200,6 +202,20 @@ impl Events {
             "script_error" if self.script_errors.len() < MAX_LISTED => {
                 let text = script_error_text(&v);
                 self.script_errors.push(ListedEvent { tick, text });
+            }
+            // A declared event carries a payload; the built-in kinds are only counted.
+            "message" if v.get("payload").is_some() && self.named.len() < MAX_LISTED => {
+                let fields: Vec<String> = v["payload"]
+                    .as_object()
+                    .map(|m| m.iter().map(|(k, x)| format!("{k} {x}")).collect())
+                    .unwrap_or_default();
+                let text = format!(
+                    "{} from #{} ({})",
+                    string(&v, "message"),
+                    string(&v, "from"),
+                    fields.join(", ")
+                );
+                self.named.push(ListedEvent { tick, text });
             }
             "reload" if self.reloads.len() < MAX_LISTED => {
                 let accepted = v.get("accepted").and_then(Value::as_bool).unwrap_or(false);

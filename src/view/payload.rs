@@ -272,6 +272,7 @@ pub(crate) fn build(dir: &Path, budget: usize) -> Result<Payload, ViewError> {
         "history": { "count": tr.len(), "strings": events.strings.names },
         "deaths": deaths,
         "script_errors": events.script_errors,
+        "named_events": events.named,
         "reloads": events.reloads,
         "event_counts": events.counts,
         "transition_counts": events.edge_list(),

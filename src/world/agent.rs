@@ -99,6 +99,10 @@ pub struct Mind {
     /// Per message kind: the tick before which entering a behavior sends no more of it.
     #[serde(default)]
     pub quiet_until: [u64; 3],
+    /// Per declared event of the species: the tick before which entering a behavior sends no
+    /// more of it (empty until the first such send).
+    #[serde(default)]
+    pub quiet_events: Vec<u64>,
     /// Whether the current behavior's contact happened (a meal, a catch, a mating): its end
     /// is then not held back by `min_time`.
     #[serde(default)]
@@ -136,6 +140,7 @@ impl Mind {
             script_steer: Vec::new(),
             script_error_reported: false,
             quiet_until: [0; 3],
+            quiet_events: Vec::new(),
             reached: false,
             best_food: None,
             school_best: None,
@@ -266,6 +271,9 @@ pub struct Agent {
     pub memory: Vec<(String, MemValue)>,
     /// Highest-priority message received last tick.
     pub inbox: Option<MessageKind>,
+    /// Highest-priority declared event received last tick. The inbox is one slot: at most one
+    /// of `inbox` and `heard_event` holds a message (the higher-ranked one).
+    pub heard_event: Option<super::HeardEvent>,
     /// Forward vector of the current heading, when locomotion left it.
     pub forward_cache: ForwardCache,
 }

@@ -6,12 +6,14 @@
 mod agent;
 pub mod board;
 mod rng;
+mod signal;
 
 pub use agent::{
     Agent, AgentId, Anim, Attributes, Drives, ForwardCache, MemValue, MessageKind, Mind, Sex,
     SpeciesId, MEMORY_CAPACITY, STACK_CAPACITY,
 };
 pub use rng::Rng;
+pub use signal::{field_fits, field_zero, EventSpec, FieldType, HeardEvent, Payload, Signal};
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -305,6 +307,9 @@ pub struct World {
     pub terrain: Option<Arc<crate::terrain::Terrain>>,
     /// The squads' plans as scripts see them, published by the scenario layer before each tick.
     pub squads: Option<Arc<board::Board>>,
+    /// Payloads of the named events agents heard this tick ([`HeardEvent::payload`] indexes
+    /// it); replaced with the inboxes at the end of every tick that delivered a message.
+    pub event_payloads: Vec<Payload>,
 }
 
 impl World {
@@ -323,6 +328,7 @@ impl World {
             next_food_id: 0,
             terrain: None,
             squads: None,
+            event_payloads: Vec::new(),
         }
     }
 

@@ -288,7 +288,7 @@ impl Monitor {
                     t.last_switch = Some((*from, *to, at));
                     t.episode_start = Some(at);
                 }
-                Event::Message { from, .. } => {
+                Event::Message { from, .. } | Event::Named { from, .. } => {
                     let s = match self.tracks.get(from.0 as usize) {
                         Some(t) if t.seen => Some(t.species),
                         _ => world.agent(*from).map(|a| a.species.0),

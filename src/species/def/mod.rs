@@ -14,8 +14,10 @@ use crate::terrain::Mobility;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+pub mod events;
 pub mod look;
 pub mod recipe;
+pub use events::{EventDef, FieldType, MessageRef};
 pub use look::{LookDef, ShapeDef};
 pub use recipe::*;
 
@@ -69,6 +71,10 @@ pub struct SpeciesDef {
     /// How viewers draw the species (shape, size, colors); the engine does not read it.
     #[serde(default)]
     pub look: LookDef,
+    /// Named events the species sends or reacts to (`Send("alarm_call", 8.0)`,
+    /// `Heard("alarm_call")`), with their rank and payload fields.
+    #[serde(default)]
+    pub events: Vec<EventDef>,
 }
 
 fn default_color() -> String {
@@ -324,8 +330,9 @@ pub enum Contact {
 /// An action on entering a behavior.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum Action {
-    /// Broadcast a message to agents of the same species within `radius`.
-    Send(MessageKind, f32),
+    /// Broadcast a message (a built-in kind or a declared event) to agents within `radius`:
+    /// of the same species, or also of others that declare a `shared` event.
+    Send(MessageRef, f32),
     /// Call a script function (with the agent as `this`).
     Call(String),
     /// Remember where the agent is now as its station (`HoldStation`, `Target::Station`,
@@ -433,8 +440,8 @@ pub enum Cond {
     ObstacleNear,
     /// Dynamic obstacle pressure above M_min (seed 000 §4.2).
     TrafficNear,
-    /// A message of this kind arrived last tick.
-    Heard(MessageKind),
+    /// A message of this kind (or this declared event) arrived last tick.
+    Heard(MessageRef),
     /// Seconds in the current behavior at least this.
     TimeIn(f32),
     /// True with this probability per second (drawn from the agent's own stream).

@@ -68,9 +68,13 @@ pub(super) fn register(e: &mut Engine) {
         .register_get("squad", |a: &mut AgentRef| squad_of(a))
         .register_get("heard", |a: &mut AgentRef| -> R<String> {
             a.with(|tw, i| {
-                tw.sim.world.agents[i]
-                    .inbox
-                    .map_or(String::new(), |k| k.name().to_string())
+                let ag = &tw.sim.world.agents[i];
+                match ag.heard_event {
+                    Some(h) => tw.sim.species().species[ag.species.0 as usize]
+                        .signal_name(crate::world::Signal::Event(h.event))
+                        .to_string(),
+                    None => ag.inbox.map_or(String::new(), |k| k.name().to_string()),
+                }
             })
         });
     e.register_get_set(

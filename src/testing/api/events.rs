@@ -122,6 +122,20 @@ fn event_map(tw: &TestWorld, l: &Logged) -> Map {
             put("message", Dynamic::from(ImmutableString::from(kind.name())));
             put("radius", Dynamic::from(*radius));
         }
+        Event::Named {
+            from,
+            name,
+            payload,
+            radius,
+        } => {
+            put("agent", id(*from));
+            put("message", Dynamic::from(ImmutableString::from(&**name)));
+            put(
+                "payload",
+                Dynamic::from(crate::script::events::payload_map(payload)),
+            );
+            put("radius", Dynamic::from(*radius));
+        }
         Event::ScriptError { agent, message, .. } => {
             put("agent", id(*agent));
             put(
@@ -142,7 +156,7 @@ fn involves(e: &Event, id: AgentId) -> bool {
         | Event::ScriptError { agent, .. } => *agent == id,
         Event::Catch { agent, prey } => *agent == id || *prey == id,
         Event::Mating { agent, mate } => *agent == id || *mate == id,
-        Event::Message { from, .. } => *from == id,
+        Event::Message { from, .. } | Event::Named { from, .. } => *from == id,
     }
 }
 

@@ -58,6 +58,7 @@
         const evs = [];
         for (const e of meta.script_errors) evs.push([e.tick, 'script error: ' + e.text]);
         for (const e of meta.reloads) evs.push([e.tick, 'reload: ' + e.text]);
+        for (const e of meta.named_events || []) evs.push([e.tick, 'event: ' + e.text]);
         evs.sort((x, y) => x[0] - y[0]);
         if (evs.length) {
           $('events-box').classList.remove('hidden');
