@@ -24,7 +24,7 @@ fn failures(file: &str, seed: u64) -> Vec<String> {
     );
     while !run.finished() {
         run.step();
-        tracker.observe(&run.world, &run.pipeline);
+        tracker.observe_run(&run);
     }
     tracker
         .finish(&run.world, &run.pipeline)

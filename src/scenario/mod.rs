@@ -11,7 +11,7 @@ pub mod validate;
 
 pub use def::*;
 pub use reload::ScenarioReload;
-pub use run::{Overrides, Run, PLACE_TRIES};
+pub use run::{GroupSpan, Overrides, Run, PLACE_TRIES};
 
 use crate::species::SpeciesSet;
 use std::path::{Path, PathBuf};
