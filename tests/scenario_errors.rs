@@ -74,7 +74,10 @@ fn unknown_species_is_located() {
     let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
     assert_eq!(code, 2);
     assert!(
-        err.contains("bad.ron:6:19: unknown species \"reef_fsh\": the scenario loads reef_fish"),
+        err.contains(
+            "bad.ron:6:19: unknown species \"reef_fsh\" (did you mean `reef_fish`?): the scenario \
+             loads reef_fish"
+        ),
         "{err}"
     );
 }

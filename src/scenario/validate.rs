@@ -193,8 +193,9 @@ impl Scenario {
                     l,
                     c,
                     format!(
-                        "unknown species \"{}\": the scenario loads {}",
+                        "unknown species \"{}\"{}: the scenario loads {}",
                         g.species,
+                        crate::load::did_you_mean(&g.species, def.species.iter().map(String::as_str)),
                         def.species.join(", ")
                     ),
                     Some(text),
