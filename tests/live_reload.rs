@@ -566,7 +566,10 @@ fn a_group_count_change_is_refused_with_its_location_and_the_run_keeps_its_agent
     assert_eq!(s.status().version, 0);
     assert_eq!(s.world().unwrap().agents.len(), 24);
     // Putting the count back is an ordinary edit.
-    p.write("scenarios/live.ron", &SCENARIO.replace("(hunger:", "(hunger: "));
+    p.write(
+        "scenarios/live.ron",
+        &SCENARIO.replace("(hunger:", "(hunger: "),
+    );
     let a = accepted(&s);
     assert_eq!(a.version, 1);
     assert!(s.status().diagnostics.is_empty());

@@ -159,7 +159,10 @@ fn a_scenario_copied_away_from_its_species_says_where_it_looked_once() {
     // Pointing `behaviors:` at the species makes it run.
     let fixed = text.replace(
         "Scenario(",
-        &format!("Scenario(\n    behaviors: \"{}\",", t.path().join("behaviors").display()),
+        &format!(
+            "Scenario(\n    behaviors: \"{}\",",
+            t.path().join("behaviors").display()
+        ),
     );
     let (code, err) = check(&dir, "reef.ron", &fixed);
     assert_eq!(code, 0, "{err}");
@@ -260,7 +263,9 @@ fn check_with_no_argument_reports_a_species_error_once() {
     assert_eq!(err.matches("unknown species \"sharc\"").count(), 1, "{err}");
     // The one kept lists every species of the folder.
     assert!(
-        err.contains("unknown species \"sharc\" in `predators`: loaded species are reef_fish, shark"),
+        err.contains(
+            "unknown species \"sharc\" in `predators`: loaded species are reef_fish, shark"
+        ),
         "{err}"
     );
     assert!(err.contains("1 error"), "{err}");

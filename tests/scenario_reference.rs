@@ -57,7 +57,11 @@ fn format_names(source: &str) -> Vec<String> {
     let mut kind = "";
     for line in source.lines() {
         if let Some(rest) = line.strip_prefix("pub struct ") {
-            kind = if rest.trim_end().ends_with(';') { "" } else { "struct" };
+            kind = if rest.trim_end().ends_with(';') {
+                ""
+            } else {
+                "struct"
+            };
             continue;
         }
         if line.starts_with("pub enum ") {
@@ -169,9 +173,15 @@ fn the_reference_names_every_field_and_variant_of_the_format() {
         "Random",
         "Role",
     ] {
-        assert!(names.iter().any(|x| x == n), "{n} not read from def.rs: {names:?}");
+        assert!(
+            names.iter().any(|x| x == n),
+            "{n} not read from def.rs: {names:?}"
+        );
     }
-    assert!(!names.iter().any(|x| x == "shape" || x == "resolve"), "{names:?}");
+    assert!(
+        !names.iter().any(|x| x == "shape" || x == "resolve"),
+        "{names:?}"
+    );
     let doc = std::fs::read_to_string(root().join(DOC)).expect(DOC);
     let missing = uncovered(&doc);
     assert!(missing.is_empty(), "{DOC}:\n{}", missing.join("\n"));

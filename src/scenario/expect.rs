@@ -964,7 +964,9 @@ mod tests {
             ),
             "{d}"
         );
-        let d = scenario("SpeciesMeals(\"reef_fsh\", 1)").unwrap_err().to_string();
+        let d = scenario("SpeciesMeals(\"reef_fsh\", 1)")
+            .unwrap_err()
+            .to_string();
         assert!(d.contains("(did you mean `reef_fish`?)"), "{d}");
     }
 }

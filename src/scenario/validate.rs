@@ -152,7 +152,10 @@ impl Scenario {
                         if missing_before {
                             format!(
                                 "{}; looked for in the same folder as above",
-                                crate::load::did_you_mean(name, species_files(&behaviors_dir).iter().map(String::as_str))
+                                crate::load::did_you_mean(
+                                    name,
+                                    species_files(&behaviors_dir).iter().map(String::as_str)
+                                )
                             )
                         } else {
                             where_species_are(&behaviors_dir, name, def.behaviors.is_some())
@@ -195,7 +198,10 @@ impl Scenario {
                     format!(
                         "unknown species \"{}\"{}: the scenario loads {}",
                         g.species,
-                        crate::load::did_you_mean(&g.species, def.species.iter().map(String::as_str)),
+                        crate::load::did_you_mean(
+                            &g.species,
+                            def.species.iter().map(String::as_str)
+                        ),
                         def.species.join(", ")
                     ),
                     Some(text),
