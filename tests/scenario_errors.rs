@@ -157,7 +157,7 @@ fn a_scenario_copied_away_from_its_species_says_where_it_looked_once() {
     );
     assert_eq!(err.matches("species are looked for in").count(), 1, "{err}");
     // Pointing `behaviors:` at the species makes it run.
-    let fixed = text.replace(
+    let fixed = GOOD.replace(
         "Scenario(",
         &format!(
             "Scenario(\n    behaviors: \"{}\",",
@@ -234,6 +234,12 @@ fn a_bad_expectation_stops_the_run_with_its_location() {
 #[test]
 fn check_with_no_argument_reports_a_species_error_once() {
     let t = setup();
+    // The shark's prey, so that the only problem is the one made below.
+    let behaviors = t.path().join("behaviors");
+    std::fs::create_dir_all(behaviors.join("common")).unwrap();
+    for f in ["sardine.ron", "sardine.rhai", "common/schooling.rhai"] {
+        std::fs::copy(Path::new("behaviors").join(f), behaviors.join(f)).unwrap();
+    }
     let fish = t.path().join("behaviors/reef_fish.ron");
     let text = std::fs::read_to_string(&fish).unwrap();
     assert!(text.contains("predators: [\"shark\"]"));
@@ -264,7 +270,7 @@ fn check_with_no_argument_reports_a_species_error_once() {
     // The one kept lists every species of the folder.
     assert!(
         err.contains(
-            "unknown species \"sharc\" in `predators`: loaded species are reef_fish, shark"
+            "unknown species \"sharc\" in `predators`: loaded species are reef_fish, sardine, shark"
         ),
         "{err}"
     );

@@ -2,6 +2,7 @@
 //! validated once ([`validate`]), and a [`Run`] that drives the tick pipeline through them
 //! ([`run`]). This layer reads files; the core below it does not.
 
+mod bounds;
 pub mod def;
 pub mod expect;
 mod numbers;
