@@ -541,3 +541,37 @@ fn the_record_reruns_the_session_exactly() {
         a2.version + 1
     );
 }
+
+#[test]
+fn a_group_count_change_is_refused_with_its_location_and_the_run_keeps_its_agents() {
+    let _g = serial();
+    let p = Project::new();
+    let s = start(&p);
+    wait_past_tick(&s, 2);
+    let scen = SCENARIO.replace("count: 24", "count: 30");
+    p.write("scenarios/live.ron", &scen);
+    let r = rejected(&s);
+    let d = &r.diagnostics[0];
+    println!("{d}");
+    let (line, col) = line_col(&scen, "30,");
+    let head = format!(
+        "{}:{line}:{col}: group `fish` count 24 → 30: restart to apply",
+        p.scenario().display()
+    );
+    assert!(d.starts_with(&head), "{d} does not start with {head}");
+    // Shown to viewers (the page's error area reads the status); the run goes on with its 24.
+    let st = s.status();
+    assert_eq!(st.diagnostics, r.diagnostics);
+    wait_past_tick(&s, st.tick + 3);
+    assert_eq!(s.status().version, 0);
+    assert_eq!(s.world().unwrap().agents.len(), 24);
+    // Putting the count back is an ordinary edit.
+    p.write(
+        "scenarios/live.ron",
+        &SCENARIO.replace("(hunger:", "(hunger: "),
+    );
+    let a = accepted(&s);
+    assert_eq!(a.version, 1);
+    assert!(s.status().diagnostics.is_empty());
+    s.stop();
+}

@@ -72,7 +72,7 @@ fn a_naive_fish_meets_every_health_bound_in_the_reef() {
         );
         while !run.finished() {
             run.step();
-            tracker.observe(&run.world, &run.pipeline);
+            tracker.observe_run(&run);
         }
         for v in tracker.finish(&run.world, &run.pipeline) {
             if !v.passed {

@@ -74,7 +74,10 @@ fn unknown_species_is_located() {
     let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
     assert_eq!(code, 2);
     assert!(
-        err.contains("bad.ron:6:19: unknown species \"reef_fsh\": the scenario loads reef_fish"),
+        err.contains(
+            "bad.ron:6:19: unknown species \"reef_fsh\" (did you mean `reef_fish`?): the scenario \
+             loads reef_fish"
+        ),
         "{err}"
     );
 }
@@ -121,6 +124,48 @@ fn missing_species_file_is_located() {
         "{err}"
     );
     assert!(err.contains("set `behaviors: \"<folder>\"`"), "{err}");
+}
+
+#[test]
+fn a_scenario_copied_away_from_its_species_says_where_it_looked_once() {
+    let t = setup();
+    // A copy two folders down: `../behaviors` is a folder that does not exist.
+    let dir = t.path().join("copies").join("mine");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = GOOD.replace(
+        "species: [\"reef_fish\"]",
+        "species: [\"reef_fish\", \"shark\"]",
+    );
+    let (code, err) = check(&dir, "reef.ron", &text);
+    assert_eq!(code, 2);
+    let looked = t.path().join("copies").join("behaviors");
+    assert!(
+        err.contains(&format!(
+            "reef.ron:4:15: species file \"{}\" not found; species are looked for in {}, a folder \
+             that does not exist (the default `behaviors: \"../behaviors\"`, relative to the \
+             scenario file's folder); set `behaviors: \"<folder>\"` in the scenario (relative to \
+             the scenario file, or absolute) to load them from elsewhere",
+            looked.join("reef_fish.ron").display(),
+            looked.display()
+        )),
+        "{err}"
+    );
+    // The second missing file does not repeat the explanation.
+    assert!(
+        err.contains("shark.ron\" not found; looked for in the same folder as above"),
+        "{err}"
+    );
+    assert_eq!(err.matches("species are looked for in").count(), 1, "{err}");
+    // Pointing `behaviors:` at the species makes it run.
+    let fixed = GOOD.replace(
+        "Scenario(",
+        &format!(
+            "Scenario(\n    behaviors: \"{}\",",
+            t.path().join("behaviors").display()
+        ),
+    );
+    let (code, err) = check(&dir, "reef.ron", &fixed);
+    assert_eq!(code, 0, "{err}");
 }
 
 #[test]
@@ -184,4 +229,50 @@ fn a_bad_expectation_stops_the_run_with_its_location() {
     );
     // Nothing that looks like a run.
     assert!(!dir.join("out").join("trajectories.csv").exists());
+}
+
+#[test]
+fn check_with_no_argument_reports_a_species_error_once() {
+    let t = setup();
+    // The shark's prey, so that the only problem is the one made below.
+    let behaviors = t.path().join("behaviors");
+    std::fs::create_dir_all(behaviors.join("common")).unwrap();
+    for f in ["sardine.ron", "sardine.rhai", "common/schooling.rhai"] {
+        std::fs::copy(Path::new("behaviors").join(f), behaviors.join(f)).unwrap();
+    }
+    let fish = t.path().join("behaviors/reef_fish.ron");
+    let text = std::fs::read_to_string(&fish).unwrap();
+    assert!(text.contains("predators: [\"shark\"]"));
+    std::fs::write(
+        &fish,
+        text.replace("predators: [\"shark\"]", "predators: [\"sharc\"]"),
+    )
+    .unwrap();
+    // Two scenarios load the broken species with different company, as the shipped ones do.
+    let scenarios = t.path().join("scenarios");
+    std::fs::write(scenarios.join("a.ron"), GOOD).unwrap();
+    std::fs::write(
+        scenarios.join("b.ron"),
+        GOOD.replace(
+            "species: [\"reef_fish\"]",
+            "species: [\"reef_fish\", \"shark\"]",
+        ),
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_shoal"))
+        .arg("check")
+        .current_dir(t.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.matches("unknown species \"sharc\"").count(), 1, "{err}");
+    // The one kept lists every species of the folder.
+    assert!(
+        err.contains(
+            "unknown species \"sharc\" in `predators`: loaded species are reef_fish, sardine, shark"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("1 error"), "{err}");
 }

@@ -24,7 +24,7 @@ fn failures(file: &str, seed: u64) -> Vec<String> {
     );
     while !run.finished() {
         run.step();
-        tracker.observe(&run.world, &run.pipeline);
+        tracker.observe_run(&run);
     }
     tracker
         .finish(&run.world, &run.pipeline)
@@ -88,4 +88,42 @@ fn every_shipped_scenario_with_expectations_is_checked() {
             }
         }
     }
+}
+
+/// Group expectations on the shipped predator attack, its sharks named `hunters`: the group's
+/// catches are the sharks' (the only catchers), and each new expectation can pass and fail.
+#[test]
+fn group_expectations_follow_a_named_group_spawned_by_an_event() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/predator_attack.ron");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace(
+            "Spawn(species: \"shark\", count: 3",
+            "Spawn(species: \"shark\", name: \"hunters\", count: 3",
+        )
+        .replace(
+            "        SpeciesCatches(\"shark\", 1),\n",
+            "        SpeciesCatches(\"shark\", 1), GroupCatches(\"hunters\", 1), \
+             GroupCatches(\"hunters\", 1000), GroupMinAlive(\"hunters\", 3), \
+             GroupMaxAlive(\"hunters\", 2), GroupMinAlive(\"sardine\", 1), \
+             GroupMeals(\"hunters\", 1),\n",
+        );
+    let scenario = Scenario::load_str(&path, &text).unwrap_or_else(|e| panic!("{e}"));
+    let mut tracker = Tracker::new(&scenario).unwrap();
+    let mut run = Run::new(scenario, Overrides::default());
+    while !run.finished() {
+        run.step();
+        tracker.observe_run(&run);
+    }
+    let v = tracker.finish(&run.world, &run.pipeline);
+    let passed: Vec<bool> = v.iter().map(|v| v.passed).collect();
+    assert_eq!(
+        passed,
+        [true, true, false, true, false, true, false, true],
+        "{v:#?}"
+    );
+    assert_eq!(v[1].observed, v[0].observed, "{v:#?}");
+    assert_eq!(v[2].expected, "group hunters: at least 1000 catches");
+    assert_eq!(v[4].observed, "3 alive");
+    assert_eq!(v[6].observed, "0 meals", "sharks eat no food items: {v:#?}");
 }

@@ -195,6 +195,7 @@ fn scenario_def(bounds: Aabb, species: Vec<String>) -> ScenarioDef {
 fn group(species: &str, count: usize, region: Aabb) -> SpawnGroupDef {
     SpawnGroupDef {
         species: species.into(),
+        name: None,
         count: count as i64,
         region,
         heading: HeadingDef::Random,

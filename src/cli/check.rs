@@ -95,6 +95,21 @@ fn script_root(path: &Path) -> PathBuf {
         .to_path_buf()
 }
 
+/// Adds `d` unless a problem at the same place of the same file is already reported: a species
+/// file that several scenarios load is checked once per scenario, and a message that lists the
+/// loaded species differs from one scenario to the next. With `replace`, `d` takes the earlier
+/// one's place (the library's check lists every species of the folder).
+fn add_once(diags: &mut Diagnostics, d: shoal::diag::Diagnostic, replace: bool) {
+    let same = |x: &shoal::diag::Diagnostic| {
+        x.file == d.file && x.line == d.line && x.col == d.col && (d.line > 0 || x == &d)
+    };
+    match diags.0.iter_mut().find(|x| same(x)) {
+        Some(x) if replace => *x = d,
+        Some(_) => {}
+        None => diags.0.push(d),
+    }
+}
+
 /// Runs `shoal check`.
 pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
     let roots: Vec<PathBuf> = if paths.is_empty() {
@@ -162,9 +177,7 @@ pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
         };
         // A species shared by several scenarios is reported once.
         for d in result.err().map(|d| d.0).unwrap_or_default() {
-            if !diags.0.contains(&d) {
-                diags.0.push(d);
-            }
+            add_once(&mut diags, d, false);
         }
     }
     // Relations between the species checked together (others may live in the same folder).
@@ -177,9 +190,7 @@ pub fn check(paths: &[PathBuf]) -> anyhow::Result<ExitCode> {
             dirs.iter().any(|d| d.join(format!("{n}.ron")).is_file())
         }) {
             for x in d.0 {
-                if !diags.0.contains(&x) {
-                    diags.0.push(x);
-                }
+                add_once(&mut diags, x, true);
             }
         }
     }

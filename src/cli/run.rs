@@ -159,7 +159,7 @@ fn execute_with_versions(
             rec.record_tick(&run)?;
             recording += stepped.elapsed();
             if let Some(t) = tracker.as_mut() {
-                t.observe(&run.world, &run.pipeline);
+                t.observe_run(&run);
             }
             if let Some(m) = monitor.as_mut() {
                 let t0 = Instant::now();

@@ -172,6 +172,10 @@ pub struct DrivesOverride {
 pub struct SpawnGroupDef {
     /// Species name.
     pub species: String,
+    /// The group's name, for expectations about one group (`GroupCatches("ambushers", 3)`);
+    /// the species name when not given. Groups sharing a name count as one group.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
     /// How many.
     pub count: i64,
     /// Spawn region (inside the bounds).
@@ -182,6 +186,13 @@ pub struct SpawnGroupDef {
     /// Drive overrides.
     #[serde(default)]
     pub drives: DrivesOverride,
+}
+
+impl SpawnGroupDef {
+    /// The group's name: its `name`, else its species.
+    pub fn group_name(&self) -> &str {
+        self.name.as_deref().unwrap_or(&self.species)
+    }
 }
 
 /// Something that happens at a given time.
@@ -257,6 +268,16 @@ pub enum Expectation {
     SpeciesCatches(String, u64),
     /// At least this many meals by agents of one species by the end: `SpeciesMeals("reef_fish", 5)`.
     SpeciesMeals(String, u64),
+    /// At least this many catches by agents of one named group (see [`SpawnGroupDef::name`]) by
+    /// the end: `GroupCatches("ambushers", 3)`.
+    GroupCatches(String, u64),
+    /// At least this many meals by agents of one named group by the end:
+    /// `GroupMeals("school", 5)`.
+    GroupMeals(String, u64),
+    /// At least this many agents of one named group alive at the end: `GroupMinAlive("school", 10)`.
+    GroupMinAlive(String, u64),
+    /// At most this many agents of one named group alive at the end: `GroupMaxAlive("bait", 0)`.
+    GroupMaxAlive(String, u64),
     /// At least this many agents of a species alive at the end.
     MinAlive(String, u64),
     /// At most this many agents of a species alive at the end.

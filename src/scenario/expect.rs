@@ -7,9 +7,10 @@
 //! (`MaxFrozen`, `MaxSwitchRate`, …) are judged on the report of a [`Monitor`] the tracker owns
 //! when the scenario declares any.
 
+use super::bounds::Bound;
 use super::{Expectation, Scenario};
 use crate::events::Event;
-use crate::health::{self, Health, Monitor, SpeciesHealth};
+use crate::health::{Health, Monitor};
 use crate::load::{locate, Diagnostic, Diagnostics};
 use crate::tick::Pipeline;
 use crate::world::World;
@@ -46,130 +47,25 @@ enum Check {
     SpeciesMeals(usize, u64, u64),
     MinAlive(usize, u64),
     MaxAlive(usize, u64),
+    /// Catches (or meals, when `catches` is false) by one named group's agents.
+    GroupCount {
+        group: String,
+        at_least: u64,
+        catches: bool,
+        seen: u64,
+    },
+    /// Agents of one named group alive at the end: at least (`min`) or at most this many.
+    GroupAlive {
+        group: String,
+        bound: u64,
+        min: bool,
+    },
     MinPolarization(usize, f32),
     NoScriptErrors {
         first: Vec<String>,
     },
     /// A bound on a run-health figure of a species.
     Health(usize, Bound),
-}
-
-/// A run-health bound (see [`crate::health`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Bound {
-    Frozen(u64),
-    SwitchRate(f32),
-    PitchLimitShare(f32),
-    ShortEpisodes(f32),
-    TurningWaste(f32),
-    Interpenetration(f32),
-    ObstaclePenetration(u64),
-}
-
-impl Bound {
-    /// What is expected of `sp`, in words.
-    fn expected(self, sp: &str) -> String {
-        match self {
-            Bound::Frozen(n) => format!(
-                "at most {n} {sp} frozen (stopped ≥ {} s where their steering asks to move)",
-                health::FROZEN_SECONDS
-            ),
-            Bound::SwitchRate(r) => {
-                format!("at most {r} behavior switches per {sp} per second")
-            }
-            Bound::PitchLimitShare(f) => format!(
-                "at most {} of {sp} agent-ticks at the pitch limit",
-                health::percent(f as f64)
-            ),
-            Bound::ShortEpisodes(f) => format!(
-                "at most {} of {sp} behavior episodes shorter than {} s",
-                health::percent(f as f64),
-                health::SHORT_EPISODE_SECONDS
-            ),
-            Bound::TurningWaste(r) => format!("{sp} turning waste at most {r}×"),
-            Bound::Interpenetration(f) => format!(
-                "at most {} of {sp} neighbor pairs overlapping by more than 10% of the body width",
-                health::percent(f as f64)
-            ),
-            Bound::ObstaclePenetration(n) => format!(
-                "at most {n} {sp} agent-ticks inside or within half a body width of an obstacle"
-            ),
-        }
-    }
-
-    /// Whether the figures of `s` keep the bound, and what they are (with the bound).
-    fn judge(self, s: &SpeciesHealth) -> (bool, String) {
-        match self {
-            Bound::Frozen(n) => {
-                let mut text = format!("{} frozen (bound {n})", s.frozen_agents);
-                if let Some(b) = s.behaviors.iter().max_by_key(|b| b.frozen_agents) {
-                    if b.frozen_agents > 0 {
-                        text.push_str(&format!("; {} in {}", b.frozen_agents, b.name));
-                        if let Some(at) = b.frozen_at.first() {
-                            text.push_str(&format!(", {} at {}", at.agents, at.place));
-                        }
-                    }
-                }
-                (s.frozen_agents <= n, text)
-            }
-            Bound::SwitchRate(r) => {
-                let mut text = format!(
-                    "{:.2} switches per agent per second (bound {r})",
-                    s.switch_rate
-                );
-                if let Some(f) = s.flips.first() {
-                    text.push_str(&format!(
-                        "; most frequent flip {}↔{} ({})",
-                        f.a,
-                        f.b,
-                        health::thousands(f.count)
-                    ));
-                }
-                (s.switch_rate <= r as f64, text)
-            }
-            Bound::PitchLimitShare(f) => (
-                s.pitch_limit_share <= f as f64,
-                format!(
-                    "{} at the pitch limit (bound {})",
-                    health::percent(s.pitch_limit_share),
-                    health::percent(f as f64)
-                ),
-            ),
-            Bound::ShortEpisodes(f) => (
-                s.short_episode_share <= f as f64,
-                format!(
-                    "{} of {} episodes short (bound {})",
-                    health::percent(s.short_episode_share),
-                    health::thousands(s.episodes),
-                    health::percent(f as f64)
-                ),
-            ),
-            Bound::TurningWaste(r) => match s.turning_waste {
-                Some(w) => (w <= r as f64, format!("turning waste {w:.2}× (bound {r}×)")),
-                None => (true, format!("no heading change measured (bound {r}×)")),
-            },
-            Bound::Interpenetration(f) => (
-                s.overlap_share <= f as f64,
-                format!(
-                    "{} of {} neighbor pairs overlap (bound {})",
-                    health::percent(s.overlap_share),
-                    health::thousands(s.neighbor_pairs),
-                    health::percent(f as f64)
-                ),
-            ),
-            Bound::ObstaclePenetration(n) => {
-                let o = &s.obstacles;
-                (
-                    o.agent_ticks <= n,
-                    format!(
-                        "{} agent-ticks, {} of them inside (bound {n})",
-                        health::thousands(o.agent_ticks),
-                        health::thousands(o.inside_ticks)
-                    ),
-                )
-            }
-        }
-    }
 }
 
 /// Follows a run and judges the scenario's expectations.
@@ -181,6 +77,8 @@ pub struct Tracker {
     last_time: f32,
     /// Follows the run's health when a check needs it.
     monitor: Option<Monitor>,
+    /// The run's spawned groups, as last seen by [`Tracker::observe_run`].
+    spans: Vec<super::GroupSpan>,
 }
 
 fn counted(n: u64, one: &str, many: &str) -> String {
@@ -216,12 +114,44 @@ impl Tracker {
                     &format!("\"{name}\""),
                     cursor,
                     format!(
-                        "unknown species \"{name}\" in `expect`: the scenario loads {}",
+                        "unknown species \"{name}\" in `expect`{}: the scenario loads {}",
+                        crate::load::did_you_mean(name, names.iter().map(String::as_str)),
                         names.join(", ")
                     ),
                 );
             }
             i
+        };
+        // Group names: the groups at t = 0 and those timed events spawn.
+        let mut groups: Vec<&str> = Vec::new();
+        let timed = scenario.def.events.iter().filter_map(|e| match &e.action {
+            super::EventAction::Spawn(g) => Some(g),
+            _ => None,
+        });
+        for g in scenario.def.groups.iter().chain(timed) {
+            if !groups.contains(&g.group_name()) {
+                groups.push(g.group_name());
+            }
+        }
+        let group_of = |name: &str, cursor: usize, error: &mut dyn FnMut(&str, usize, String)| {
+            let known = groups.contains(&name);
+            if !known {
+                let listed = if groups.is_empty() {
+                    "the scenario has no groups".to_string()
+                } else {
+                    format!("the scenario's groups are {}", groups.join(", "))
+                };
+                error(
+                    &format!("\"{name}\""),
+                    cursor,
+                    format!(
+                        "unknown group \"{name}\" in `expect`{}: {listed} (a group is named by \
+                         its `name:`, else by its species)",
+                        crate::load::did_you_mean(name, groups.iter().copied()),
+                    ),
+                );
+            }
+            known
         };
         let mut checks = Vec::new();
         for e in &scenario.def.expect {
@@ -231,6 +161,10 @@ impl Tracker {
                 Expectation::MinMeals(_) => "MinMeals",
                 Expectation::SpeciesCatches(..) => "SpeciesCatches",
                 Expectation::SpeciesMeals(..) => "SpeciesMeals",
+                Expectation::GroupCatches(..) => "GroupCatches",
+                Expectation::GroupMeals(..) => "GroupMeals",
+                Expectation::GroupMinAlive(..) => "GroupMinAlive",
+                Expectation::GroupMaxAlive(..) => "GroupMaxAlive",
                 Expectation::MinAlive(..) => "MinAlive",
                 Expectation::MaxAlive(..) => "MaxAlive",
                 Expectation::MinPolarization(..) => "MinPolarization",
@@ -333,6 +267,41 @@ impl Tracker {
                     (
                         format!("{sp}: at least {}", counted(*n, "meal", "meals")),
                         Check::SpeciesMeals(s, *n, 0),
+                    )
+                }
+                Expectation::GroupCatches(g, n) | Expectation::GroupMeals(g, n) => {
+                    if !group_of(g, cursor, &mut error) {
+                        continue;
+                    }
+                    let catches = matches!(e, Expectation::GroupCatches(..));
+                    let what = if catches {
+                        counted(*n, "catch", "catches")
+                    } else {
+                        counted(*n, "meal", "meals")
+                    };
+                    (
+                        format!("group {g}: at least {what}"),
+                        Check::GroupCount {
+                            group: g.clone(),
+                            at_least: *n,
+                            catches,
+                            seen: 0,
+                        },
+                    )
+                }
+                Expectation::GroupMinAlive(g, n) | Expectation::GroupMaxAlive(g, n) => {
+                    if !group_of(g, cursor, &mut error) {
+                        continue;
+                    }
+                    let min = matches!(e, Expectation::GroupMinAlive(..));
+                    let most = if min { "least" } else { "most" };
+                    (
+                        format!("at {most} {n} of group {g} alive at the end"),
+                        Check::GroupAlive {
+                            group: g.clone(),
+                            bound: *n,
+                            min,
+                        },
                     )
                 }
                 Expectation::MinAlive(sp, n) => {
@@ -448,12 +417,29 @@ impl Tracker {
             duration: scenario.def.duration,
             last_time: 0.0,
             monitor,
+            spans: Vec::new(),
         })
     }
 
     /// Whether the scenario declares any expectation.
     pub fn is_empty(&self) -> bool {
         self.checks.is_empty()
+    }
+
+    /// [`Tracker::observe`] for a scenario [`Run`](super::Run), which also follows the groups
+    /// it has spawned (group expectations need it: `observe` alone sees no group).
+    pub fn observe_run(&mut self, run: &super::Run) {
+        if self.spans.len() != run.group_spans.len() {
+            self.spans.clone_from(&run.group_spans);
+        }
+        self.observe(&run.sim.world, &run.sim.pipeline);
+    }
+
+    /// Whether agent `id` belongs to the group named `group`.
+    fn in_group(&self, group: &str, id: u32) -> bool {
+        self.spans
+            .iter()
+            .any(|s| s.name == group && s.ids.contains(&id))
     }
 
     /// Looks at the world after a tick (and once before the first, for windows starting at 0)
@@ -464,6 +450,27 @@ impl Tracker {
         self.last_time = t;
         if let Some(m) = self.monitor.as_mut() {
             m.observe(world, pipeline);
+        }
+        // Catches and meals by group (the eater is alive after its tick: only prey is removed).
+        let mut by_group = Vec::new();
+        for (i, (_, c)) in self.checks.iter().enumerate() {
+            if let Check::GroupCount { group, catches, .. } = c {
+                let n = pipeline
+                    .events
+                    .iter()
+                    .filter(|e| match e {
+                        Event::Catch { agent, .. } => *catches && self.in_group(group, agent.0),
+                        Event::Meal { agent, .. } => !*catches && self.in_group(group, agent.0),
+                        _ => false,
+                    })
+                    .count() as u64;
+                by_group.push((i, n));
+            }
+        }
+        for (i, n) in by_group {
+            if let Check::GroupCount { seen, .. } = &mut self.checks[i].1 {
+                *seen += n;
+            }
         }
         for (_, c) in &mut self.checks {
             match c {
@@ -570,6 +577,28 @@ impl Tracker {
                         let a = alive(*s);
                         (a <= *n, format!("{a} alive"))
                     }
+                    Check::GroupCount {
+                        at_least,
+                        catches,
+                        seen,
+                        ..
+                    } => (
+                        *seen >= *at_least,
+                        if *catches {
+                            counted(*seen, "catch", "catches")
+                        } else {
+                            counted(*seen, "meal", "meals")
+                        },
+                    ),
+                    Check::GroupAlive { group, bound, min } => {
+                        let a = world
+                            .agents
+                            .iter()
+                            .filter(|a| self.in_group(group, a.id.0))
+                            .count() as u64;
+                        let passed = if *min { a >= *bound } else { a <= *bound };
+                        (passed, format!("{a} alive"))
+                    }
                     Check::MinPolarization(s, p) => {
                         let (sum, n) = world
                             .agents
@@ -664,10 +693,10 @@ mod tests {
         let sc = scenario(expect).unwrap_or_else(|d| panic!("{d}"));
         let mut tracker = Tracker::new(&sc).unwrap_or_else(|d| panic!("{d}"));
         let mut run = Run::new(sc, Overrides::default());
-        tracker.observe(&run.sim.world, &run.sim.pipeline);
+        tracker.observe_run(&run);
         while !run.finished() {
             run.step();
-            tracker.observe(&run.sim.world, &run.sim.pipeline);
+            tracker.observe_run(&run);
         }
         tracker.finish(&run.sim.world, &run.sim.pipeline)
     }
@@ -742,5 +771,85 @@ mod tests {
             "{d}"
         );
         assert!(d.contains("`MaxTurningWaste` expects a ratio ≥ 1"), "{d}");
+    }
+
+    /// Two named groups of six reef fish, only the `hungry` one hungry, among food.
+    fn grouped(expect: &str) -> Result<Scenario, Diagnostics> {
+        let text = format!(
+            r#"Scenario(
+    seed: 5,
+    duration: 3.0,
+    bounds: (min: (-15.0, 0.0, -15.0), max: (15.0, 12.0, 15.0)),
+    species: ["reef_fish"],
+    food: (initial: 30),
+    groups: [
+        (species: "reef_fish", name: "hungry", count: 6, region: (min: (-10.0, 2.0, -10.0), max: (10.0, 10.0, 10.0)),
+         drives: (hunger: Fixed(0.9))),
+        (species: "reef_fish", name: "sated", count: 6, region: (min: (-10.0, 2.0, -10.0), max: (10.0, 10.0, 10.0))),
+    ],
+    expect: [
+{expect}
+    ],
+)"#
+        );
+        Scenario::load_str(Path::new("scenarios/groups.ron"), &text)
+    }
+
+    fn run_verdicts(sc: Scenario) -> Vec<Verdict> {
+        let mut tracker = Tracker::new(&sc).unwrap_or_else(|d| panic!("{d}"));
+        let mut run = Run::new(sc, Overrides::default());
+        tracker.observe_run(&run);
+        while !run.finished() {
+            run.step();
+            tracker.observe_run(&run);
+        }
+        tracker.finish(&run.sim.world, &run.sim.pipeline)
+    }
+
+    #[test]
+    fn group_expectations_count_only_that_groups_agents() {
+        let sc = grouped(
+            r#"        MinMeals(1), GroupMeals("hungry", 1), GroupMeals("sated", 0),
+        GroupMeals("hungry", 100000), GroupCatches("hungry", 0), GroupCatches("hungry", 1),
+        GroupMinAlive("sated", 6), GroupMinAlive("sated", 7), GroupMaxAlive("hungry", 6),
+        GroupMaxAlive("hungry", 5),"#,
+        )
+        .unwrap_or_else(|d| panic!("{d}"));
+        let v = run_verdicts(sc);
+        let passed: Vec<bool> = v.iter().map(|v| v.passed).collect();
+        assert_eq!(
+            passed,
+            [true, true, true, false, true, false, true, false, true, false],
+            "{v:?}"
+        );
+        assert_eq!(v[1].expected, "group hungry: at least 1 meal");
+        assert_eq!(v[6].expected, "at least 6 of group sated alive at the end");
+        assert_eq!(v[9].expected, "at most 5 of group hungry alive at the end");
+        assert_eq!(v[9].observed, "6 alive");
+        // The two groups' meals are the run's.
+        let meals = |x: &Verdict| -> u64 { x.observed.split(' ').next().unwrap().parse().unwrap() };
+        assert_eq!(meals(&v[1]) + meals(&v[2]), meals(&v[0]), "{v:?}");
+    }
+
+    #[test]
+    fn an_unnamed_group_is_named_by_its_species_and_unknown_groups_are_located() {
+        let sc = scenario("GroupMinAlive(\"reef_fish\", 12), GroupMinAlive(\"reef_fish\", 13)")
+            .unwrap_or_else(|d| panic!("{d}"));
+        let v = run_verdicts(sc);
+        assert!(v[0].passed && !v[1].passed, "{v:?}");
+        let d = grouped("        GroupCatches(\"hungyr\", 3),")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            d.contains(
+                "groups.ron:13:22: unknown group \"hungyr\" in `expect` (did you mean `hungry`?): \
+                 the scenario's groups are hungry, sated"
+            ),
+            "{d}"
+        );
+        let d = scenario("SpeciesMeals(\"reef_fsh\", 1)")
+            .unwrap_err()
+            .to_string();
+        assert!(d.contains("(did you mean `reef_fish`?)"), "{d}");
     }
 }

@@ -2,6 +2,7 @@
 //! validated once ([`validate`]), and a [`Run`] that drives the tick pipeline through them
 //! ([`run`]). This layer reads files; the core below it does not.
 
+mod bounds;
 pub mod def;
 pub mod expect;
 mod numbers;
@@ -11,7 +12,7 @@ pub mod validate;
 
 pub use def::*;
 pub use reload::ScenarioReload;
-pub use run::{Overrides, Run, PLACE_TRIES};
+pub use run::{GroupSpan, Overrides, Run, PLACE_TRIES};
 
 use crate::species::SpeciesSet;
 use std::path::{Path, PathBuf};

@@ -5,7 +5,7 @@
 //! step may not change: the run's clock is counted in ticks of it.
 
 use super::{Run, Scenario};
-use crate::load::{locate, Diagnostic};
+use crate::load::{locate, locate_key, Diagnostic};
 use crate::sim::Sim;
 use crate::tick::{Pipeline, Remap};
 use crate::world::Obstacle;
@@ -35,6 +35,7 @@ impl Run {
             food_rng: self.food_rng,
             food_debt: self.food_debt,
             scenario_events: Vec::new(),
+            group_spans: self.group_spans.clone(),
         }
     }
 
@@ -52,6 +53,44 @@ impl Run {
                 ),
                 Some(&new.text),
             ));
+        }
+        self.check_counts(new)
+    }
+
+    /// Refuses a new `count` for a group that is already running: its agents were numbered
+    /// into the agent grid at spawn and drawn from the group's stream, so adding or removing
+    /// some mid-run would be a new run. Groups are matched by name (their species when
+    /// unnamed) and order among the groups of that name.
+    fn check_counts(&self, new: &Scenario) -> Result<(), Diagnostic> {
+        let old = &self.scenario.def.groups;
+        let mut count_at = locate(&new.text, "groups", 0).map_or(0, |x| x.2);
+        for (k, g) in new.def.groups.iter().enumerate() {
+            // Each group writes one `count`: the k-th after `groups` is this group's.
+            let at = locate_key(&new.text, "count", count_at);
+            count_at = at.map_or(count_at, |x| x.2 + 1);
+            let name = g.group_name();
+            let nth = new.def.groups[..k]
+                .iter()
+                .filter(|x| x.group_name() == name)
+                .count();
+            let Some(before) = old.iter().filter(|x| x.group_name() == name).nth(nth) else {
+                continue;
+            };
+            let running = self.scenario.species.index_of(&before.species).is_some();
+            if running && before.species == g.species && before.count != g.count {
+                let (l, c, _) = at.unwrap_or((0, 0, 0));
+                return Err(Diagnostic::new(
+                    &new.file,
+                    l,
+                    c,
+                    format!(
+                        "group `{name}` count {} → {}: restart to apply (agents cannot join or \
+                         leave a group that is running)",
+                        before.count, g.count
+                    ),
+                    Some(&new.text),
+                ));
+            }
         }
         Ok(())
     }

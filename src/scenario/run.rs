@@ -33,6 +33,17 @@ pub struct Run {
     pub(super) food_debt: f32,
     /// Events the scenario itself made (spawns of its timed groups).
     pub scenario_events: Vec<crate::events::Event>,
+    /// The agents each spawned group got, in spawning order (what group expectations count).
+    pub group_spans: Vec<GroupSpan>,
+}
+
+/// The agents one spawned group got: ids are given in order, so a group's are one range.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GroupSpan {
+    /// The group's name ([`SpawnGroupDef::group_name`]).
+    pub name: String,
+    /// Its agents' ids (`AgentId.0`).
+    pub ids: std::ops::Range<u32>,
 }
 
 impl std::ops::Deref for Run {
@@ -124,6 +135,7 @@ impl Run {
             food_rng,
             food_debt: 0.0,
             scenario_events: Vec::new(),
+            group_spans: Vec::new(),
         };
         // Every group is numbered against the grid of the first tick, which counts them all and
         // the squads' members.
@@ -233,6 +245,11 @@ impl Run {
             })
             .collect();
         order.sort_unstable();
+        let first = self.sim.world.next_agent_id;
+        self.group_spans.push(GroupSpan {
+            name: g.group_name().to_string(),
+            ids: first..first.saturating_add(count as u32),
+        });
         let params = &self.scenario.species.species[s].drives.params;
         for p in order.into_iter().map(|o| place(&mut Rng(o as u64))) {
             let id = self

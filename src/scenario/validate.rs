@@ -117,6 +117,7 @@ impl Scenario {
         }
         let mut loaded: Vec<Arc<Species>> = Vec::new();
         let mut listed = std::collections::BTreeSet::new();
+        let mut missing_one = false;
         for name in &def.species {
             // Each problem scans the text to locate it: a list of 40,000 bad names took 5 s.
             if diags.len() >= MAX_DIAGNOSTICS {
@@ -138,6 +139,8 @@ impl Scenario {
             }
             let path = behaviors_dir.join(format!("{name}.ron"));
             if let Some(problem) = crate::load::diag::file_problem(&path) {
+                // The folder and how to point elsewhere are said once, at the first missing file.
+                let missing_before = std::mem::replace(&mut missing_one, true);
                 let (l, c, _) = at_species(&format!("\"{name}\""), 0);
                 diags.push(Diagnostic::new(
                     file,
@@ -146,7 +149,17 @@ impl Scenario {
                     format!(
                         "species file \"{}\" {problem}{}",
                         path.display(),
-                        where_species_are(&behaviors_dir, name, def.behaviors.is_some())
+                        if missing_before {
+                            format!(
+                                "{}; looked for in the same folder as above",
+                                crate::load::did_you_mean(
+                                    name,
+                                    species_files(&behaviors_dir).iter().map(String::as_str)
+                                )
+                            )
+                        } else {
+                            where_species_are(&behaviors_dir, name, def.behaviors.is_some())
+                        }
                     ),
                     Some(text),
                 ));
@@ -183,8 +196,12 @@ impl Scenario {
                     l,
                     c,
                     format!(
-                        "unknown species \"{}\": the scenario loads {}",
+                        "unknown species \"{}\"{}: the scenario loads {}",
                         g.species,
+                        crate::load::did_you_mean(
+                            &g.species,
+                            def.species.iter().map(String::as_str)
+                        ),
                         def.species.join(", ")
                     ),
                     Some(text),
@@ -301,6 +318,27 @@ impl Scenario {
 /// What a "species file not found" message adds: the folder searched and why that one, how to
 /// point elsewhere, and a near name among the species files that are there.
 fn where_species_are(dir: &Path, name: &str, set_by_scenario: bool) -> String {
+    let present = species_files(dir);
+    let why = if set_by_scenario {
+        "the scenario's `behaviors:` folder"
+    } else {
+        "the default `behaviors: \"../behaviors\"`, relative to the scenario file's folder"
+    };
+    let there = if dir.is_dir() {
+        ""
+    } else {
+        ", a folder that does not exist"
+    };
+    let near = crate::load::did_you_mean(name, present.iter().map(String::as_str));
+    format!(
+        "{near}; species are looked for in {}{there} ({why}); set `behaviors: \"<folder>\"` in \
+         the scenario (relative to the scenario file, or absolute) to load them from elsewhere",
+        dir.display()
+    )
+}
+
+/// The species names of the `.ron` files in `dir`, sorted (none when it cannot be read).
+fn species_files(dir: &Path) -> Vec<String> {
     let mut present: Vec<String> = std::fs::read_dir(dir)
         .map(|it| {
             it.filter_map(|e| e.ok())
@@ -313,15 +351,5 @@ fn where_species_are(dir: &Path, name: &str, set_by_scenario: bool) -> String {
         })
         .unwrap_or_default();
     present.sort();
-    let why = if set_by_scenario {
-        "the scenario's `behaviors:` folder"
-    } else {
-        "the default `behaviors: \"../behaviors\"`, relative to the scenario file's folder"
-    };
-    let near = crate::load::did_you_mean(name, present.iter().map(String::as_str));
-    format!(
-        "{near}; species are looked for in {} ({why}); set `behaviors: \"<folder>\"` in the \
-         scenario to load them from elsewhere",
-        dir.display()
-    )
+    present
 }

@@ -415,10 +415,10 @@ fn run_scenario(path: &Path, coverage: &Coverage) -> TestResult {
         })
         .collect();
     let mut run = Run::new(sc, Default::default());
-    tracker.observe(&run.world, &run.pipeline);
+    tracker.observe_run(&run);
     while !run.finished() {
         run.step();
-        tracker.observe(&run.world, &run.pipeline);
+        tracker.observe_run(&run);
         for e in &run.pipeline.events {
             if let crate::events::Event::Transition {
                 species,
