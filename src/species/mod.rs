@@ -10,6 +10,7 @@ mod conditions;
 pub mod def;
 pub mod describe;
 mod look_check;
+mod blackboard;
 mod params;
 mod recipes;
 pub mod seeds;
@@ -239,6 +240,8 @@ pub struct Species {
     pub has_on_tick: bool,
     /// Whether the script defines `on_event(kind)`.
     pub has_on_event: bool,
+    /// The declared blackboard: keys, types, and what a new agent remembers.
+    pub memory: Arc<crate::script::memory::MemorySpec>,
 }
 
 impl Species {

@@ -83,7 +83,7 @@ impl Pipeline {
             mind,
             anim: Anim::default(),
             rng,
-            memory: Vec::new(),
+            memory: sp.memory.initial.clone(),
             inbox: None,
             forward_cache: crate::world::ForwardCache::NONE,
         };

@@ -15,8 +15,10 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 pub mod look;
+pub mod memory;
 pub mod recipe;
 pub use look::{LookDef, ShapeDef};
+pub use memory::MemDecl;
 pub use recipe::*;
 
 /// A species file.
@@ -69,6 +71,10 @@ pub struct SpeciesDef {
     /// How viewers draw the species (shape, size, colors); the engine does not read it.
     #[serde(default)]
     pub look: LookDef,
+    /// The blackboard keys its agents keep, with their types and start values; a script may
+    /// use no other key.
+    #[serde(default)]
+    pub memory: std::collections::BTreeMap<String, MemDecl>,
 }
 
 fn default_color() -> String {
