@@ -57,7 +57,7 @@ fn one(file: &str, line: usize, col: usize, msg: &str) -> Vec<(String, usize, us
 #[test]
 fn declared_keys_start_at_their_values_and_keys_without_one_start_unset() {
     let memory = r#"memory: {
-        "meals": Int(2), "home": Vec3((1.0, 2.0, 3.0)), "mood": String("calm"),
+        "meals": Int(2), "home": Vec3(1.0, 2.0, 3.0), "mood": String("calm"),
         "shy": Bool(true), "depth": Float(None), "gain": Float(0.5),
     },"#;
     let script = "fn startled() {\n    this.has(\"depth\") || this[\"meals\"] > 5\n}\n";

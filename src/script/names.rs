@@ -101,6 +101,8 @@ pub fn key_uses(ast: &AST) -> KeyUses {
         }
         true
     });
+    uses.keys.sort_by_key(|n| (n.line, n.col));
+    uses.writes.sort_by_key(|w| (w.0.line, w.0.col));
     uses
 }
 
@@ -185,11 +187,15 @@ fn compared_behavior(f: &FnCallExpr, only_this: bool) -> Option<Named> {
 pub fn behavior_uses(ast: &AST) -> Vec<Named> {
     let mut out = Vec::new();
     ast.walk(&mut |path| {
-        if let Some(ASTNode::Expr(Expr::FnCall(f, _))) = path.last() {
+        // A comparison that ends a block is a statement.
+        if let Some(ASTNode::Expr(Expr::FnCall(f, _)) | ASTNode::Stmt(Stmt::FnCall(f, _))) =
+            path.last()
+        {
             out.extend(compared_behavior(f, true));
         }
         true
     });
+    out.sort_by_key(|n| (n.line, n.col));
     out
 }
 
@@ -285,6 +291,9 @@ pub fn test_names(ast: &AST) -> TestNames {
         }
         true
     });
+    // Functions are walked in no particular order: report in the order of the text.
+    out.species.sort_by_key(|n| (n.line, n.col));
+    out.behaviors.sort_by_key(|n| (n.line, n.col));
     out
 }
 

@@ -16,7 +16,7 @@ pub enum MemDecl {
     Int(Option<i64>),
     /// A number.
     Float(Option<f32>),
-    /// A vector, written `(x, y, z)`.
+    /// A vector, written `Vec3(x, y, z)`.
     Vec3(Option<Vec3>),
     /// A string of at most 256 bytes.
     #[serde(rename = "String")]
