@@ -214,11 +214,9 @@ fn semantic_errors_are_located_in_the_species_file() {
     assert!(
         d[0].3
             .starts_with("script function `startle()` is not defined in ")
-            && d[0]
-                .3
-                .ends_with(
-                    "minnow.rhai (did you mean `startled`?) (functions without parameters: startled)"
-                ),
+            && d[0].3.ends_with(
+                "minnow.rhai (did you mean `startled`?) (functions without parameters: startled)"
+            ),
         "{}",
         d[0].3
     );

@@ -78,7 +78,11 @@ fn declared_keys_start_at_their_values_and_keys_without_one_start_unset() {
     );
     sim.run(5);
     assert!(sim.script_errors().is_empty(), "{:?}", sim.script_errors());
-    assert_eq!(sim.behavior(id), "idle", "`depth` is unset and 2 meals are not 5");
+    assert_eq!(
+        sim.behavior(id),
+        "idle",
+        "`depth` is unset and 2 meals are not 5"
+    );
 }
 
 #[test]
@@ -144,7 +148,8 @@ fn a_write_of_an_evidently_wrong_type_is_refused_at_load() {
 
 #[test]
 fn a_write_of_the_wrong_type_at_run_time_is_a_located_script_error() {
-    let script = "fn startled() {\n    let v = this.speed;\n    this[\"meals\"] = v;\n    false\n}\n";
+    let script =
+        "fn startled() {\n    let v = this.speed;\n    this[\"meals\"] = v;\n    false\n}\n";
     let ron = species(r#"memory: { "meals": Int(0) },"#);
     let dir = folder(&[("minnow.ron", &ron), ("minnow.rhai", script)]);
     let sp = load(&dir.path().join("minnow.ron"), dir.path());
@@ -162,7 +167,10 @@ fn a_write_of_the_wrong_type_at_run_time_is_a_located_script_error() {
         "{}",
         errors[0]
     );
-    assert_eq!(sim.agent(id).memory, vec![("meals".into(), MemValue::Int(0))]);
+    assert_eq!(
+        sim.agent(id).memory,
+        vec![("meals".into(), MemValue::Int(0))]
+    );
 }
 
 #[test]
@@ -181,7 +189,8 @@ fn a_behavior_name_the_species_does_not_have_is_refused_at_load() {
 #[test]
 fn memory_declarations_are_checked() {
     let long = "x".repeat(300);
-    let memory = format!("memory: {{ \"gain\": Float(0.5),\n        \"mood\": String(\"{long}\") }},");
+    let memory =
+        format!("memory: {{ \"gain\": Float(0.5),\n        \"mood\": String(\"{long}\") }},");
     assert_eq!(
         errors(&memory, "fn startled() { false }\n"),
         one(
@@ -198,7 +207,8 @@ fn a_syntax_error_points_at_the_bracket_never_closed() {
     let e = errors("", "fn startled() {\n    max(this.speed, 1.0;\n}\n");
     assert_eq!(e.len(), 1, "{e:?}");
     assert!(
-        e[0].3.ends_with("; the `(` at line 2, column 8 is never closed"),
+        e[0].3
+            .ends_with("; the `(` at line 2, column 8 is never closed"),
         "{}",
         e[0].3
     );
@@ -207,7 +217,10 @@ fn a_syntax_error_points_at_the_bracket_never_closed() {
 #[test]
 fn a_misspelt_script_function_gets_a_did_you_mean() {
     let ron = species("").replace("Script(\"startled\")", "Script(\"startld\")");
-    let dir = folder(&[("minnow.ron", &ron), ("minnow.rhai", "fn startled() { false }\n")]);
+    let dir = folder(&[
+        ("minnow.ron", &ron),
+        ("minnow.rhai", "fn startled() { false }\n"),
+    ]);
     let err = load_species(&dir.path().join("minnow.ron"), dir.path(), &script_limits())
         .expect_err("refused");
     assert!(

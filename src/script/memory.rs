@@ -125,11 +125,18 @@ impl MemorySpec {
 }
 
 fn err(msg: String) -> Box<EvalAltResult> {
-    Box::new(EvalAltResult::ErrorRuntime(Dynamic::from(msg), Position::NONE))
+    Box::new(EvalAltResult::ErrorRuntime(
+        Dynamic::from(msg),
+        Position::NONE,
+    ))
 }
 
 /// Stores `value` under `key` in `memory` (kept in key order), refusing a full blackboard.
-pub fn store(memory: &mut Vec<(String, MemValue)>, key: &str, value: MemValue) -> Result<(), String> {
+pub fn store(
+    memory: &mut Vec<(String, MemValue)>,
+    key: &str,
+    value: MemValue,
+) -> Result<(), String> {
     match memory.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
         Ok(i) => memory[i].1 = value,
         Err(i) => {

@@ -55,9 +55,7 @@ fn evident_type(e: &Expr) -> Option<MemType> {
             Expr::Property(p, _) => match p.2.as_str() {
                 "pos" | "vel" | "fwd" => Some(MemType::Vec3),
                 "time" | "dt" | "speed" | "max_speed" | "hunger" | "libido" | "fear"
-                | "fatigue" | "state" | "time_in_behavior" | "age" | "mass" => {
-                    Some(MemType::Float)
-                }
+                | "fatigue" | "state" | "time_in_behavior" | "age" | "mass" => Some(MemType::Float),
                 "id" | "tick" | "stack_depth" | "kind" => Some(MemType::Int),
                 "behavior" | "species" | "sex" | "heard" => Some(MemType::Str),
                 _ => None,
@@ -235,12 +233,12 @@ fn constant_strings(d: &Dynamic) -> Vec<String> {
 /// The `behavior` and `stack` entries of an options map (folded to a constant or not).
 fn option_names(e: &Expr) -> Vec<Named> {
     match e {
-        Expr::Map(m, _) => m
-            .0
-            .iter()
-            .filter(|(k, _)| k.name == "behavior" || k.name == "stack")
-            .flat_map(|(_, v)| strings_of(v))
-            .collect(),
+        Expr::Map(m, _) => {
+            m.0.iter()
+                .filter(|(k, _)| k.name == "behavior" || k.name == "stack")
+                .flat_map(|(_, v)| strings_of(v))
+                .collect()
+        }
         Expr::DynamicConstant(d, pos) => match d.clone().try_cast::<rhai::Map>() {
             Some(m) => ["behavior", "stack"]
                 .iter()
@@ -281,9 +279,9 @@ pub fn test_names(ast: &AST) -> TestNames {
                     }
                 }
             }
-            "assert_behavior" | "assert_stack" => {
-                out.behaviors.extend(arg(0).map(strings_of).unwrap_or_default())
-            }
+            "assert_behavior" | "assert_stack" => out
+                .behaviors
+                .extend(arg(0).map(strings_of).unwrap_or_default()),
             "force_behavior" => out
                 .behaviors
                 .extend(arg(0).map(strings_of).unwrap_or_default()),

@@ -45,12 +45,14 @@ fn spec_of(def: &SpeciesDef, file: &Path, text: &str, diags: &mut Vec<Diagnostic
             MemDecl::Str(v) => (MemType::Str, v.clone().map(MemValue::Str)),
         };
         match &start {
-            Some(MemValue::Float(f)) if !f.is_finite() => {
-                error(key, format!("memory key \"{key}\": the start value must be finite"))
-            }
-            Some(MemValue::Vec3(v)) if !v.is_finite() => {
-                error(key, format!("memory key \"{key}\": the start value must be finite"))
-            }
+            Some(MemValue::Float(f)) if !f.is_finite() => error(
+                key,
+                format!("memory key \"{key}\": the start value must be finite"),
+            ),
+            Some(MemValue::Vec3(v)) if !v.is_finite() => error(
+                key,
+                format!("memory key \"{key}\": the start value must be finite"),
+            ),
             Some(MemValue::Str(s)) if s.len() > 256 => error(
                 key,
                 format!("memory key \"{key}\": memory strings are limited to 256 bytes"),
@@ -90,7 +92,10 @@ pub(super) fn declare(
 
 /// Gives the built species its blackboard declaration and checks the behavior names its script
 /// compares `this.behavior` with.
-pub(super) fn finish(mut species: Species, memory: Arc<MemorySpec>) -> Result<Species, Diagnostics> {
+pub(super) fn finish(
+    mut species: Species,
+    memory: Arc<MemorySpec>,
+) -> Result<Species, Diagnostics> {
     species.memory = memory;
     let Some(s) = &species.script else {
         return Ok(species);

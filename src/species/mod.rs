@@ -6,11 +6,11 @@
 //! perception and drive types, the later stages' parameter types in [`crate::params`], scripts)
 //! and below the stages that read it (`ctx`, steering, decision, the tick).
 
+mod blackboard;
 mod conditions;
 pub mod def;
 pub mod describe;
 mod look_check;
-mod blackboard;
 mod params;
 mod recipes;
 pub mod seeds;
