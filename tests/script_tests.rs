@@ -147,7 +147,7 @@ fn a_syntax_error_is_located_in_the_test_file() {
     assert_eq!(r.status, TestStatus::Error);
     assert_eq!(
         r.details,
-        "behaviors/tests/fixtures/syntax_error.rhai:5:19: Unexpected ';'\n5 |     let w = world(;\n  |                   ^"
+        "behaviors/tests/fixtures/syntax_error.rhai:5:19: Unexpected ';'; the `(` at line 5, column 18 is never closed\n5 |     let w = world(;\n  |                   ^"
     );
     assert_eq!(report.failed(), 1);
 }
@@ -195,16 +195,42 @@ fn tests_that_never_end_are_stopped_by_a_limit() {
 }
 
 #[test]
-fn an_unknown_behavior_name_is_an_error_at_the_assertion() {
+fn an_unknown_behavior_name_is_an_error_at_load() {
     let report = run(
         &["behaviors/tests/fixtures/unknown_behavior.rhai"],
         &Options::default(),
     );
     let r = only(&report);
+    assert_eq!(r.id, "behaviors/tests/fixtures/unknown_behavior.rhai");
     assert_eq!(r.status, TestStatus::Error);
     assert_eq!(
         r.details.lines().next().unwrap(),
-        "behaviors/tests/fixtures/unknown_behavior.rhai:8:5: unknown behavior \"escpae\" of species \"reef_fish\": expected one of avoid_static, escape, avoid_dynamic, eat, chase, mate, leave, school, wander"
+        "behaviors/tests/fixtures/unknown_behavior.rhai:8:27: \"escpae\" is not a behavior of species \"reef_fish\" (did you mean `escape`?): it has \"avoid_static\", \"escape\", \"avoid_dynamic\", \"eat\", \"chase\", \"mate\", \"leave\", \"school\", \"wander\""
+    );
+    let lines: Vec<&str> = r.details.lines().collect();
+    assert!(
+        lines.iter().any(|l| l.starts_with(
+            "behaviors/tests/fixtures/unknown_behavior.rhai:9:47: \"wnder\" is not a behavior"
+        )),
+        "{}",
+        r.details
+    );
+}
+
+#[test]
+fn an_unknown_species_name_is_an_error_at_load() {
+    let report = run(
+        &["behaviors/tests/fixtures/unknown_species.rhai"],
+        &Options::default(),
+    );
+    let r = only(&report);
+    assert_eq!(r.status, TestStatus::Error);
+    assert!(
+        r.details.starts_with(
+            "behaviors/tests/fixtures/unknown_species.rhai:5:25: unknown species \"sardin\" (did you mean `sardine`?): behaviors has "
+        ),
+        "{}",
+        r.details
     );
 }
 

@@ -130,7 +130,7 @@ fn unknown_field_is_located_and_the_near_miss_suggested() {
             "minnow.ron",
             3,
             5,
-            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `resend_after`, `initial`, `behaviors`, `recipes`, `look`, `events`"
+            "unknown field `colour` in Species (did you mean `color`?): expected one of `name`, `color`, `body`, `senses`, `avoid`, `attributes`, `drives`, `relations`, `script`, `decision_interval`, `resend_after`, `initial`, `behaviors`, `recipes`, `look`, `events`, `memory`"
         )
     );
     let bad = MINNOW.replace("Cruise(speed: 1.0)", "Cruise(sped: 1.0)");
@@ -214,9 +214,9 @@ fn semantic_errors_are_located_in_the_species_file() {
     assert!(
         d[0].3
             .starts_with("script function `startle()` is not defined in ")
-            && d[0]
-                .3
-                .ends_with("minnow.rhai (functions without parameters: startled)"),
+            && d[0].3.ends_with(
+                "minnow.rhai (did you mean `startled`?) (functions without parameters: startled)"
+            ),
         "{}",
         d[0].3
     );

@@ -17,6 +17,7 @@ Species(
     drives: (params: (p0: 0.02), hunger: Fixed(0.8), meal_size: 0.3),
     relations: (eats_items: true),
     script: Some("eel.rhai"),
+    memory: { "den": Vec3(None), "meals": Int(None) },
     decision_interval: 2,
     initial: "lurk",
     behaviors: [

@@ -429,6 +429,7 @@ Species(
     name: "dice",
     drives: (native: false, hunger: Fixed(0.0)),
     script: Some("dice.rhai"),
+    memory: { "a": Float(None), "b": Float(None) },
     initial: "idle",
     behaviors: [
         Behavior(name: "roll", priority: 1, when: Above(Drive(Hunger), 0.5), on_enter: [Call("roll")], steer: Stop),

@@ -200,7 +200,16 @@ fn scout_dir() -> tempfile::TempDir {
     let ron = std::fs::read_to_string(behaviors().join("squad_member.ron"))
         .unwrap()
         .replace("\"squad_member\"", "\"scout\"")
-        .replace("squad_member.rhai", "scout.rhai");
+        .replace("squad_member.rhai", "scout.rhai")
+        .replace(
+            "memory: {",
+            r#"memory: {
+        "asked": Bool(None), "keys": Int(None), "first_key": Vec3(None), "goal": Vec3(None),
+        "in_squad": Bool(None), "slot_dist": Float(None), "bad": Bool(None), "err": String(None),
+        "ok": Bool(None), "sees_wall_side": Bool(None), "sees_near": Bool(None),
+        "ground": Float(None), "transitions_read": Bool(None), "n_transitions": Int(None),
+        "t0_to": String(None),"#,
+        );
     std::fs::write(d.path().join("scout.ron"), ron).unwrap();
     std::fs::write(d.path().join("scout.rhai"), SCOUT_SCRIPT).unwrap();
     d

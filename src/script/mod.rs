@@ -18,10 +18,13 @@
 //! compiled script, and above perception and the world, which the agent view reads: it imports
 //! nothing of the stages that call it.
 
+pub mod brackets;
 pub mod budget;
 pub mod calls;
 pub mod events;
 mod imports;
+pub mod memory;
+pub mod names;
 pub mod squad;
 mod view;
 
@@ -166,14 +169,11 @@ pub fn new_engine(limits: &SandboxLimits) -> Engine {
 }
 
 pub(crate) fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Diagnostic {
-    let pos = err.1;
-    Diagnostic::new(
-        file,
-        pos.line().unwrap_or(0),
-        pos.position().unwrap_or(0),
-        err.0.to_string(),
-        Some(text),
-    )
+    let (line, col) = position_of(err.1);
+    let mut message = err.0.to_string();
+    // Rhai points where parsing failed; the bracket left open may be far above.
+    message.push_str(&brackets::note(text, line, col).unwrap_or_default());
+    Diagnostic::new(file, line, col, message, Some(text))
 }
 
 impl Script {
@@ -228,6 +228,12 @@ impl Script {
     /// The compiled script (for load-time checks of what it writes).
     pub fn ast(&self) -> &AST {
         &self.ast
+    }
+
+    /// Binds the blackboard to the species' declaration: reads and writes of keys it does not
+    /// declare, and writes of another type, become script errors ([`memory::register`]).
+    pub fn declare_memory(&mut self, spec: Arc<memory::MemorySpec>) {
+        memory::register(&mut self.engine, spec);
     }
 
     /// Whether the script defines `name` taking `params` parameters.

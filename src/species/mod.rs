@@ -6,6 +6,7 @@
 //! perception and drive types, the later stages' parameter types in [`crate::params`], scripts)
 //! and below the stages that read it (`ctx`, steering, decision, the tick).
 
+mod blackboard;
 pub mod compose;
 mod conditions;
 pub mod def;
@@ -285,6 +286,8 @@ pub struct Species {
     pub has_on_tick: bool,
     /// Whether the script defines `on_event(kind)`.
     pub has_on_event: bool,
+    /// The declared blackboard: keys, types, and what a new agent remembers.
+    pub memory: Arc<crate::script::memory::MemorySpec>,
     /// Declared events, in declaration order ([`Signal::Event`] indexes them).
     pub events: Arc<[EventSpec]>,
     /// Whether the script defines `on_event(kind, payload)`.

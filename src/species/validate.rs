@@ -56,6 +56,7 @@ pub fn load_species_str(
         }
         None => None,
     };
+    let (script, memory) = super::blackboard::declare(file, text, &def, script)?;
     Builder {
         file,
         text,
@@ -68,6 +69,7 @@ pub fn load_species_str(
         nums: NumberCheck::new(file, text),
     }
     .build(&def, script.clone())
+    .and_then(|s| super::blackboard::finish(s, memory))
 }
 
 /// The state of one species' validation: where it is in the text, what it found wrong, the
@@ -121,8 +123,9 @@ impl Builder<'_> {
                 self.error_at(
                     &format!("\"{name}\""),
                     format!(
-                        "script function `{name}()` is not defined in {} (functions without parameters: {})",
+                        "script function `{name}()` is not defined in {}{} (functions without parameters: {})",
                         s.file.display(),
+                        did_you_mean(name, known.iter().copied()),
                         if known.is_empty() { "none".to_string() } else { known.join(", ") }
                     ),
                 )
@@ -443,6 +446,7 @@ impl Builder<'_> {
             has_on_event,
             events: events.into(),
             has_on_event_payload,
+            memory: Arc::default(),
         })
     }
 }

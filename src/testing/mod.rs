@@ -11,9 +11,10 @@
 pub mod api;
 pub mod coverage;
 pub mod failure;
+mod names;
 pub mod world;
 
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, Diagnostics};
 use crate::scenario::expect::Tracker;
 use crate::scenario::{Run, Scenario, ScenarioDef};
 use crate::species::validate::ron_options;
@@ -266,16 +267,19 @@ fn compile(
     path: &Path,
     opts: &Options,
     libraries: &Mutex<BTreeMap<PathBuf, Arc<Library>>>,
-) -> Result<TestFile, Diagnostic> {
+) -> Result<TestFile, Diagnostics> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Diagnostic::file(path, format!("cannot read test file: {e}")))?;
     let engine = crate::script::new_engine(&limits(opts));
     let mut ast = engine.compile(&text).map_err(|e| {
+        let (line, col) = crate::script::position_of(e.1);
+        // Rhai points where parsing failed; the bracket left open may be far above.
+        let note = crate::script::brackets::note(&text, line, col).unwrap_or_default();
         Diagnostic::new(
             path,
-            e.1.line().unwrap_or(0),
-            e.1.position().unwrap_or(0),
-            hint(&e.0.to_string()),
+            line,
+            col,
+            format!("{}{note}", hint(&e.0.to_string())),
             Some(&text),
         )
     })?;
@@ -289,6 +293,10 @@ fn compile(
         .entry(root.clone())
         .or_insert_with(|| Arc::new(Library::new(root)))
         .clone();
+    let wrong = names::check(&ast, &library, path, &text);
+    if !wrong.is_empty() {
+        return Err(Diagnostics(wrong));
+    }
     Ok(TestFile {
         path: path.to_path_buf(),
         text,

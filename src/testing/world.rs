@@ -73,7 +73,8 @@ impl Library {
         } else {
             let names = self.names();
             Err(format!(
-                "unknown species \"{name}\": {} has {}",
+                "unknown species \"{name}\"{}: {} has {}",
+                crate::load::did_you_mean(name, names.iter().map(String::as_str)),
                 self.root.display(),
                 if names.is_empty() {
                     "no species files".to_string()
@@ -424,10 +425,12 @@ impl TestWorld {
             .species_of(id)
             .ok_or_else(|| format!("there is no agent with id {}", id.0))?;
         sp.behavior_index(name).ok_or_else(|| {
+            let known = self.behavior_names(id);
             format!(
-                "unknown behavior \"{name}\" of species \"{}\": expected one of {}",
+                "unknown behavior \"{name}\" of species \"{}\"{}: expected one of {}",
                 sp.name,
-                self.behavior_names(id).join(", ")
+                crate::load::did_you_mean(name, known.iter().map(String::as_str)),
+                known.join(", ")
             )
         })
     }

@@ -83,7 +83,7 @@ impl Pipeline {
             mind,
             anim: Anim::default(),
             rng,
-            memory: Vec::new(),
+            memory: sp.memory.initial.clone(),
             inbox: None,
             heard_event: None,
             forward_cache: crate::world::ForwardCache::NONE,

@@ -16,6 +16,7 @@ Species(
     body: (limits: (max_speed: 2.0, max_turn: 1.0)),
     drives: (native: false),
     script: Some("fish.rhai"),
+    memory: { "n": Int(None), "edit": Int(None) },
     decision_interval: 2,
     initial: "wander",
     behaviors: [
@@ -82,6 +83,7 @@ Species(
     body: (limits: (max_speed: 2.0, max_turn: 1.0)),
     drives: (native: false),
     script: Some("fish.rhai"),
+    memory: { "n": Int(None), "edit": Int(None) },
     decision_interval: 2,
     initial: "wander",
     behaviors: [

@@ -16,9 +16,11 @@ use serde::{Deserialize, Serialize};
 
 pub mod events;
 pub mod look;
+pub mod memory;
 pub mod recipe;
 pub use events::{EventDef, FieldType, MessageRef};
 pub use look::{LookDef, ShapeDef};
+pub use memory::MemDecl;
 pub use recipe::*;
 
 /// A species file.
@@ -75,6 +77,10 @@ pub struct SpeciesDef {
     /// `Heard("alarm_call")`), with their rank and payload fields.
     #[serde(default)]
     pub events: Vec<EventDef>,
+    /// The blackboard keys its agents keep, with their types and start values; a script may
+    /// use no other key.
+    #[serde(default)]
+    pub memory: std::collections::BTreeMap<String, MemDecl>,
 }
 
 fn default_color() -> String {

@@ -4,10 +4,11 @@
 
 use super::{AgentRef, R};
 use crate::frame;
+use crate::script::memory::store;
 use crate::script::{from_mem, to_mem};
 use crate::testing::failure::error;
 use crate::testing::world::TestWorld;
-use crate::world::{Sex, MEMORY_CAPACITY};
+use crate::world::Sex;
 use glam::{Vec2, Vec3};
 use rhai::{Array, Dynamic, Engine, Map, FLOAT, INT};
 
@@ -146,36 +147,38 @@ pub(super) fn register(e: &mut Engine) {
         }
         Ok(())
     });
+    // The blackboard as the species declares it: an undeclared key or a value of another type
+    // fails the test where it is written.
     e.register_indexer_get(|a: &mut AgentRef, key: &str| -> R<Dynamic> {
         a.with(|tw, i| {
-            tw.sim.world.agents[i]
+            let agent = &tw.sim.world.agents[i];
+            if let Some(why) = tw.species[agent.species.0 as usize].memory.undeclared(key) {
+                return Err(error(why));
+            }
+            Ok(agent
                 .memory
                 .iter()
                 .find(|(k, _)| k == key)
-                .map_or(Dynamic::UNIT, |(_, v)| from_mem(v))
-        })
+                .map_or(Dynamic::UNIT, |(_, v)| from_mem(v)))
+        })?
     });
     e.register_indexer_set(|a: &mut AgentRef, key: &str, v: Dynamic| -> R<()> {
         let v = to_mem(v)?;
         a.with_mut(|tw, i| {
-            let mem = &mut tw.sim.world.agents[i].memory;
-            match mem.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
-                Ok(j) => {
-                    mem[j].1 = v;
-                    Ok(())
-                }
-                Err(_) if mem.len() >= MEMORY_CAPACITY => {
-                    Err(error(format!("memory is full ({MEMORY_CAPACITY} keys)")))
-                }
-                Err(j) => {
-                    mem.insert(j, (key.to_string(), v));
-                    Ok(())
-                }
-            }
+            let s = tw.sim.world.agents[i].species.0 as usize;
+            let spec = tw.species[s].memory.clone();
+            spec.check_write(key, &v).map_err(error)?;
+            store(&mut tw.sim.world.agents[i].memory, key, v).map_err(error)
         })?
     });
     e.register_fn("has", |a: &mut AgentRef, key: &str| -> R<bool> {
-        a.with(|tw, i| tw.sim.world.agents[i].memory.iter().any(|(k, _)| k == key))
+        a.with(|tw, i| {
+            let agent = &tw.sim.world.agents[i];
+            if let Some(why) = tw.species[agent.species.0 as usize].memory.undeclared(key) {
+                return Err(error(why));
+            }
+            Ok(agent.memory.iter().any(|(k, _)| k == key))
+        })?
     });
     e.register_fn("to_string", |a: &mut AgentRef| a.label());
 }

@@ -6,12 +6,13 @@
 use super::agents::{set_hunger, set_libido};
 use super::args::{check_keys, int, num, string, strings, vec3, xz};
 use super::{AgentRef, TestCtx, WorldRef, DEFAULT_BOUNDS, R};
+use crate::script::memory::store;
 use crate::script::to_mem;
 use crate::species::SexDef;
 use crate::terrain::{load_asc, Cell, CellAttrs, Terrain};
 use crate::testing::failure::error;
 use crate::testing::world::{lock, TestWorld};
-use crate::world::{Aabb, Sex, MEMORY_CAPACITY};
+use crate::world::{Aabb, Sex};
 use glam::{Vec2, Vec3};
 use rhai::{Array, Dynamic, Engine, Map, FLOAT, INT};
 use std::sync::{Arc, Mutex};
@@ -373,8 +374,9 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
         sp.behavior_index(n).ok_or_else(|| {
             let known: Vec<&str> = sp.behaviors.iter().map(|b| &*b.name).collect();
             error(format!(
-                "unknown behavior \"{n}\" of species \"{}\": expected one of {}",
+                "unknown behavior \"{n}\" of species \"{}\"{}: expected one of {}",
                 sp.name,
+                crate::load::did_you_mean(n, known.iter().copied()),
                 known.join(", ")
             ))
         })
@@ -403,16 +405,8 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
             .ok_or_else(|| error("`memory` must be a map, e.g. #{ meals: 2 }"))?;
         for (k, v) in m {
             let v = to_mem(v)?;
-            if a.memory.len() >= MEMORY_CAPACITY {
-                return Err(error(format!("memory is full ({MEMORY_CAPACITY} keys)")));
-            }
-            match a
-                .memory
-                .binary_search_by(|(x, _)| x.as_str().cmp(k.as_str()))
-            {
-                Ok(j) => a.memory[j].1 = v,
-                Err(j) => a.memory.insert(j, (k.to_string(), v)),
-            }
+            sp.memory.check_write(&k, &v).map_err(error)?;
+            store(&mut a.memory, &k, v).map_err(error)?;
         }
     }
     drop(tw);

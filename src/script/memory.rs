@@ -1,0 +1,196 @@
+//! Part of stage 4 (decision): the declared blackboard. A species declares the keys its agents
+//! remember, each with a type and an optional start value ([`MemorySpec`]); the species script's
+//! engine gets blackboard functions bound to that declaration, so a key that is not declared, or
+//! a value of another type, is a located script error rather than a silent `()`. The load-time
+//! check of string-literal keys is in [`super::names`]; this file is what runs.
+
+use super::view::{from_mem, to_mem, AgentView};
+use crate::load::did_you_mean;
+use crate::world::{MemValue, MEMORY_CAPACITY};
+use rhai::{Dynamic, Engine, EvalAltResult, Position};
+use std::sync::Arc;
+
+/// The type of a declared blackboard key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MemType {
+    /// `true` or `false`.
+    Bool,
+    /// An integer.
+    Int,
+    /// A number.
+    Float,
+    /// A vector.
+    Vec3,
+    /// A short string.
+    Str,
+}
+
+impl MemType {
+    /// The type of a value.
+    pub fn of(v: &MemValue) -> MemType {
+        match v {
+            MemValue::Bool(_) => MemType::Bool,
+            MemValue::Int(_) => MemType::Int,
+            MemValue::Float(_) => MemType::Float,
+            MemValue::Vec3(_) => MemType::Vec3,
+            MemValue::Str(_) => MemType::Str,
+        }
+    }
+
+    /// Its name in the species file (`Float`, `Vec3`, ...).
+    pub fn ron_name(self) -> &'static str {
+        match self {
+            MemType::Bool => "Bool",
+            MemType::Int => "Int",
+            MemType::Float => "Float",
+            MemType::Vec3 => "Vec3",
+            MemType::Str => "String",
+        }
+    }
+
+    /// In words, for messages ("a float").
+    pub fn words(self) -> &'static str {
+        match self {
+            MemType::Bool => "a bool",
+            MemType::Int => "an int",
+            MemType::Float => "a float",
+            MemType::Vec3 => "a Vec3",
+            MemType::Str => "a string",
+        }
+    }
+}
+
+/// A species' declared blackboard: its keys with their types, and the values agents start with.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MemorySpec {
+    /// Declared keys with their types, in key order.
+    pub keys: Vec<(String, MemType)>,
+    /// What a new agent remembers: the keys declared with a start value, in key order (keys
+    /// declared without one start unset: `has` is false until a script writes them).
+    pub initial: Vec<(String, MemValue)>,
+}
+
+impl MemorySpec {
+    /// The declared type of `key`.
+    pub fn type_of(&self, key: &str) -> Option<MemType> {
+        self.keys
+            .binary_search_by(|(k, _)| k.as_str().cmp(key))
+            .ok()
+            .map(|i| self.keys[i].1)
+    }
+
+    /// Why `key` may not be used (`None` when it is declared).
+    pub fn undeclared(&self, key: &str) -> Option<String> {
+        if self.type_of(key).is_some() {
+            return None;
+        }
+        if self.keys.is_empty() {
+            return Some(format!(
+                "memory key \"{key}\" is not declared: the species declares no memory (add `memory: {{ \"{key}\": Float(None) }}` to the species file, with its type and start value)"
+            ));
+        }
+        Some(format!(
+            "memory key \"{key}\" is not declared in the species' `memory`{}: it declares {}",
+            did_you_mean(key, self.keys.iter().map(|(k, _)| k.as_str())),
+            self.key_list()
+        ))
+    }
+
+    /// The declared keys, quoted, for messages.
+    pub fn key_list(&self) -> String {
+        self.keys
+            .iter()
+            .map(|(k, t)| format!("\"{k}\" ({})", t.ron_name()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Checks that `value` may be stored under `key`.
+    pub fn check_write(&self, key: &str, value: &MemValue) -> Result<(), String> {
+        if let Some(why) = self.undeclared(key) {
+            return Err(why);
+        }
+        let want = self.type_of(key).unwrap_or(MemType::of(value));
+        let got = MemType::of(value);
+        if want != got {
+            return Err(format!(
+                "memory key \"{key}\" is declared {} (`{}`), but {} was written",
+                want.words(),
+                want.ron_name(),
+                got.words()
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn err(msg: String) -> Box<EvalAltResult> {
+    Box::new(EvalAltResult::ErrorRuntime(
+        Dynamic::from(msg),
+        Position::NONE,
+    ))
+}
+
+/// Stores `value` under `key` in `memory` (kept in key order), refusing a full blackboard.
+pub fn store(
+    memory: &mut Vec<(String, MemValue)>,
+    key: &str,
+    value: MemValue,
+) -> Result<(), String> {
+    match memory.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
+        Ok(i) => memory[i].1 = value,
+        Err(i) => {
+            if memory.len() >= MEMORY_CAPACITY {
+                return Err(format!("memory is full ({MEMORY_CAPACITY} keys)"));
+            }
+            memory.insert(i, (key.to_string(), value));
+        }
+    }
+    Ok(())
+}
+
+/// Replaces the blackboard functions of `engine` (`this["k"]`, `this["k"] = v`, `this.has("k")`,
+/// `this.forget("k")`) by ones that accept only the keys and types of `spec`.
+pub fn register(engine: &mut Engine, spec: Arc<MemorySpec>) {
+    let s = spec.clone();
+    engine.register_indexer_get(
+        move |v: &mut AgentView, key: &str| -> Result<Dynamic, Box<EvalAltResult>> {
+            if let Some(why) = s.undeclared(key) {
+                return Err(err(why));
+            }
+            Ok(v.memory
+                .iter()
+                .find(|(k, _)| k == key)
+                .map(|(_, m)| from_mem(m))
+                .unwrap_or(Dynamic::UNIT))
+        },
+    );
+    let s = spec.clone();
+    engine.register_indexer_set(
+        move |v: &mut AgentView, key: &str, value: Dynamic| -> Result<(), Box<EvalAltResult>> {
+            let m = to_mem(value)?;
+            s.check_write(key, &m).map_err(err)?;
+            store(&mut v.memory, key, m).map_err(err)
+        },
+    );
+    let s = spec.clone();
+    engine.register_fn(
+        "has",
+        move |v: &mut AgentView, key: &str| -> Result<bool, Box<EvalAltResult>> {
+            if let Some(why) = s.undeclared(key) {
+                return Err(err(why));
+            }
+            Ok(v.memory.iter().any(|(k, _)| k == key))
+        },
+    );
+    engine.register_fn(
+        "forget",
+        move |v: &mut AgentView, key: &str| -> Result<(), Box<EvalAltResult>> {
+            if let Some(why) = spec.undeclared(key) {
+                return Err(err(why));
+            }
+            v.memory.retain(|(k, _)| k != key);
+            Ok(())
+        },
+    );
+}
