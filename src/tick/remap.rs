@@ -139,7 +139,7 @@ impl Pipeline {
             }
             // What was a plain behavior may now be composed: its first part runs.
             let leaf = |b: u16| crate::species::validate::first_leaf(&nsp.behaviors, b);
-            m.current = leaf(m.current);
+            m.current = crate::species::validate::first_leaf(&nsp.behaviors, m.current);
             let depth = nsp.depth as usize;
             if m.scope_entered.len() != depth {
                 m.scope_entered.resize(depth, world.tick);
