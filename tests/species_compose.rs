@@ -287,3 +287,43 @@ fn mistakes_in_a_composition_are_located_load_errors() {
         assert!(err.contains("probe.ron:"), "located: {err}");
     }
 }
+
+#[test]
+fn a_reload_keeps_each_agent_in_its_part_where_the_names_still_match() {
+    let (mut sim, id, _dir) = probe();
+    set(&mut sim, id, [0.9, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    sim.step();
+    set(&mut sim, id, [0.9, 0.9, 0.0, 0.0, 0.0, 0.0]);
+    sim.step();
+    assert_eq!(sim.behavior(id), "eat/court");
+    assert_eq!(sim.stack(id), ["idle", "eat/search"]);
+    // A new version of the species: the same tree, a part's steering retuned and a part added.
+    let edited = PROBE
+        .replace("steer: Cruise(speed: 0.4)", "steer: Cruise(speed: 0.45)")
+        .replace(
+            r#"Behavior(name: "search", priority: 3,"#,
+            r#"Behavior(name: "nibble", priority: 3, when: Above(Drive(Fatigue), 2.0), steer: Stop, min_time: 0.0),
+                Behavior(name: "search", priority: 3,"#,
+        );
+    let (sp, _dir2) = probe_species(&edited);
+    let set_ =
+        shoal::species::SpeciesSet::with_library(vec![std::sync::Arc::new(sp)], |_| true).unwrap();
+    let remap = sim.set_species(set_);
+    assert_eq!(remap.fell_back_total(), 0);
+    assert_eq!(sim.behavior(id), "eat/court");
+    assert_eq!(sim.stack(id), ["idle", "eat/search"]);
+    // And the rules go on inside it: court ends, search resumes.
+    set(&mut sim, id, [0.9, 0.0, 0.0, 0.0, 0.0, 0.0]);
+    sim.step();
+    assert_eq!(
+        last(&sim, id),
+        t("eat/court", "eat/search", Cause::Resumed, &["idle"])
+    );
+    // A version where the running part is gone: the agent falls back to the initial behavior.
+    let (sp, _dir3) = probe_species(&PROBE.replace(r#"name: "search""#, r#"name: "browse""#));
+    let set_ =
+        shoal::species::SpeciesSet::with_library(vec![std::sync::Arc::new(sp)], |_| true).unwrap();
+    let remap = sim.set_species(set_);
+    assert_eq!(remap.fell_back_total(), 1);
+    assert_eq!(sim.behavior(id), "idle");
+}
