@@ -27,8 +27,8 @@ mod report;
 mod tests;
 mod track;
 
-/// Whether a steering recipe may stop the agent on purpose: it holds a `Stop`, `Arrive` or
-/// `FollowPlan` leaf. A stopped agent in any other behavior is not doing what its steering asks.
+/// Whether a steering recipe may stop the agent on purpose: it holds a `Stop`, `Arrive`,
+/// `HoldStation` or `FollowPlan` leaf. A stopped agent in any other behavior is not doing what its steering asks.
 pub fn may_stop(recipe: &RecipeNode) -> bool {
     match recipe {
         RecipeNode::Priority(v) => v.iter().any(may_stop),
@@ -40,7 +40,7 @@ pub fn may_stop(recipe: &RecipeNode) -> bool {
 
 fn recipe_may_stop(r: &Recipe) -> bool {
     match r {
-        Recipe::Stop | Recipe::Arrive(_) | Recipe::FollowPlan(_) => true,
+        Recipe::Stop | Recipe::Arrive(_) | Recipe::HoldStation(_) | Recipe::FollowPlan(_) => true,
         Recipe::Priority(v) => v.iter().any(recipe_may_stop),
         Recipe::Blend(v) => v.iter().any(|w| recipe_may_stop(&w.steer)),
         _ => false,

@@ -25,6 +25,7 @@ fn species(name: &str) -> Species {
         Behavior(name: "swim", priority: 2, steer: Priority([AvoidStatic(), Cruise(speed: 1.0)])),
         Behavior(name: "rest", priority: 2, when: Above(Speed, 100.0), steer: Priority([AvoidStatic(), Stop])),
         Behavior(name: "dart", priority: 2, when: Above(Speed, 200.0), steer: Blend([(w: 1.0, steer: Arrive(target: Point(0.0, 0.0, 0.0)))])),
+        Behavior(name: "hold", priority: 2, when: Above(Speed, 300.0), steer: Priority([AvoidStatic(), HoldStation()])),
     ],
 )"#
     );
@@ -103,7 +104,7 @@ fn close(a: f64, b: f64, tol: f64) -> bool {
 fn may_stop_looks_through_the_recipe_tree() {
     let sp = species("fish");
     let flags: Vec<bool> = sp.behaviors.iter().map(|b| may_stop(&b.steer)).collect();
-    assert_eq!(flags, [false, true, true]);
+    assert_eq!(flags, [false, true, true, true]);
 }
 
 #[test]
