@@ -92,7 +92,7 @@ fn shoal_watch_in_chromium_moves_shows_and_clears_the_error_overlay_and_inspects
         .any(|l| l.contains("rejected: version 0 keeps running")));
     assert!(log
         .iter()
-        .any(|l| l.contains("fish.ron:14:19: unknown condition `Abov`")));
+        .any(|l| l.contains("fish.ron:15:19: unknown condition `Abov`")));
     assert!(log
         .iter()
         .filter(stamped)

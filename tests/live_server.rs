@@ -160,7 +160,7 @@ fn the_live_protocol_streams_controls_and_inspects() {
     });
     let text = d[0].as_str().unwrap();
     assert!(
-        text.contains("fish.ron:14:19: unknown condition `Abov`"),
+        text.contains("fish.ron:15:19: unknown condition `Abov`"),
         "{text}"
     );
     let (_, status) = request(addr, "GET", "/status", "");
