@@ -154,7 +154,7 @@ fn misspelt_steering_primitive_lists_the_known_ones() {
             "minnow.ron",
             9,
             20,
-            "unknown steering recipe `Wandr` (did you mean `Wander`?): expected one of `Priority`, `Blend`, `Script`, `AvoidStatic`, `AvoidDynamic`, `PredictCollision`, `Contain`, `Chase`, `Escape`, `EscapeMirror`, `Pursue`, `Seek`, `Flee`, `Arrive`, `Separation`, `Alignment`, `Cohesion`, `Zones`, `Vicsek`, `Disperse`, `Wander`, `Cruise`, `Stop`, `FollowPlan`"
+            "unknown steering recipe `Wandr` (did you mean `Wander`?): expected one of `Priority`, `Blend`, `Script`, `AvoidStatic`, `AvoidDynamic`, `PredictCollision`, `Contain`, `Chase`, `Escape`, `EscapeMirror`, `Pursue`, `Seek`, `Flee`, `Arrive`, `Separation`, `Alignment`, `Cohesion`, `Zones`, `Vicsek`, `Disperse`, `Wander`, `Cruise`, `Stop`, `FollowPlan`, `HoldStation`"
         )
     );
     let bad = MINNOW.replace("when: Script(\"startled\")", "when: Sees(Predatr)");
@@ -196,15 +196,16 @@ fn semantic_errors_are_located_in_the_species_file() {
             "`Sees` refers to `Predator`, but the species has no such relation: add a `predators` list in `relations`"
         )
     );
-    // A missing required field.
+    // A behavior of a list without its level (steps of a sequence take none, so the format
+    // leaves it out and validation asks for it), located at the behavior's name.
     let bad = MINNOW.replace("            priority: 2,\n", "");
     assert_eq!(
         diagnostics(&bad, MINNOW_RHAI, &[]),
         one(
             "minnow.ron",
-            9,
-            9,
-            "`Behavior` is missing its required field `priority`"
+            7,
+            19,
+            "behavior \"idle\" needs a `priority`: levels start at 1 (the highest)"
         )
     );
     // A script function that does not exist.
