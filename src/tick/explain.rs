@@ -221,7 +221,11 @@ fn why_not(ctx: &Ctx, mind: &Mind, rng: &Rng, above: u8, current: u16) -> Value 
     let sp = ctx.species;
     let mut out = Vec::new();
     for (i, b) in sp.behaviors.iter().enumerate() {
-        if b.priority >= above || i as u16 == current {
+        // Steps of a sequence or fallback never start by their own `when`.
+        let step = b
+            .parent
+            .is_some_and(|p| sp.behaviors[p as usize].compose != crate::species::Compose::Select);
+        if b.priority >= above || i as u16 == current || step {
             continue;
         }
         let why = if mind.cooldown_until.get(i).is_some_and(|&t| ctx.tick < t) {
@@ -271,6 +275,33 @@ fn scripts(sp: &Species, mind: &Mind) -> Value {
     Value::Array(v)
 }
 
+/// In a species with composed behaviors, the condition that fired may belong to a composed
+/// behavior above either end (an outer `done` or `fail`, an interrupting list member's `when`):
+/// the one on either path whose text the transition records.
+fn fired_in_tree<'a>(sp: &'a Species, t: &crate::decision::Transition) -> &'a CondNode {
+    let text = t.condition.as_deref().unwrap_or("");
+    let mut on_path = Vec::new();
+    for start in [t.from, t.to] {
+        let mut at = Some(start);
+        while let Some(i) = at {
+            on_path.push(i);
+            at = sp.behaviors.get(i as usize).and_then(|b| b.parent);
+        }
+    }
+    for i in on_path {
+        let b = &sp.behaviors[i as usize];
+        let c = match t.cause {
+            crate::events::Cause::Interrupted if &*b.when_text == text => &b.when,
+            crate::events::Cause::Interrupted => continue,
+            _ if &*b.done_text == text => &b.done,
+            _ if &*b.fail_text == text => &b.fail,
+            _ => continue,
+        };
+        return c;
+    }
+    &sp.behaviors[t.from as usize].done
+}
+
 /// One decision explained: `{type: "decision", tick, id, from, to, cause, clauses, why_not,
 /// scripts, memory}`. `tick` is the tick the decision was made on (as in `events.jsonl`).
 pub(super) fn decision(
@@ -286,6 +317,7 @@ pub(super) fn decision(
     let mut m = before.mind(mind);
     let mut rng = before.rng;
     let fired: &CondNode = match first.cause {
+        _ if sp.depth > 0 => fired_in_tree(sp, first),
         crate::events::Cause::Interrupted => &sp.behaviors[first.to as usize].when,
         _ => &sp.behaviors[first.from as usize].done,
     };
