@@ -690,15 +690,7 @@ mod tests {
     }
 
     fn verdicts(expect: &str) -> Vec<Verdict> {
-        let sc = scenario(expect).unwrap_or_else(|d| panic!("{d}"));
-        let mut tracker = Tracker::new(&sc).unwrap_or_else(|d| panic!("{d}"));
-        let mut run = Run::new(sc, Overrides::default());
-        tracker.observe_run(&run);
-        while !run.finished() {
-            run.step();
-            tracker.observe_run(&run);
-        }
-        tracker.finish(&run.sim.world, &run.sim.pipeline)
+        run_verdicts(scenario(expect).unwrap_or_else(|d| panic!("{d}")))
     }
 
     #[test]
@@ -795,6 +787,7 @@ mod tests {
         Scenario::load_str(Path::new("scenarios/groups.ron"), &text)
     }
 
+    /// Runs `sc` to its end and judges its expectations.
     fn run_verdicts(sc: Scenario) -> Vec<Verdict> {
         let mut tracker = Tracker::new(&sc).unwrap_or_else(|d| panic!("{d}"));
         let mut run = Run::new(sc, Overrides::default());
