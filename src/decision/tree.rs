@@ -21,24 +21,20 @@
 use super::{can_start_node, cond, Transition, Transitions};
 use crate::ctx::Ctx;
 use crate::events::Cause;
-use crate::species::validate::default_part;
+use crate::species::validate::{ancestors, default_part};
 use crate::species::{Behavior, Compose, CondNode};
 
 pub use crate::species::compose::MAX_NESTING;
 use crate::world::{Mind, Rng};
 
-/// The path from the root list down to behavior `leaf`, root first.
+/// The path from the root list down to behavior `leaf`, root first (no allocation: this runs
+/// every tick for every agent).
 fn path(bs: &[Behavior], leaf: u16) -> ([u16; MAX_NESTING + 1], usize) {
     let mut rev = [0u16; MAX_NESTING + 1];
     let mut n = 0;
-    let mut at = Some(leaf);
-    while let Some(i) = at {
-        if n == rev.len() {
-            break;
-        }
-        rev[n] = i;
+    for (slot, i) in rev.iter_mut().zip(ancestors(bs, leaf)) {
+        *slot = i;
         n += 1;
-        at = bs[i as usize].parent;
     }
     rev[..n].reverse();
     (rev, n)
@@ -46,14 +42,7 @@ fn path(bs: &[Behavior], leaf: u16) -> ([u16; MAX_NESTING + 1], usize) {
 
 /// Whether `node` is `scope` or inside it.
 pub fn within(bs: &[Behavior], node: u16, scope: u16) -> bool {
-    let mut at = Some(node);
-    while let Some(i) = at {
-        if i == scope {
-            return true;
-        }
-        at = bs[i as usize].parent;
-    }
-    false
+    ancestors(bs, node).any(|a| a == scope)
 }
 
 /// The tick behavior `i` was entered: a leaf's is the mind's, a composite's is kept per depth.
@@ -154,12 +143,10 @@ fn mark(mind: &mut Mind, depth: u8, tick: u64) {
 /// Makes `leaf` current from `from`: composites above it that `from` was not inside are
 /// entered now (a resumed subtree's clock restarts, as a resumed behavior's does).
 fn enter_leaf(bs: &[Behavior], mind: &mut Mind, from: u16, leaf: u16, tick: u64) {
-    let mut at = bs[leaf as usize].parent;
-    while let Some(a) = at {
+    for a in ancestors(bs, leaf).skip(1) {
         if !within(bs, from, a) {
             mark(mind, bs[a as usize].level, tick);
         }
-        at = bs[a as usize].parent;
     }
     mind.current = leaf;
     mind.entered_tick = tick;

@@ -105,11 +105,10 @@ fn mem_json(v: &crate::world::MemValue) -> Value {
 /// that holds it, and names what it is part of (`parent`), its `fail` and its kind.
 pub fn behavior_info(s: &crate::species::Species) -> Vec<Value> {
     use crate::species::Compose;
-    let root = |mut i: usize| {
-        while let Some(p) = s.behaviors[i].parent {
-            i = p as usize;
-        }
-        i
+    let root = |i: usize| {
+        crate::species::validate::ancestors(&s.behaviors, i as u16)
+            .last()
+            .map_or(i, |r| r as usize)
     };
     s.behaviors
         .iter()

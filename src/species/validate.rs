@@ -460,6 +460,13 @@ pub fn first_leaf(behaviors: &[Behavior], mut i: u16) -> u16 {
     i
 }
 
+/// Behavior `i` and every composed behavior holding it, innermost first.
+pub fn ancestors(behaviors: &[Behavior], i: u16) -> impl Iterator<Item = u16> + '_ {
+    std::iter::successors(Some(i), |&a| {
+        behaviors.get(a as usize).and_then(|b| b.parent)
+    })
+}
+
 /// The part a composed behavior starts in when none of its parts' `when` holds: a sequence's or
 /// fallback's first step; for sub-behaviors, the first without a `when` (as the species'
 /// `initial` is the behavior that runs when nothing else applies), else the first. `None` for

@@ -111,13 +111,8 @@ pub fn possible(sp: &Species) -> Vec<Possible> {
 /// A transition between two parts, as the members of the innermost list holding both: from
 /// `hunt/strike` to `feed` is from `hunt` to `feed`; from `eat/search` to `eat/chase` stays.
 pub fn lift(sp: &Species, from: u16, to: u16) -> (u16, u16) {
-    let bs = &sp.behaviors;
-    let chain = |mut i: u16| {
-        let mut v = vec![i];
-        while let Some(p) = bs[i as usize].parent {
-            v.push(p);
-            i = p;
-        }
+    let chain = |i: u16| {
+        let mut v: Vec<u16> = crate::species::validate::ancestors(&sp.behaviors, i).collect();
         v.reverse();
         v
     };

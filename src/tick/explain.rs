@@ -280,14 +280,9 @@ fn scripts(sp: &Species, mind: &Mind) -> Value {
 /// the one on either path whose text the transition records.
 fn fired_in_tree<'a>(sp: &'a Species, t: &crate::decision::Transition) -> &'a CondNode {
     let text = t.condition.as_deref().unwrap_or("");
-    let mut on_path = Vec::new();
-    for start in [t.from, t.to] {
-        let mut at = Some(start);
-        while let Some(i) = at {
-            on_path.push(i);
-            at = sp.behaviors.get(i as usize).and_then(|b| b.parent);
-        }
-    }
+    let on_path = [t.from, t.to]
+        .into_iter()
+        .flat_map(|end| crate::species::validate::ancestors(&sp.behaviors, end));
     for i in on_path {
         let b = &sp.behaviors[i as usize];
         let c = match t.cause {
