@@ -1,0 +1,71 @@
+//! Unit tests of the stage, one file per concept: what a sense perceives (`senses.rs`), what
+//! is kept and summarized, injected percepts included (`keep.rs`), and the walks — kin kernel,
+//! plain and general, grid and agent order — agreeing bit for bit (`paths.rs`). The shared
+//! world builders are here.
+
+use super::*;
+use crate::world::{Aabb, Agent, AgentId, Anim, Attributes, Drives, Mind, Rng, Shape, SpeciesId};
+
+pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
+    Agent {
+        id: AgentId(id),
+        species: SpeciesId(species),
+        pos,
+        prev_pos: pos,
+        yaw,
+        pitch: 0.0,
+        speed: 1.0,
+        yaw_rate: 0.0,
+        pitch_rate: 0.0,
+        size: Vec3::new(0.2, 0.3, 1.0),
+        drives: Drives::default(),
+        attrs: Attributes::default(),
+        mind: Mind::new(0, 1, 0),
+        anim: Anim::default(),
+        rng: Rng::new(0, id as u64),
+        memory: Vec::new(),
+        inbox: None,
+        heard_event: None,
+        forward_cache: crate::world::ForwardCache::NONE,
+    }
+}
+
+fn run(world: &World, rel: &Relations, sense: SenseParams) -> Perception {
+    let mut ag = Grid::new();
+    ag.rebuild(
+        world.bounds,
+        sense.query_radius(),
+        world.agents.iter().map(|a| a.pos),
+    );
+    let mut fg = Grid::new();
+    fg.rebuild(
+        world.bounds,
+        sense.query_radius(),
+        world.food.iter().map(|f| f.pos),
+    );
+    let mut p = Perception::new();
+    p.run(world, &ag, &fg, &[sense, sense], rel);
+    p
+}
+
+/// A point drawn uniformly in the cube `[-half, half]³`.
+fn random_point(rng: &mut Rng, half: f32) -> Vec3 {
+    Vec3::new(
+        rng.range(-half, half),
+        rng.range(-half, half),
+        rng.range(-half, half),
+    )
+}
+
+fn rel() -> Relations {
+    let mut r = Relations::new(2);
+    r.set(0, 0, Some(Category::Kin));
+    r.set(0, 1, Some(Category::Predator));
+    r.set(1, 0, Some(Category::Food));
+    r.set_eats_items(0, true);
+    r
+}
+
+mod keep;
+mod paths;
+mod senses;

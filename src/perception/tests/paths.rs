@@ -1,0 +1,215 @@
+//! The walks agree bit for bit: kin kernel, plain and general paths, grid and agent order.
+
+use super::*;
+
+#[test]
+fn the_kin_kernel_perceives_what_the_general_path_does() {
+    // A world of one kin-only species without slots is perceived by the kin kernel; naming
+    // a second species (with no agent) as `Other` sends it down the general path. Same
+    // neighbors, same counts; the sums differ by rounding only.
+    let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
+    let mut rng = Rng::new(7, 0);
+    for k in 0..400 {
+        let pos = random_point(&mut rng, 15.0);
+        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+    // Agents near the rock perceive it too (the kernel then runs inside the general
+    // fold); the others take the kernel alone.
+    w.add_obstacle(Shape::Sphere {
+        center: Vec3::new(8.0, 8.0, 8.0),
+        radius: 2.0,
+    });
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius: 2.0 });
+    groups.insert(GroupQuery::Mean { radius: 3.0 });
+    let reads = Reads {
+        percepts: false,
+        agent_percepts: false,
+        bearing_range: Some(0.0),
+        groups,
+        headings: true,
+    };
+    let whole = SenseParams {
+        vision_radius: 5.0,
+        vision_half_angle: std::f32::consts::PI,
+        smell_radius: 0.0,
+        occlusion: false,
+        ..SenseParams::default()
+    };
+    let cone_and_smell = SenseParams {
+        vision_radius: 5.0,
+        vision_half_angle: 2.0,
+        smell_radius: 3.5,
+        ..whole
+    };
+    for sense in [whole, cone_and_smell] {
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
+        let perceive = |rel: &Relations| {
+            let mut p = Perception::new();
+            p.run_selective(&w, &ag, &Grid::new(), &[sense; 2], rel, &[reads; 2]);
+            p
+        };
+        let mut kernel = Relations::new(2);
+        kernel.set(0, 0, Some(Category::Kin));
+        kernel.set(0, 1, Some(Category::Kin));
+        let mut general = kernel.clone();
+        general.set(0, 1, Some(Category::Other));
+        let (a, b) = (perceive(&kernel), perceive(&general));
+        let close = |x: Vec3, y: Vec3| (x - y).length() <= 1e-4 * (1.0 + y.length());
+        let mut perceived = 0;
+        for i in 0..w.agents.len() {
+            let (ka, kb) = (
+                &a.summaries(i)[Category::Kin as usize],
+                &b.summaries(i)[Category::Kin as usize],
+            );
+            assert_eq!((ka.count, ka.seen), (kb.count, kb.seen), "agent {i}");
+            perceived += ka.count;
+            assert!((ka.nearest_dist - kb.nearest_dist).abs() <= 1e-5 || ka.count == 0);
+            assert!(close(ka.centroid, kb.centroid), "agent {i}");
+            assert!(close(ka.mean_heading, kb.mean_heading), "agent {i}");
+            assert!(close(ka.mean_velocity, kb.mean_velocity), "agent {i}");
+            for (ga, gb) in a.group_sums(i).iter().zip(b.group_sums(i)) {
+                assert_eq!(ga.n, gb.n, "agent {i}");
+                assert!(close(ga.a.into(), gb.a.into()), "agent {i}");
+                assert!(close(ga.b.into(), gb.b.into()), "agent {i}");
+            }
+        }
+        assert!(perceived > 400, "{perceived}");
+        let near_rock = (0..w.agents.len())
+            .filter(|&i| a.summaries(i)[Category::Obstacle as usize].count > 0)
+            .count();
+        assert!(near_rock > 0 && near_rock < w.agents.len(), "{near_rock}");
+    }
+}
+
+#[test]
+fn the_plain_path_matches_the_general_one() {
+    // A kin-only perceiver without slots takes the plain path; naming a third species (with
+    // no agent) as `Other` sends it down the general path: the results must be the same.
+    let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 3);
+    let mut rng = Rng::new(5, 0);
+    for k in 0..300 {
+        let pos = random_point(&mut rng, 15.0);
+        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+    let sense = SenseParams {
+        smell_radius: 6.0,
+        vision_radius: 4.0,
+        occlusion: false,
+        ..SenseParams::default()
+    };
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius: 2.0 });
+    groups.insert(GroupQuery::Mean { radius: 3.0 });
+    groups.insert(GroupQuery::Headings { radius: 3.0 });
+    let reads = Reads {
+        percepts: false,
+        agent_percepts: false,
+        bearing_range: Some(0.0),
+        groups,
+        headings: true,
+    };
+    let mut ag = Grid::new();
+    ag.rebuild(w.bounds, 3.0, w.agents.iter().map(|a| a.pos));
+    let perceive = |rel: &Relations| {
+        let mut p = Perception::new();
+        p.run_selective(&w, &ag, &Grid::new(), &[sense; 3], rel, &[reads; 3]);
+        p
+    };
+    let mut plain = Relations::new(3);
+    plain.set(0, 0, Some(Category::Kin));
+    let mut general = plain.clone();
+    general.set(0, 2, Some(Category::Other));
+    let (a, b) = (perceive(&plain), perceive(&general));
+    for i in 0..w.agents.len() {
+        assert_eq!(a.summaries(i), b.summaries(i), "agent {i}");
+        assert_eq!(a.group_sums(i), b.group_sums(i), "agent {i}");
+    }
+    assert!(a.summaries(0)[Category::Kin as usize].count > 0);
+}
+#[test]
+fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
+    // Fish (with mates, food, rocks and a predator) take the general path, which walks the
+    // perceivers in the grid's order. A grid with one entry beyond the agents makes the same
+    // perception walk in agent order: every agent's results must be the same, bit for bit.
+    let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 1);
+    let mut rng = Rng::new(9, 0);
+    let point = |rng: &mut Rng| random_point(rng, 18.0);
+    for k in 0..400 {
+        let species = u16::from(k % 40 == 0);
+        let mut a = agent(k, species, point(&mut rng), rng.range(-3.0, 3.0));
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        if k % 2 == 1 {
+            a.attrs.sex = crate::world::Sex::Male;
+        }
+        w.agents.push(a);
+    }
+    for _ in 0..60 {
+        let p = point(&mut rng);
+        w.add_food(p);
+    }
+    for id in 0..6 {
+        w.obstacles.push(crate::world::Obstacle {
+            id,
+            shape: Shape::Sphere {
+                center: point(&mut rng),
+                radius: 1.5,
+            },
+            active: true,
+        });
+    }
+    let sense = SenseParams {
+        smell_radius: 6.0,
+        vision_radius: 4.0,
+        max_percepts: 8,
+        ..SenseParams::default()
+    };
+    let mut rel = rel();
+    rel.set_mates(0, true);
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius: 2.0 });
+    groups.insert(GroupQuery::Mean { radius: 3.0 });
+    let reads = Reads {
+        groups,
+        ..Reads::default()
+    };
+    let mut fg = Grid::new();
+    fg.rebuild(w.bounds, 6.0, w.food.iter().map(|f| f.pos));
+    let perceive = |extra: Option<Vec3>| {
+        let mut ag = Grid::new();
+        let points: Vec<Vec3> = w.agents.iter().map(|a| a.pos).chain(extra).collect();
+        ag.rebuild(w.bounds, 6.0, points.into_iter());
+        let mut p = Perception::new();
+        p.run_selective(&w, &ag, &fg, &[sense; 2], &rel, &[reads; 2]);
+        p
+    };
+    let (by_grid, by_agent) = (perceive(None), perceive(Some(Vec3::splat(19.0))));
+    let n = w.agents.len();
+    assert!(by_grid.by_grid, "walked in the grid's order");
+    assert_ne!(by_grid.slot_of, (0..n as u32).collect::<Vec<_>>());
+    assert!(!by_agent.by_grid, "walked in agent order");
+    let mut kept = 0;
+    for i in 0..n {
+        assert_eq!(by_grid.percepts(i), by_agent.percepts(i), "agent {i}");
+        assert_eq!(by_grid.summaries(i), by_agent.summaries(i), "agent {i}");
+        assert_eq!(by_grid.group_sums(i), by_agent.group_sums(i), "agent {i}");
+        kept += by_grid.percepts(i).len();
+    }
+    assert!(kept > n, "most fish keep percepts");
+    // Fed percepts land on the agent they are for, whatever its row.
+    let mut fed = by_grid.clone();
+    let p = by_grid.percepts(7)[0];
+    fed.inject(3, w.agents[3].pos, &[p]);
+    assert_eq!(fed.percepts(3), &[p]);
+    for i in (0..n).filter(|&i| i != 3) {
+        assert_eq!(fed.percepts(i), by_grid.percepts(i), "agent {i}");
+    }
+}
