@@ -39,6 +39,8 @@ pub mod index;
 pub mod live;
 pub mod load;
 pub mod locomotion;
+#[cfg(feature = "tools")]
+pub mod lsp;
 pub mod params;
 pub mod perception;
 pub mod record;

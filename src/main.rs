@@ -38,6 +38,8 @@ enum Command {
     Test(cli::test::TestArgs),
     /// Run a benchmark workload and print a table.
     Bench(cli::bench::BenchArgs),
+    /// Serve the Language Server Protocol on stdio, for editors.
+    Lsp,
 }
 
 fn main() -> ExitCode {
@@ -69,6 +71,7 @@ fn main() -> ExitCode {
         Command::Watch(a) => cli::watch::watch(a),
         Command::Test(a) => cli::test::test(a),
         Command::Bench(a) => cli::bench::bench(a),
+        Command::Lsp => cli::lsp::lsp(),
     };
     match result {
         Ok(code) => code,

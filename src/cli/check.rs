@@ -45,25 +45,6 @@ enum Kind {
     HeightMap,
 }
 
-/// The first word of a RON text, comments and blank lines skipped (`Scenario`, `Species`, …).
-fn first_word(text: &str) -> &str {
-    let mut rest = text;
-    loop {
-        rest = rest.trim_start();
-        if let Some(after) = rest.strip_prefix("//") {
-            rest = after.split_once('\n').map_or("", |x| x.1);
-        } else if let Some(after) = rest.strip_prefix("/*") {
-            rest = after.split_once("*/").map_or("", |x| x.1);
-        } else {
-            break;
-        }
-    }
-    let end = rest
-        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .unwrap_or(rest.len());
-    &rest[..end]
-}
-
 fn kind_of(path: &Path, text: Option<&str>) -> Kind {
     let ext = path
         .extension()
@@ -74,7 +55,7 @@ fn kind_of(path: &Path, text: Option<&str>) -> Kind {
         "rhai" => Kind::Script,
         "asc" => Kind::AsciiGrid,
         "pgm" => Kind::HeightMap,
-        _ => match text.map(first_word) {
+        _ => match text.map(shoal::load::first_word) {
             Some("Scenario") => Kind::Scenario,
             Some("Features") => Kind::Features,
             Some("Team") => Kind::Team,

@@ -4,6 +4,7 @@ pub mod bench;
 pub mod check;
 pub mod diff;
 pub mod health;
+pub mod lsp;
 pub mod run;
 pub mod test;
 pub mod view;

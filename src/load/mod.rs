@@ -17,4 +17,4 @@ pub use diag::{read_bytes, read_text, Diagnostic, Diagnostics};
 pub use hints::did_you_mean;
 pub use locate::{locate, locate_key};
 pub use numbers::NumberCheck;
-pub use parse::{ron_diag, ron_options};
+pub use parse::{first_word, ron_diag, ron_options};

@@ -110,3 +110,22 @@ fn end_of_previous_token(text: &str, line: usize, col: usize) -> Option<(usize, 
         upto = usize::MAX;
     }
 }
+
+/// The first word of a RON text, comments and blank lines skipped (`Scenario`, `Species`, …).
+pub fn first_word(text: &str) -> &str {
+    let mut rest = text;
+    loop {
+        rest = rest.trim_start();
+        if let Some(after) = rest.strip_prefix("//") {
+            rest = after.split_once('\n').map_or("", |x| x.1);
+        } else if let Some(after) = rest.strip_prefix("/*") {
+            rest = after.split_once("*/").map_or("", |x| x.1);
+        } else {
+            break;
+        }
+    }
+    let end = rest
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .unwrap_or(rest.len());
+    &rest[..end]
+}
