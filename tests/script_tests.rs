@@ -205,7 +205,7 @@ fn an_unknown_behavior_name_is_an_error_at_load() {
     assert_eq!(r.status, TestStatus::Error);
     assert_eq!(
         r.details.lines().next().unwrap(),
-        "behaviors/tests/fixtures/unknown_behavior.rhai:8:27: \"escpae\" is not a behavior of species \"reef_fish\" (did you mean `escape`?): it has \"avoid_static\", \"escape\", \"avoid_dynamic\", \"eat\", \"chase\", \"mate\", \"leave\", \"school\", \"wander\""
+        "behaviors/tests/fixtures/unknown_behavior.rhai:8:27: \"escpae\" is not a behavior of species \"reef_fish\" (did you mean `escape`?): it has \"avoid_static\", \"escape\", \"avoid_dynamic\", \"eat\", \"eat/bite\", \"eat/chase\", \"mate\", \"mate/court\", \"mate/leave\", \"make_room\", \"school\", \"wander\""
     );
     let lines: Vec<&str> = r.details.lines().collect();
     assert!(
@@ -327,12 +327,12 @@ fn coverage_lists_what_no_test_exercised() {
         .take(2)
         .collect();
     assert!(
-        fish[0].starts_with("reef_fish: 1 of 9 behaviors, 0 of "),
+        fish[0].starts_with("reef_fish: 1 of 12 behaviors, 0 of "),
         "{c}"
     );
     assert_eq!(
         fish[1],
-        "  behaviors never exercised: avoid_static, escape, avoid_dynamic, eat, chase, mate, leave, school"
+        "  behaviors never exercised: avoid_static, escape, avoid_dynamic, eat, eat/bite, eat/chase, mate, mate/court, mate/leave, make_room, school"
     );
     assert!(
         c.contains("    wander → avoid_static (interrupted), escape (interrupted),"),

@@ -94,12 +94,13 @@ fn escape_interrupts_eating_and_eating_resumes_when_the_shark_is_gone() {
     sim.set_hunger(fish, 0.9);
     sim.world.add_food(v(0.0, 20.0, 9.0));
     sim.step();
+    // Food in sight: eat starts in its `bite` part.
     is(
         &sim.last_change(fish),
         "wander",
-        "eat",
+        "eat/bite",
         Cause::Interrupted,
-        "latched on (hunger > 0.5) until (hunger < 0.2) and sees food",
+        "latched on (hunger > 0.45) until (hunger < 0.2) and perceives food",
     );
     // A shark appears on the fish's left, swimming away from it (not head-on traffic).
     let shark = sim.spawn("shark", v(4.0, 20.0, 1.0), -FRAC_PI_2);
@@ -107,12 +108,12 @@ fn escape_interrupts_eating_and_eating_resumes_when_the_shark_is_gone() {
     let c = sim.last_change(fish);
     is(
         &c,
-        "eat",
+        "eat/bite",
         "escape",
         Cause::Interrupted,
         "sees predator or (heard danger and perceives predator)",
     );
-    assert_eq!(c.stack, ["wander", "eat"]);
+    assert_eq!(c.stack, ["wander", "eat/bite"]);
     // On entering, escape warns kin around.
     assert!(sim.pipeline.events.iter().any(|e| matches!(
         e,
@@ -134,7 +135,7 @@ fn escape_interrupts_eating_and_eating_resumes_when_the_shark_is_gone() {
     is(
         &c,
         "escape",
-        "eat",
+        "eat/bite",
         Cause::Resumed,
         "predator behind and out of sight",
     );
@@ -214,7 +215,7 @@ fn avoid_dynamic_gives_way_to_a_body_coming_head_on() {
 }
 
 #[test]
-fn chase_by_smell_hands_over_to_eat_in_sight_then_eat_completes_after_the_meal() {
+fn eat_chases_by_smell_then_bites_in_sight_and_ends_after_the_meal() {
     let mut sim = sim();
     let fish = sim.spawn("reef_fish", v(0.0, 20.0, 0.0), 0.0);
     sim.set_hunger(fish, 0.9);
@@ -222,38 +223,37 @@ fn chase_by_smell_hands_over_to_eat_in_sight_then_eat_completes_after_the_meal()
     // Beyond vision (10), within smell (20).
     sim.world.add_food(v(0.0, 20.0, 15.0));
     sim.step();
+    // Smelt, not seen: eat starts in its default part, `chase`.
     is(
         &sim.last_change(fish),
         "wander",
-        "chase",
+        "eat/chase",
         Cause::Interrupted,
-        "hunger > 0.4 and smells food and not (sees food)",
+        "latched on (hunger > 0.45) until (hunger < 0.2) and perceives food",
     );
-    sim.run_until(60, |s| s.behavior(fish) != "chase")
+    sim.run_until(60, |s| s.behavior(fish) != "eat/chase")
         .expect("the food comes into sight");
+    // In sight, the higher part interrupts the chase inside eat.
     let c = sim.last_change(fish);
-    is(
-        &c,
-        "chase",
-        "eat",
-        Cause::Completed,
-        "sees food or not (perceives food) or hunger < 0.2",
-    );
-    assert_eq!(c.stack, ["wander"]);
-    sim.run_until(100, |s| s.behavior(fish) != "eat")
+    is(&c, "eat/chase", "eat/bite", Cause::Interrupted, "sees food");
+    assert_eq!(c.stack, ["wander", "eat/chase"]);
+    sim.run_until(100, |s| s.behavior(fish) != "eat/bite")
         .expect("the fish eats and is sated");
     assert!(sim
         .log
         .iter()
         .any(|(_, e)| matches!(e, Event::Meal { agent, .. } if *agent == fish)));
     assert_eq!(sim.pipeline.stats.meals, 1);
+    // Eat's own `done` ends it with both its parts (the stacked chase is dropped).
+    let c = sim.last_change(fish);
     is(
-        &sim.last_change(fish),
-        "eat",
+        &c,
+        "eat/bite",
         "wander",
         Cause::Resumed,
         "hunger < 0.2 or not (perceives food)",
     );
+    assert_eq!(c.stack, Vec::<String>::new());
     assert!(sim.agent(fish).drives.hunger < 0.2);
     assert!(sim.world.food.is_empty());
 }
@@ -282,22 +282,20 @@ fn mate_then_leave_then_wander() {
             .collect()
     };
     let t = |a: &str, b: &str, c: Cause, d: &str| (a.to_string(), b.to_string(), c, d.to_string());
-    let mated = "libido < 0.3 or not (perceives mate)";
-    // Right after the contact both scripts are asked again (`should_leave()` reads the
-    // `mated_at` their `on_event` just wrote): mate hands over to leave at once for both
-    // partners, whatever their script schedule, with no tick of wander in between.
+    // Mate is a sequence: the contact ends `court` with success and `leave` starts at once for
+    // both partners, with no tick of wander in between; leave's success ends the sequence.
     for id in [f, m] {
         assert_eq!(
             seq(id),
             [
                 t(
                     "wander",
-                    "mate",
+                    "mate/court",
                     Cause::Interrupted,
                     "libido > 0.5 and perceives mate"
                 ),
-                t("mate", "leave", Cause::Completed, mated),
-                t("leave", "wander", Cause::Resumed, "3 s in behavior"),
+                t("mate/court", "mate/leave", Cause::Succeeded, "contact made"),
+                t("mate/leave", "wander", Cause::Resumed, "3 s in behavior"),
             ]
         );
     }

@@ -280,11 +280,10 @@ pub fn flock(n: usize) -> BenchWorld {
 
 /// Native conditions standing for the reef fish's script conditions in the `reef-native` world,
 /// by function name: the same test written in the species format, as far as it can be.
-/// `should_leave()` is "mated less than 1 s ago (a blackboard entry), or crowded: more than 8
-/// kin seen, the nearest closer than 0.5 and not hungry"; conditions cannot read the
-/// blackboard, so the native form is the crowded half, with kin perceived for kin seen.
+/// `crowded()` is "more than 8 kin seen, the nearest closer than 0.5 and not hungry"; the
+/// native form reads kin perceived for kin seen.
 pub const NATIVE_EQUIVALENTS: &[(&str, &str)] = &[(
-    "should_leave",
+    "crowded",
     "All([Above(Count(Kin), 8), Below(Distance(Kin), 0.5), Below(Drive(Hunger), 0.5)])",
 )];
 

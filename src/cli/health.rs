@@ -92,8 +92,19 @@ pub fn print(h: &Health, cost: Option<f64>) {
             .map(|(t, w)| cell(t, false, w + 1))
             .collect(),
     );
+    // Figures shown but not held to their bound get a star and a line under the table.
+    let mut unjudged: Vec<String> = Vec::new();
     for s in &h.species {
         let o = s.obstacles.agent_ticks;
+        let star = |f: health::Figure| if s.judged(f) { "" } else { "*" };
+        for (f, what) in [
+            (health::Figure::PitchLimit, "pitch limit"),
+            (health::Figure::ShortEpisodes, "short episodes"),
+        ] {
+            if let Some(why) = s.not_judged_because(f) {
+                unjudged.push(format!("{} {what} ({why})", s.name));
+            }
+        }
         let cells = [
             (
                 pct(s.stopped_share),
@@ -104,7 +115,7 @@ pub fn print(h: &Health, cost: Option<f64>) {
                 s.frozen_agents > health::MAX_FROZEN,
             ),
             (
-                pct(s.pitch_limit_share),
+                pct(s.pitch_limit_share) + star(health::Figure::PitchLimit),
                 s.judged(health::Figure::PitchLimit)
                     && s.pitch_limit_share > health::MAX_PITCH_LIMIT_SHARE,
             ),
@@ -113,7 +124,7 @@ pub fn print(h: &Health, cost: Option<f64>) {
                 s.switch_rate > health::MAX_SWITCH_RATE,
             ),
             (
-                pct(s.short_episode_share),
+                pct(s.short_episode_share) + star(health::Figure::ShortEpisodes),
                 s.judged(health::Figure::ShortEpisodes)
                     && s.short_episode_share > health::MAX_SHORT_EPISODE_SHARE,
             ),
@@ -137,6 +148,9 @@ pub fn print(h: &Health, cost: Option<f64>) {
                 .map(|((t, bad), w)| cell(t, bad, w + 1))
                 .collect(),
         );
+    }
+    if !unjudged.is_empty() {
+        println!("  * not held to its bound: {}", unjudged.join("; "));
     }
     let c = &h.coincident;
     println!(

@@ -294,6 +294,22 @@ impl SpeciesHealth {
         }
     }
 
+    /// Why `figure` is not held to its bound for this species (`None` when it is), in words for
+    /// the tables that show it anyway.
+    pub fn not_judged_because(&self, figure: Figure) -> Option<String> {
+        if self.judged(figure) {
+            return None;
+        }
+        Some(match figure {
+            Figure::PitchLimit => "an upright body: its pitch is its posture".to_string(),
+            _ => format!(
+                "only {} episode{}, judged from {MIN_EPISODES}",
+                self.episodes,
+                if self.episodes == 1 { "" } else { "s" }
+            ),
+        })
+    }
+
     /// Agent-ticks inside or against obstacles (the figure `MaxObstaclePenetration` bounds).
     pub fn obstacle_penetration(&self) -> u64 {
         self.obstacles.agent_ticks

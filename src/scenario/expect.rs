@@ -32,7 +32,9 @@ pub struct Verdict {
 enum Check {
     Share {
         species: usize,
-        behavior: u16,
+        /// The behavior and, for a composed one, every part inside it: an agent in any of them
+        /// counts.
+        members: Vec<u16>,
         fraction: f32,
         from: f32,
         to: f32,
@@ -235,7 +237,15 @@ impl Tracker {
                         ),
                         Check::Share {
                             species: s,
-                            behavior: b,
+                            members: (0..set.species[s].behaviors.len() as u16)
+                                .filter(|&i| {
+                                    crate::species::validate::ancestors(
+                                        &set.species[s].behaviors,
+                                        i,
+                                    )
+                                    .any(|a| a == b)
+                                })
+                                .collect(),
                             fraction: *fraction,
                             from: *after,
                             to: after + within,
@@ -476,7 +486,7 @@ impl Tracker {
             match c {
                 Check::Share {
                     species,
-                    behavior,
+                    members,
                     from,
                     to,
                     best,
@@ -486,7 +496,7 @@ impl Tracker {
                     for a in &world.agents {
                         if a.species.0 as usize == *species {
                             n += 1;
-                            if a.mind.current == *behavior {
+                            if members.contains(&a.mind.current) {
                                 k += 1;
                             }
                         }

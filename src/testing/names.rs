@@ -48,10 +48,16 @@ pub(super) fn check(ast: &AST, library: &Library, path: &Path, text: &str) -> Ve
     if species.is_empty() {
         return out;
     }
-    let known: Vec<&str> = species
+    // Each name once: several species share names such as "avoid_static".
+    let mut known: Vec<&str> = Vec::new();
+    for name in species
         .iter()
         .flat_map(|s| s.behaviors.iter().map(|b| &*b.name))
-        .collect();
+    {
+        if !known.contains(&name) {
+            known.push(name);
+        }
+    }
     let owner = if species.len() == 1 {
         format!("species \"{}\"", species[0].name)
     } else {

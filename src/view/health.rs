@@ -16,8 +16,9 @@ struct Column {
     kind: &'static str,
     bound: Option<f64>,
     value: fn(&SpeciesHealth) -> Option<f64>,
-    /// Whether the bound applies to this species (see [`SpeciesHealth::judged`]).
-    judged: fn(&SpeciesHealth) -> bool,
+    /// The figure whose bound may not apply to a species (see [`SpeciesHealth::judged`]);
+    /// `None`: always judged.
+    figure: Option<health::Figure>,
 }
 
 const COLUMNS: [Column; 9] = [
@@ -27,7 +28,7 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_STOPPED_SHARE),
         value: |s| Some(s.stopped_share),
-        judged: |_| true,
+        figure: None,
     },
     Column {
         key: "frozen_agents",
@@ -35,7 +36,7 @@ const COLUMNS: [Column; 9] = [
         kind: "count",
         bound: Some(health::MAX_FROZEN as f64),
         value: |s| Some(s.frozen_agents as f64),
-        judged: |_| true,
+        figure: None,
     },
     Column {
         key: "pitch_limit_share",
@@ -44,7 +45,7 @@ const COLUMNS: [Column; 9] = [
         bound: Some(health::MAX_PITCH_LIMIT_SHARE),
         value: |s| Some(s.pitch_limit_share),
         // An upright species (a jellyfish's bell) rests at the limit.
-        judged: |s| s.judged(health::Figure::PitchLimit),
+        figure: Some(health::Figure::PitchLimit),
     },
     Column {
         key: "switch_rate",
@@ -52,7 +53,7 @@ const COLUMNS: [Column; 9] = [
         kind: "rate",
         bound: Some(health::MAX_SWITCH_RATE),
         value: |s| Some(s.switch_rate),
-        judged: |_| true,
+        figure: None,
     },
     Column {
         key: "short_episode_share",
@@ -60,7 +61,7 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_SHORT_EPISODE_SHARE),
         value: |s| Some(s.short_episode_share),
-        judged: |s| s.judged(health::Figure::ShortEpisodes),
+        figure: Some(health::Figure::ShortEpisodes),
     },
     Column {
         key: "turning_waste",
@@ -68,7 +69,7 @@ const COLUMNS: [Column; 9] = [
         kind: "ratio",
         bound: Some(health::MAX_TURNING_WASTE),
         value: |s| s.turning_waste,
-        judged: |_| true,
+        figure: None,
     },
     Column {
         key: "overlap_share",
@@ -76,7 +77,7 @@ const COLUMNS: [Column; 9] = [
         kind: "share",
         bound: Some(health::MAX_OVERLAP_SHARE),
         value: |s| Some(s.overlap_share),
-        judged: |_| true,
+        figure: None,
     },
     Column {
         key: "obstacle_penetration",
@@ -84,7 +85,7 @@ const COLUMNS: [Column; 9] = [
         kind: "count",
         bound: Some(health::MAX_OBSTACLE_PENETRATION as f64),
         value: |s| Some(s.obstacle_penetration() as f64),
-        judged: |_| true,
+        figure: None,
     },
     Column {
         key: "messages_per_agent_second",
@@ -92,7 +93,7 @@ const COLUMNS: [Column; 9] = [
         kind: "rate",
         bound: None,
         value: |s| Some(s.messages_per_agent_second),
-        judged: |_| true,
+        figure: None,
     },
 ];
 
@@ -137,9 +138,18 @@ pub(crate) fn to_meta(h: &Health) -> Value {
             let over: Vec<bool> = COLUMNS
                 .iter()
                 .zip(&values)
-                .map(|(c, v)| (c.judged)(s) && matches!((v, c.bound), (Some(v), Some(b)) if *v > b))
+                .map(|(c, v)| {
+                    c.figure.is_none_or(|f| s.judged(f))
+                        && matches!((v, c.bound), (Some(v), Some(b)) if *v > b)
+                })
                 .collect();
-            json!({ "name": s.name, "agents": s.agents, "values": values, "over": over })
+            // Why a figure shown is not held to its bound (null where it is).
+            let unjudged: Vec<Option<String>> = COLUMNS
+                .iter()
+                .map(|c| c.figure.and_then(|f| s.not_judged_because(f)))
+                .collect();
+            json!({ "name": s.name, "agents": s.agents, "values": values, "over": over,
+                    "unjudged": unjudged })
         })
         .collect();
     let warnings: Vec<Value> = h

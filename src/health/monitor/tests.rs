@@ -279,6 +279,12 @@ fn switches_short_episodes_and_flips() {
     // Three episodes are too few to call flicker: no warning until there are 20.
     let w = h.warnings();
     assert!(!s.judged(Figure::ShortEpisodes));
+    // The tables still show the figure, starred with this reason.
+    assert_eq!(
+        s.not_judged_because(Figure::ShortEpisodes).as_deref(),
+        Some("only 3 episodes, judged from 20")
+    );
+    assert_eq!(s.not_judged_because(Figure::SwitchRate), None);
     assert!(
         !w.iter().any(|w| w.figure == Figure::ShortEpisodes),
         "{w:?}"
@@ -286,6 +292,10 @@ fn switches_short_episodes_and_flips() {
     assert!(!w.iter().any(|w| w.figure == Figure::SwitchRate), "{w:?}");
     let mut many = h.clone();
     many.species[0].episodes = crate::health::MIN_EPISODES;
+    assert_eq!(
+        many.species[0].not_judged_because(Figure::ShortEpisodes),
+        None
+    );
     assert!(many
         .warnings()
         .iter()

@@ -85,18 +85,24 @@
         const label = mk('text', { x: '2', y: String(y + 4), class: 'graph-level' });
         label.textContent = 'P' + p;
         svg.append(label);
-        const here = names.map((n, j) => [n, j]).filter(([, j]) => (info[j] ? info[j].priority : 1) === p);
-        const slot = (W - padL - 4) / Math.max(1, here.length);
-        here.forEach(([n, j], k) => {
-          const w = Math.min(slot - 6, Math.max(40, n.length * 6.2 + 12));
-          const x = padL + k * slot + (slot - w) / 2;
+        // The behaviors of the species' list on this level; a composed one is drawn as a
+        // dashed box named after it, holding its parts (labelled by their own names: `bite` for
+        // `eat/bite`), so the slots are shared out by leaf count.
+        const top = names.map((n, j) => [n, j]).filter(([, j]) => !(info[j] && info[j].parent) && (info[j] ? info[j].priority : 1) === p);
+        const leavesOf = (n) => names.map((m, j) => [m, j]).filter(([m, j]) => m.startsWith(n + '/') && !(info[j] && info[j].kind && info[j].kind !== 'leaf'));
+        const units = top.map(([n, j]) => (info[j] && info[j].kind && info[j].kind !== 'leaf') ? Math.max(1, leavesOf(n).length) : 1);
+        const unit = (W - padL - 4) / Math.max(1, units.reduce((a, b) => a + b, 0));
+        let left = padL;
+        const node = (n, j, x0, slot, label) => {
+          const w = Math.min(slot - 6, Math.max(40, label.length * 6.2 + 12));
+          const x = x0 + (slot - w) / 2;
           const g = mk('g', { class: 'graph-node', 'data-behavior': n, tabindex: '0' });
           const bi = info[j] || {};
           const rect = mk('rect', { x: String(x), y: String(y - nodeH / 2), width: String(w), height: String(nodeH), rx: '5' });
           if (bi.initial) rect.classList.add('initial');
           if (bi.equal_may_interrupt === false) rect.classList.add('no-equal-interrupt');
           const t = mk('text', { x: String(x + w / 2), y: String(y + 4), 'text-anchor': 'middle' });
-          t.textContent = n.length * 6.2 + 12 > w ? n.slice(0, Math.max(3, Math.floor((w - 12) / 6.2))) + '…' : n;
+          t.textContent = label.length * 6.2 + 12 > w ? label.slice(0, Math.max(3, Math.floor((w - 12) / 6.2))) + '…' : label;
           const badge = mk('text', { x: String(x + w - 3), y: String(y - nodeH / 2 + 8), 'text-anchor': 'end', class: 'graph-stack' });
           const title = mk('title', {});
           title.textContent = n + ' · P' + (bi.priority || '?') + (bi.source ? ' · ' + bi.source : '');
@@ -104,6 +110,28 @@
           g.addEventListener('click', () => this.show(n));
           svg.append(g);
           this.nodes.push({ name: n, x, y, w, h: nodeH, g, badge, info: bi });
+        };
+        top.forEach(([n, j], k) => {
+          const slot = units[k] * unit;
+          const bi = info[j] || {};
+          if (bi.kind && bi.kind !== 'leaf') {
+            const box = mk('g', { class: 'graph-group', 'data-behavior': n });
+            const frame = mk('rect', { x: String(left + 1), y: String(y - nodeH / 2 - 11), width: String(slot - 2), height: String(nodeH + 14), rx: '6' });
+            const name = mk('text', { x: String(left + 5), y: String(y - nodeH / 2 - 2), class: 'graph-group-name' });
+            name.textContent = n + (bi.kind === 'sequence' ? ' →' : bi.kind === 'fallback' ? ' ?' : '');
+            const title = mk('title', {});
+            title.textContent = n + ' (' + bi.kind + ') · P' + (bi.priority || '?') + (bi.source ? ' · ' + bi.source : '');
+            box.append(title, frame, name);
+            box.addEventListener('click', () => this.show(n));
+            svg.append(box);
+            this.nodes.push({ name: n, x: left, y, w: slot, h: nodeH, g: box, badge: name, info: bi, group: true });
+            const parts = leavesOf(n);
+            const ps = slot / Math.max(1, parts.length);
+            parts.forEach(([m, pj], q) => node(m, pj, left + q * ps, ps, m.slice(n.length + 1)));
+          } else {
+            node(n, j, left, slot, n);
+          }
+          left += slot;
         });
       });
       // Edges: transitions seen, width by count (log scale), curved so both directions show.
@@ -152,6 +180,11 @@
     // Highlights the current behavior and numbers the stack.
     paint() {
       for (const n of this.nodes) {
+        if (n.group) {
+          // A composed behavior is current while one of its parts is.
+          n.g.classList.toggle('current', !!this.current && this.current.startsWith(n.name + '/'));
+          continue;
+        }
         n.g.classList.toggle('current', n.name === this.current);
         const k = this.stack.indexOf(n.name);
         n.g.classList.toggle('stacked', k >= 0 && n.name !== this.current);
@@ -218,7 +251,8 @@
         species: this.species,
         current: this.current,
         stack: this.stack.slice(),
-        nodes: this.nodes.map((n) => n.name),
+        nodes: this.nodes.filter((n) => !n.group).map((n) => n.name),
+        groups: this.nodes.filter((n) => n.group).map((n) => n.name),
         edges: this.nodes.length ? this.edgesOf(this.species) : [],
         info: $('graph-info').textContent,
       };

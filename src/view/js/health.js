@@ -42,14 +42,19 @@
         head.append(th);
       }
       table.append(head);
+      const unjudged = [];
       h.columns.forEach((c, k) => {
         const tr = el('tr');
         tr.append(el('th', { class: 'fig' }, c.label),
           el('td', { class: 'bound' }, c.bound === null ? '' : '≤' + this.format(c.kind, c.bound)));
         for (const sp of h.species) {
           const over = sp.over[k];
-          const td = el('td', over ? { class: 'over', title: c.label + ' past its bound' } : null,
-            this.format(c.kind, sp.values[k]) + (over ? '!' : ''));
+          // Shown but not held to its bound (an upright body's pitch, too few episodes).
+          const why = sp.unjudged ? sp.unjudged[k] : null;
+          if (why) unjudged.push(sp.name + ' ' + c.label + ': ' + why);
+          const attrs = over ? { class: 'over', title: c.label + ' past its bound' }
+            : why ? { class: 'unjudged', title: 'not held to its bound: ' + why } : null;
+          const td = el('td', attrs, this.format(c.kind, sp.values[k]) + (over ? '!' : why ? '*' : ''));
           tr.append(td);
         }
         table.append(tr);
@@ -73,8 +78,12 @@
         }
         list.append(li);
       }
-      if (!n) list.append(el('li', { class: 'muted' }, 'no warnings: every figure within its bound'));
+      if (!n) list.append(el('li', { class: 'muted' }, 'no warnings: every judged figure within its bound'));
       body.append(list);
+      if (unjudged.length) {
+        body.append(el('p', { class: 'muted', 'data-testid': 'health-unjudged' },
+          '* not held to its bound: ' + unjudged.join('; ')));
+      }
     },
     jump(w) {
       // Live, the past is gone: the agent is opened where it is now.
