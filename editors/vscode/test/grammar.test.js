@@ -74,6 +74,9 @@ test('package.json declares both grammars and languages', () => {
     JSON.parse(fs.readFileSync(path.join(EXT, l.configuration), 'utf8'));
   }
   assert.equal(pkg.contributes.configuration.properties['shoal.path'].default, 'shoal');
+  // A range (any VS Code from the client library's minimum on), not one exact version.
+  assert.match(pkg.engines.vscode, /^\^1\.\d+\.\d+$/);
+  assert.equal(pkg.main, './extension.js');
   assert.ok(pkg.contributes.configuration.properties['shoal.trace.server']);
 });
 
