@@ -9,7 +9,6 @@ import {
   completionItems,
   docText,
   expectCapability,
-  lineOf,
   positionAt,
   protocol,
   referenceRows,
@@ -117,6 +116,5 @@ test('a designers\' test lists the test API', async () => {
     const behavior = items.find((i) => i.label.replace(/\(.*$/, '') === 'assert_behavior');
     const shown = [behavior.label, behavior.detail, behavior.labelDetails && behavior.labelDetails.detail].join(' ');
     assert.match(shown, /\(.+\)/, `assert_behavior shows its parameters: ${JSON.stringify(behavior)}`);
-    void lineOf;
   });
 });
