@@ -75,8 +75,8 @@ test('`this.` in a behavior script lists the script API', async () => {
     const items = await completeAfter(
       s,
       'behaviors/reef_fish.rhai',
-      'fn should_leave() {\n',
-      'fn should_leave() {\n    let probe = this.\n',
+      'fn crowded() {\n',
+      'fn crowded() {\n    let probe = this.\n',
       'let probe = this.',
       { triggerKind: TRIGGER_CHARACTER, triggerCharacter: '.' },
     );

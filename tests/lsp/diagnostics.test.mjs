@@ -54,16 +54,16 @@ test('a misspelt condition in a species file: located before save, cleared when 
 test('a script function the species names but its script lacks', async () => {
   await withServer(async (s) => {
     const doc = await s.open('behaviors/reef_fish.ron');
-    const typo = doc.text.replace('Script("should_leave")', 'Script("should_leav")');
-    const line = lineOf(typo, 'Script("should_leav")');
+    const typo = doc.text.replace('Script("crowded")', 'Script("crowde")');
+    const line = lineOf(typo, 'Script("crowde")');
     const from = s.published.length;
     await s.change(doc, typo);
     const got = await s.diagnostics(doc.uri, errorsAt(line), from, `an error on line ${line}`);
     const d = got.diagnostics.find((x) => x.range.start.line === line);
     // `shoal check` points at the string (reef_fish.ron:116:26); the name inside it will do too.
-    expectStringAt(d, typo.split('\n')[line], '"should_leav"');
-    assert.match(d.message, /should_leav\b/);
-    assert.match(d.message, /did you mean `should_leave`/);
+    expectStringAt(d, typo.split('\n')[line], '"crowde"');
+    assert.match(d.message, /crowde\b/);
+    assert.match(d.message, /did you mean `crowded`/);
   });
 });
 
@@ -72,12 +72,12 @@ test('a function renamed in an unsaved script is reported where the species name
     const ron = await s.open('behaviors/reef_fish.ron');
     const rhai = await s.open('behaviors/reef_fish.rhai');
     await s.diagnostics(ron.uri, clean, 0, 'the shipped reef_fish.ron (none)');
-    const line = lineOf(ron.text, 'Script("should_leave")');
+    const line = lineOf(ron.text, 'Script("crowded")');
     const original = rhai.text;
     const from = s.published.length;
-    await s.change(rhai, original.replace('fn should_leave()', 'fn should_go()'));
+    await s.change(rhai, original.replace('fn crowded()', 'fn should_go()'));
     const got = await s.diagnostics(ron.uri, errorsAt(line), from, `an error on reef_fish.ron line ${line}`);
-    assert.match(got.diagnostics.find((x) => x.range.start.line === line).message, /should_leave/);
+    assert.match(got.diagnostics.find((x) => x.range.start.line === line).message, /crowded/);
     const back = s.published.length;
     await s.change(rhai, original);
     await s.diagnostics(ron.uri, clean, back, 'reef_fish.ron once the script is back (none)');

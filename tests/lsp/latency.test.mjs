@@ -25,9 +25,9 @@ test(`median and p95 response times over ${REPS} requests of each kind`, async (
       'completion (`steer: `)': () => s.request(CompletionRequest.type, steerAt),
       'completion (`this.`)': () => s.request(CompletionRequest.type, thisAt),
       'hover (primitive)': () => s.request(HoverRequest.type, at(ron, 'Wander(cruise', 2)),
-      'definition (RON → Rhai)': () => s.request(DefinitionRequest.type, at(ron, 'Script("should_leave")', 12)),
+      'definition (RON → Rhai)': () => s.request(DefinitionRequest.type, at(ron, 'Script("crowded")', 12)),
       references: () =>
-        s.request(ReferencesRequest.type, { ...at(rhai, 'fn should_leave', 5), context: { includeDeclaration: true } }),
+        s.request(ReferencesRequest.type, { ...at(rhai, 'fn crowded', 5), context: { includeDeclaration: true } }),
       'document symbols': () => s.request(DocumentSymbolRequest.type, { textDocument: { uri: ron.uri } }),
       rename: () => s.request(RenameRequest.type, { ...at(ron, 'name: "wander"', 8), newName: 'roam' }),
     };

@@ -51,8 +51,8 @@ function expectAt(s, loc, rel, lineText, word) {
 test('from a RON script slot to the Rhai function', async () => {
   await withServer(async (s) => {
     expectCapability(s, 'definitionProvider');
-    const loc = await definitionAt(s, 'behaviors/reef_fish.ron', 'Script("should_leave")', 12);
-    expectAt(s, loc, 'behaviors/reef_fish.rhai', 'fn should_leave()', 'should_leave');
+    const loc = await definitionAt(s, 'behaviors/reef_fish.ron', 'Script("crowded")', 12);
+    expectAt(s, loc, 'behaviors/reef_fish.rhai', 'fn crowded()', 'crowded');
   });
 });
 
@@ -92,14 +92,14 @@ test('references of a script function and of a behavior, across RON, Rhai and te
     const fnRefs = locations(
       await s.request(ReferencesRequest.type, {
         textDocument: { uri: rhai.uri },
-        position: positionOf(rhai.text, 'fn should_leave', { within: 4 }),
+        position: positionOf(rhai.text, 'fn crowded', { within: 4 }),
         context: { includeDeclaration: true },
       }),
     );
     const where = (refs) => refs.map((r) => `${path.relative(s.root, pathOf(r.uri))}:${r.range.start.line + 1}`).sort();
     assert.deepEqual(where(fnRefs), [
-      `behaviors/reef_fish.rhai:${lineOf(rhai.text, 'fn should_leave') + 1}`,
-      `behaviors/reef_fish.ron:${lineOf(textOf(s, 'behaviors/reef_fish.ron'), 'Script("should_leave")') + 1}`,
+      `behaviors/reef_fish.rhai:${lineOf(rhai.text, 'fn crowded') + 1}`,
+      `behaviors/reef_fish.ron:${lineOf(textOf(s, 'behaviors/reef_fish.ron'), 'Script("crowded")') + 1}`,
     ]);
 
     const ron = await s.open('behaviors/goby.ron');
@@ -138,7 +138,7 @@ test('the outline: behaviors of a species, functions of a script', async () => {
       assert.ok(ron.some((n) => n === b || n.includes(`"${b}"`)), `${b} in the outline: ${ron.join(', ')}`);
     }
     const rhai = await names('behaviors/reef_fish.rhai');
-    for (const f of ['should_leave', 'on_event']) {
+    for (const f of ['crowded', 'on_event']) {
       assert.ok(rhai.some((n) => n === f || n.startsWith(`${f}(`)), `${f} in the outline: ${rhai.join(', ')}`);
     }
   });

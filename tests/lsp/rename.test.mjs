@@ -75,13 +75,13 @@ test('a behavior renamed in its species renames it in the script and the tests',
 
 test('a script function renamed in its script is renamed where the species names it', async () => {
   await withServer(async (s) => {
-    const { before, after, changed } = await renameAt(s, 'behaviors/reef_fish.rhai', 'fn should_leave', 5, 'wants_to_leave');
+    const { before, after, changed } = await renameAt(s, 'behaviors/reef_fish.rhai', 'fn crowded', 5, 'wants_to_leave');
     const files = ['behaviors/reef_fish.rhai', 'behaviors/reef_fish.ron'];
     assert.deepEqual(changed, files);
     assert.deepEqual(differing(before, after), files);
     assert.match(after['behaviors/reef_fish.rhai'], /fn wants_to_leave\(\)/);
     assert.match(after['behaviors/reef_fish.ron'], /Script\("wants_to_leave"\)/);
-    assert.doesNotMatch(after['behaviors/reef_fish.ron'] + after['behaviors/reef_fish.rhai'], /\bshould_leave\b/);
+    assert.doesNotMatch(after['behaviors/reef_fish.ron'] + after['behaviors/reef_fish.rhai'], /\bcrowded\b/);
     const check = runShoal(s.root, ['check']);
     assert.equal(check.status, 0, `shoal check after the rename:\n${check.out}`);
   });

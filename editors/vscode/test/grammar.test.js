@@ -122,7 +122,7 @@ test('Rhai: a behavior script', async () => {
   const tokens = await tokenize('source.rhai', text);
   expectScope(tokens, ' Script of the reef fish: what the RON form cannot say.', 'comment.line.double-slash.rhai');
   expectScope(tokens, 'fn', 'storage.type.function.rhai');
-  expectScope(tokens, 'should_leave', 'entity.name.function.rhai');
+  expectScope(tokens, 'crowded', 'entity.name.function.rhai');
   expectScope(tokens, 'let', 'storage.type.rhai');
   expectScope(tokens, 'mated', 'variable.other.declaration.rhai');
   expectScope(tokens, 'this', 'variable.language.this.rhai');
