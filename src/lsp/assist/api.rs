@@ -98,7 +98,10 @@ fn raw(e: &Engine) -> Vec<Raw> {
 
 /// A Rust type path as scripts know it (`Agent`, `float`, `String`).
 fn display(e: &Engine, ty: &str) -> String {
-    let t = ty.trim().trim_start_matches("&mut ").trim_start_matches('&');
+    let t = ty
+        .trim()
+        .trim_start_matches("&mut ")
+        .trim_start_matches('&');
     let mapped = e.map_type_name(t);
     let short = mapped.rsplit("::").next().unwrap_or(mapped);
     match short {
@@ -122,10 +125,11 @@ fn build(e: &Engine, raws: &[Raw], receivers: &[&str]) -> Vec<ApiFn> {
     let mut out: Vec<ApiFn> = Vec::new();
     let mut setters = Vec::new();
     for (name, params, ret) in raws {
-        let types: Vec<String> = params
+        let raw_types: Vec<&str> = params
             .iter()
-            .map(|p| display(e, p.split_once(": ").map_or(p.as_str(), |x| x.1)))
+            .map(|p| p.split_once(": ").map_or(p.as_str(), |x| x.1))
             .collect();
+        let types: Vec<String> = raw_types.iter().map(|t| display(e, t)).collect();
         if let Some(prop) = name.strip_prefix("set$") {
             // Read-only properties register a setter that refuses a change (see
             // `script::view::read_only`): fallible, unlike a real one.
@@ -138,11 +142,16 @@ fn build(e: &Engine, raws: &[Raw], receivers: &[&str]) -> Vec<ApiFn> {
             Some(p) => (p, true),
             None => (name.as_str(), false),
         };
-        if !is_ident(name) {
-            continue; // operators and indexers
+        if !is_ident(name) || name == "to_string" || name == "to_debug" {
+            continue; // operators, indexers and what `print` uses
         }
+        // Methods take their receiver by reference; a function taking an agent by value
+        // (`assert_behavior(a, …)`) is called as a function.
+        let by_ref = raw_types.first().is_some_and(|t| t.starts_with("&mut"));
         let (receiver, rest) = match types.first() {
-            Some(t) if receivers.contains(&t.as_str()) => (t.clone(), types[1..].to_vec()),
+            Some(t) if by_ref && receivers.contains(&t.as_str()) => {
+                (t.clone(), types[1..].to_vec())
+            }
             _ => (String::new(), types.clone()),
         };
         let f = ApiFn {
@@ -158,7 +167,10 @@ fn build(e: &Engine, raws: &[Raw], receivers: &[&str]) -> Vec<ApiFn> {
         }
     }
     for f in &mut out {
-        f.settable = f.property && setters.iter().any(|(n, r)| *n == f.name && *r == f.receiver);
+        f.settable = f.property
+            && setters
+                .iter()
+                .any(|(n, r)| *n == f.name && *r == f.receiver);
     }
     out.sort_by(|a, b| (&a.receiver, &a.name).cmp(&(&b.receiver, &b.name)));
     out
@@ -202,7 +214,9 @@ pub fn functions(api: Api) -> &'static [ApiFn] {
 
 /// Members of `receiver` in `api` (properties and methods).
 pub fn members(api: Api, receiver: &str) -> impl Iterator<Item = &'static ApiFn> + '_ {
-    functions(api).iter().filter(move |f| f.receiver == receiver)
+    functions(api)
+        .iter()
+        .filter(move |f| f.receiver == receiver)
 }
 
 /// Rhai's definitions file (`.d.rhai`) of `api`: the script API, or everything a test script

@@ -57,7 +57,9 @@ fn type_schema(t: &TypeDef, todo: &mut Vec<String>) -> Value {
                 .collect();
             json!({ "oneOf": one })
         }
-        Form::Either(alts) => json!({ "anyOf": alts.iter().map(|a| ty(a, todo)).collect::<Vec<_>>() }),
+        Form::Either(alts) => {
+            json!({ "anyOf": alts.iter().map(|a| ty(a, todo)).collect::<Vec<_>>() })
+        }
     };
     if let Some(o) = s.as_object_mut() {
         o.insert("description".into(), json!(t.doc));

@@ -45,9 +45,9 @@ pub fn entry(doc: &str, word: &str, section: Option<&str>) -> Option<String> {
 /// The section under the heading `name` (its text up to the first code block or 30 lines).
 pub fn section(doc: &str, name: &str) -> Option<String> {
     let lines: Vec<&str> = doc.lines().collect();
-    let at = lines.iter().position(|l| {
-        l.starts_with('#') && same(l.trim_start_matches('#').trim(), name)
-    })?;
+    let at = lines
+        .iter()
+        .position(|l| l.starts_with('#') && same(l.trim_start_matches('#').trim(), name))?;
     let mut out = vec![lines[at]];
     for l in lines.iter().skip(at + 1).take(30) {
         if l.starts_with('#') || l.starts_with("```") {
@@ -59,7 +59,8 @@ pub fn section(doc: &str, name: &str) -> Option<String> {
 }
 
 fn same(a: &str, b: &str) -> bool {
-    a.trim_matches('`').eq_ignore_ascii_case(b.trim_matches('`'))
+    a.trim_matches('`')
+        .eq_ignore_ascii_case(b.trim_matches('`'))
 }
 
 struct Found {

@@ -101,7 +101,7 @@ pub fn own_functions(text: &str) -> Vec<(&str, &str)> {
 fn string_call(text: &str, offset: usize) -> Option<&str> {
     let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
     let line = &text[line_start..offset];
-    if line.matches('"').count() % 2 == 0 {
+    if line.matches('"').count().is_multiple_of(2) {
         return None;
     }
     let quote = line.rfind('"')?;

@@ -22,6 +22,8 @@ enum Slot {
     List(&'static str),
     /// A map with values of this type.
     Map(&'static str),
+    /// `Some(…)` around a value of this type (a struct's fields may be written directly).
+    Some(&'static str),
     /// Nothing the table knows (a vector, a broken spot).
     Unknown,
 }
@@ -50,6 +52,8 @@ fn open(ty: &'static str, f: &Frame) -> Slot {
     match f.open {
         b'[' => schema::element(t).map_or(Slot::Unknown, Slot::List),
         b'{' => schema::map_value(t).map_or(Slot::Unknown, Slot::Map),
+        // `Some(…)` around an optional value: the value itself.
+        _ if f.name == "Some" => Slot::Some(t),
         _ => {
             if let Some(fields) = schema::fields(t) {
                 return Slot::Fields {
@@ -90,7 +94,25 @@ fn expected(slot: &Slot, f: &Frame) -> Option<&'static str> {
         Slot::Tuple(a) => a.get(f.commas).copied(),
         Slot::List(t) => Some(t),
         Slot::Map(t) => f.key.map(|_| *t),
+        Slot::Some(t) => match (f.key, schema::fields(t)) {
+            (Some(k), Some(fields)) => fields.iter().find(|x| x.name == k).map(|x| x.ty),
+            (None, Some(_)) => None,
+            _ => Some(t),
+        },
         Slot::Unknown => None,
+    }
+}
+
+/// The fields written in a slot, with their owner type and variant.
+fn fields_of(slot: &Slot) -> Option<(&'static str, &'static [Field], Option<&'static str>)> {
+    match slot {
+        Slot::Fields {
+            owner,
+            fields,
+            variant,
+        } => Some((owner, fields, *variant)),
+        Slot::Some(t) => schema::fields(t).map(|f| (*t, f, None)),
+        _ => None,
     }
 }
 
@@ -101,6 +123,12 @@ fn slots(kind: FileKind, cur: &Cursor) -> Vec<Slot> {
     let mut out: Vec<Slot> = Vec::new();
     let mut ty = root(kind);
     for f in &cur.frames {
+        if ty.is_none() && f.name.is_empty() {
+            // `Some((field: …))`: the struct in parentheses inside `Some(`.
+            if let Some(Slot::Some(t)) = out.last() {
+                ty = Some(t);
+            }
+        }
         let mut slot = ty.map_or(Slot::Unknown, |t| open(t, f));
         if matches!(slot, Slot::Unknown) && !f.name.is_empty() {
             slot = out
@@ -140,18 +168,11 @@ pub fn complete(kind: FileKind, text: &str, offset: usize, names: &ProjectNames)
     if cur.in_string {
         return expected(slot, f).map_or_else(Vec::new, |t| name_items(t, names, false));
     }
-    match (slot, expected(slot, f)) {
-        (
-            Slot::Fields {
-                owner,
-                fields,
-                variant,
-            },
-            None,
-        ) => fields
+    match (fields_of(slot), expected(slot, f)) {
+        (Some((owner, fields, variant)), None) => fields
             .iter()
             .filter(|x| !f.keys.contains(&x.name) || x.name == cur.prefix)
-            .map(|x| key_item(doc, owner, *variant, x))
+            .map(|x| key_item(doc, owner, variant, x))
             .collect(),
         (_, Some(t)) => values(doc, t, names),
         _ => Vec::new(),
@@ -175,7 +196,9 @@ fn key_item(doc: &str, owner: &str, variant: Option<&str>, f: &Field) -> Item {
 
 /// A field's reference entry (preferring its owner's section), else its doc line.
 fn field_doc(doc: &str, owner: &str, variant: Option<&str>, f: &Field) -> String {
-    let section = variant.or_else(|| owner.strip_suffix("Def")).unwrap_or(owner);
+    let section = variant
+        .or_else(|| owner.strip_suffix("Def"))
+        .unwrap_or(owner);
     let entry = variant
         .and_then(|v| reference::entry(doc, v, None))
         .filter(|e| reference::names(e, f.name))
@@ -259,17 +282,10 @@ pub fn hover(kind: FileKind, text: &str, offset: usize) -> Option<Hover> {
         .first()
         .is_some_and(|t| t.0 == cursor::Tok::Colon);
     let markdown = if is_key {
-        let Slot::Fields {
-            owner,
-            fields,
-            variant,
-        } = slots.last()?
-        else {
-            return None;
-        };
+        let (owner, fields, variant) = fields_of(slots.last()?)?;
         let field = fields.iter().find(|x| x.name == word)?;
         let head = format!("`{}: {}`", field.name, field.ty);
-        let mut md = format!("{head}\n\n{}", field_doc(doc, owner, *variant, field));
+        let mut md = format!("{head}\n\n{}", field_doc(doc, owner, variant, field));
         if let Some(s) = seeds::describe(&seed_key(&cur, &slots, word)) {
             md.push_str("\n\n");
             md.push_str(&s);

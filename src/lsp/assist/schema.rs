@@ -89,17 +89,7 @@ pub const NAME_TYPES: [&str; 8] = [
 
 /// Number and other plain types the formats use.
 pub const PLAIN_TYPES: [&str; 11] = [
-    "f32",
-    "f64",
-    "u8",
-    "u16",
-    "u32",
-    "u64",
-    "usize",
-    "i64",
-    "bool",
-    "String",
-    "Vec3",
+    "f32", "f64", "u8", "u16", "u32", "u64", "usize", "i64", "bool", "String", "Vec3",
 ];
 
 /// Every type of both formats.
@@ -239,7 +229,11 @@ fn template_at(v: &'static Variant, depth: usize) -> String {
         Args::Unit => v.name.to_string(),
         Args::Tuple(a) => {
             let args: Vec<String> = a.iter().map(|t| sample_at(t, depth + 1)).collect();
-            format!("{}({})", v.name, args.join(", "))
+            match args.as_slice() {
+                // One tuple (a vector) is written unwrapped: `Point(0.0, 0.0, 0.0)`.
+                [one] if one.starts_with('(') => format!("{}{one}", v.name),
+                _ => format!("{}({})", v.name, args.join(", ")),
+            }
         }
         Args::Named(_) => format!("{}()", v.name),
     }
@@ -375,8 +369,7 @@ pub fn default_of(ty: &str) -> Option<serde_json::Value> {
     use crate::scenario::{DrivesOverride, FoodDef, RecordDef};
     use crate::species::{
         AttributesDef, BodyDef, ChaseDef, CruiseDef, DisperseDef, DrivesDef, EscapeDef,
-        GroupRuleDef, HoldDef, LookAheadDef, LookDef, PursueDef, RelationsDef, SeekDef,
-        VicsekDef,
+        GroupRuleDef, HoldDef, LookAheadDef, LookDef, PursueDef, RelationsDef, SeekDef, VicsekDef,
     };
     use crate::terrain::Mobility;
     macro_rules! defaults {
@@ -457,7 +450,10 @@ fn json_as_ron(v: &serde_json::Value) -> String {
             if k == "Some" {
                 json_as_ron(v)
             } else {
-                format!("{k}({})", json_as_ron(v).trim_matches(|c| c == '(' || c == ')'))
+                format!(
+                    "{k}({})",
+                    json_as_ron(v).trim_matches(|c| c == '(' || c == ')')
+                )
             }
         }
         J::Object(m) => {

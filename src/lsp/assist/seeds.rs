@@ -10,10 +10,12 @@ pub fn describe(key: &str) -> Option<String> {
     let c = seed_constants().into_iter().find(|c| c.key == key)?;
     let paper = c
         .paper
-        .map_or("— (named without a number)".to_string(), |p| p.to_string());
+        .map_or("— (named without a number)".to_string(), number);
     let mut md = format!(
         "**Seed constant** `{}` (seed {})\n\ndefault {} · paper {paper}",
-        c.key, c.seed, c.default
+        c.key,
+        c.seed,
+        number(c.default)
     );
     if let Some(row) = reference::entry(reference::SPECIES, c.key, Some("Seed constants"))
         .filter(|e| e.contains(c.key))
@@ -22,4 +24,10 @@ pub fn describe(key: &str) -> Option<String> {
         md.push_str(&row);
     }
     Some(md)
+}
+
+/// A number as the reference writes it: at most four decimals.
+fn number(x: f32) -> String {
+    let s = format!("{x:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
 }

@@ -38,29 +38,57 @@ fn names() -> ProjectNames {
     }
 }
 
-const SPECIES_HEAD: &str = "Species(\n    name: \"x\",\n    initial: \"wander\",\n    behaviors: [\n";
+const SPECIES_HEAD: &str =
+    "Species(\n    name: \"x\",\n    initial: \"wander\",\n    behaviors: [\n";
 
 #[test]
 fn completion_at_steer_lists_the_primitives() {
     let doc = format!("{SPECIES_HEAD}        Behavior(name: \"wander\", priority: 3, steer: |\n");
     let items = complete_at(FileKind::Species, &doc);
     let l = labels(&items);
-    for p in ["Chase", "Escape", "Wander", "AvoidStatic", "Priority", "Blend", "Zones"] {
+    for p in [
+        "Chase",
+        "Escape",
+        "Wander",
+        "AvoidStatic",
+        "Priority",
+        "Blend",
+        "Zones",
+    ] {
         assert!(l.contains(&p), "{p} missing: {l:?}");
     }
     assert!(!l.contains(&"Sees"), "a condition offered as a primitive");
     let chase = items.iter().find(|i| i.label == "Chase").unwrap();
-    assert!(chase.detail.starts_with("Chase(target: Category, d0: f32"), "{}", chase.detail);
+    assert!(
+        chase.detail.starts_with("Chase(target: Category, d0: f32"),
+        "{}",
+        chase.detail
+    );
     assert!(chase.doc.contains("smell mode by sectors"), "{}", chase.doc);
     assert_eq!(chase.insert.as_deref(), Some("Chase()"));
     // A half-typed primitive, and parameters inside one.
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(steer: Cha|"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(steer: Cha|"),
+    );
     assert!(labels(&l).contains(&"Chase"));
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(steer: Chase(d0: 0.5, |"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(steer: Chase(d0: 0.5, |"),
+    );
     let l = labels(&l);
-    assert!(l.contains(&"target") && l.contains(&"vision") && !l.contains(&"d0"), "{l:?}");
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(steer: Chase(target: |"));
-    assert_eq!(labels(&l), ["Food", "Predator", "Kin", "Mate", "Obstacle", "Other"]);
+    assert!(
+        l.contains(&"target") && l.contains(&"vision") && !l.contains(&"d0"),
+        "{l:?}"
+    );
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(steer: Chase(target: |"),
+    );
+    assert_eq!(
+        labels(&l),
+        ["Food", "Predator", "Kin", "Mate", "Obstacle", "Other"]
+    );
     // Inside a combination.
     let l = complete_at(
         FileKind::Species,
@@ -76,33 +104,66 @@ fn completion_at_steer_lists_the_primitives() {
 
 #[test]
 fn completion_in_conditions_lists_conditions_and_their_arguments() {
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: |"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: |"),
+    );
     let l = labels(&l);
     for c in ["Sees", "Within", "Latch", "All", "Script", "EscapeDone"] {
         assert!(l.contains(&c), "{c} missing: {l:?}");
     }
     assert!(!l.contains(&"Chase"));
     // done:, nested lists and arguments.
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(done: Any([Sees(Food), |"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(done: Any([Sees(Food), |"),
+    );
     assert!(labels(&l).contains(&"TimeIn"));
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: Above(|"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: Above(|"),
+    );
     assert!(labels(&l).contains(&"Drive"), "{:?}", labels(&l));
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: Above(Drive(|"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: Above(Drive(|"),
+    );
     assert_eq!(labels(&l), ["Hunger", "Libido", "Fear", "Fatigue", "State"]);
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: Latch(on: Sees(Food), |"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: Latch(on: Sees(Food), |"),
+    );
     assert_eq!(labels(&l), ["off"]);
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: InSector(Predator, [|"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: InSector(Predator, [|"),
+    );
     assert!(labels(&l).contains(&"LeftRear"));
     // Script slots offer the script's functions, quoted or inside the quotes.
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: Script(|"));
-    assert_eq!(l.iter().map(|i| i.insert.as_deref()).collect::<Vec<_>>(), [Some("\"tired\"")]);
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(when: Script(\"ti|"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: Script(|"),
+    );
+    assert_eq!(
+        l.iter().map(|i| i.insert.as_deref()).collect::<Vec<_>>(),
+        [Some("\"tired\"")]
+    );
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(when: Script(\"ti|"),
+    );
     assert_eq!(labels(&l), ["tired"]);
     assert_eq!(l[0].insert, None);
     // Names of behaviors, and messages.
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(on_success: |"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(on_success: |"),
+    );
     assert_eq!(labels(&l), ["wander", "escape"]);
-    let l = complete_at(FileKind::Species, &format!("{SPECIES_HEAD}Behavior(on_enter: [Send(|"));
+    let l = complete_at(
+        FileKind::Species,
+        &format!("{SPECIES_HEAD}Behavior(on_enter: [Send(|"),
+    );
     assert_eq!(labels(&l), ["Danger", "Obstacle", "Mate"]);
 }
 
@@ -123,10 +184,16 @@ fn completion_of_keys_offers_those_not_yet_written() {
     let items = complete_at(FileKind::Species, "Species(\n    name: \"x\",\n    |");
     let l = labels(&items);
     assert!(l.contains(&"senses") && l.contains(&"behaviors") && !l.contains(&"name"));
-    let d = items.iter().find(|i| i.label == "decision_interval").unwrap();
+    let d = items
+        .iter()
+        .find(|i| i.label == "decision_interval")
+        .unwrap();
     assert_eq!(d.detail, "decision_interval: u32");
     let items = complete_at(FileKind::Species, "Species(\n    body: (limits: (|");
-    let ms = items.iter().find(|i| i.label == "max_speed").expect("max_speed");
+    let ms = items
+        .iter()
+        .find(|i| i.label == "max_speed")
+        .expect("max_speed");
     assert_eq!(ms.detail, "max_speed: f32 = 2.0");
     let items = complete_at(FileKind::Species, "Species(\n    body: (locomotion: |");
     assert_eq!(labels(&items), ["Kinematic", "RigidBody"]);
@@ -140,12 +207,21 @@ fn completion_in_scenarios() {
     let l = labels(&l);
     assert!(l.contains(&"groups") && l.contains(&"expect") && !l.contains(&"duration"));
     let l = complete_at(FileKind::Scenario, "Scenario(\n    species: [|");
-    assert_eq!(l.iter().map(|i| i.insert.as_deref()).collect::<Vec<_>>(), [Some("\"sardine\""), Some("\"shark\"")]);
-    let l = complete_at(FileKind::Scenario, "Scenario(\n    obstacles: [Sphere(center: (0.0, 1.0, 2.0), radius: 1.0), |");
+    assert_eq!(
+        l.iter().map(|i| i.insert.as_deref()).collect::<Vec<_>>(),
+        [Some("\"sardine\""), Some("\"shark\"")]
+    );
+    let l = complete_at(
+        FileKind::Scenario,
+        "Scenario(\n    obstacles: [Sphere(center: (0.0, 1.0, 2.0), radius: 1.0), |",
+    );
     assert_eq!(labels(&l), ["Sphere", "Box", "Cylinder"]);
     let l = complete_at(FileKind::Scenario, "Scenario(\n    expect: [|");
     assert!(labels(&l).contains(&"MinCatches"));
-    let l = complete_at(FileKind::Scenario, "Scenario(\n    events: [(at: 3.0, action: |");
+    let l = complete_at(
+        FileKind::Scenario,
+        "Scenario(\n    events: [(at: 3.0, action: |",
+    );
     assert!(labels(&l).contains(&"DropFood"));
     let l = complete_at(FileKind::Scenario, "Scenario(\n    groups: [(species: \"|");
     assert_eq!(labels(&l), ["sardine", "shark"]);
@@ -162,7 +238,11 @@ fn broken_documents_still_complete() {
     // Nothing sensible: nothing offered, no panic.
     assert!(complete_at(FileKind::Species, "|").is_empty());
     assert!(complete_at(FileKind::Species, ")))]]|").is_empty());
-    assert!(complete_at(FileKind::Species, "Species(behaviors: [Behavior(steer: Chase(target: Foo(bar: |").is_empty());
+    assert!(complete_at(
+        FileKind::Species,
+        "Species(behaviors: [Behavior(steer: Chase(target: Foo(bar: |"
+    )
+    .is_empty());
     let text = "Species(name: \"é\", |";
     for i in 0..=text.len() {
         let _ = complete(FileKind::Species, text, i, &names());
@@ -178,7 +258,17 @@ fn completion_after_this_lists_the_api() {
     let i = doc.find("this.\n").unwrap() + 5;
     let items = complete(FileKind::Script, &doc, i, &names());
     let l = labels(&items);
-    for f in ["pos", "kin", "seek", "arrive", "recipe", "send", "has", "hunger", "plan_path"] {
+    for f in [
+        "pos",
+        "kin",
+        "seek",
+        "arrive",
+        "recipe",
+        "send",
+        "has",
+        "hunger",
+        "plan_path",
+    ] {
         assert!(l.contains(&f), "{f} missing: {l:?}");
     }
     assert!(!l.contains(&"vec3") && !l.contains(&"length"), "{l:?}");
@@ -186,17 +276,29 @@ fn completion_after_this_lists_the_api() {
     assert_eq!(seek.detail, "Agent.seek(Vec3) -> Steer");
     assert!(seek.doc.contains("steering toward"), "{}", seek.doc);
     let send = items.iter().find(|i| i.label == "send").unwrap();
-    assert!(send.detail.lines().count() == 2, "both overloads: {}", send.detail);
+    assert!(
+        send.detail.lines().count() == 2,
+        "both overloads: {}",
+        send.detail
+    );
     let hunger = items.iter().find(|i| i.label == "hunger").unwrap();
     assert!(hunger.detail.ends_with("(settable)"), "{}", hunger.detail);
     let pos = items.iter().find(|i| i.label == "pos").unwrap();
     assert_eq!(pos.detail, "Agent.pos: Vec3");
     // A category's percepts, a half word, and global functions.
-    let l = complete(FileKind::Script, &SCRIPT.replace('|', "this.kin.nea"), SCRIPT.find('|').unwrap() + 12, &names());
+    let l = complete(
+        FileKind::Script,
+        &SCRIPT.replace('|', "this.kin.nea"),
+        SCRIPT.find('|').unwrap() + 12,
+        &names(),
+    );
     assert!(labels(&l).contains(&"nearest_pos") && !labels(&l).contains(&"seek"));
     let items = complete_at(FileKind::Script, SCRIPT);
     let l = labels(&items);
-    assert!(l.contains(&"vec3") && l.contains(&"tired") && l.contains(&"station"), "{l:?}");
+    assert!(
+        l.contains(&"vec3") && l.contains(&"tired") && l.contains(&"station"),
+        "{l:?}"
+    );
     assert!(!l.contains(&"assert"), "test API in a species script");
 }
 
@@ -205,7 +307,14 @@ fn completion_in_test_files() {
     let t = "fn test_escape() {\n    let w = world();\n    let a = w.add_agent(\"sardine\", vec3(0.0, 1.0, 0.0));\n    |\n}\n";
     let items = complete_at(FileKind::Test, t);
     let l = labels(&items);
-    for f in ["world", "assert", "assert_behavior", "fail", "vec3", "test_escape"] {
+    for f in [
+        "world",
+        "assert",
+        "assert_behavior",
+        "fail",
+        "vec3",
+        "test_escape",
+    ] {
         assert!(l.contains(&f), "{f} missing: {l:?}");
     }
     let l = complete_at(FileKind::Test, &t.replace('|', "w.|"));
@@ -221,7 +330,8 @@ fn completion_in_test_files() {
 
 #[test]
 fn hover_shows_reference_entries() {
-    let doc = format!("{SPECIES_HEAD}Behavior(name: \"eat\", min_ti|me: 0.5, steer: Cha|se(d0: 0.5)),\n");
+    let doc =
+        format!("{SPECIES_HEAD}Behavior(name: \"eat\", min_ti|me: 0.5, steer: Cha|se(d0: 0.5)),\n");
     let (text, _) = at(&doc);
     let text = text.replacen('|', "", 1);
     let i = doc.find("min_ti").unwrap() + 2;
@@ -231,14 +341,30 @@ fn hover_shows_reference_entries() {
     assert_eq!(&text[h.start..h.end], "min_time");
     let i = text.find("Chase").unwrap() + 2;
     let h = hover(FileKind::Species, &text, i).expect("hover on a primitive");
-    assert!(h.markdown.contains("| `Chase(target: Food"), "{}", h.markdown);
-    assert!(h.markdown.starts_with("`Chase(target: Category"), "{}", h.markdown);
+    assert!(
+        h.markdown.contains("| `Chase(target: Food"),
+        "{}",
+        h.markdown
+    );
+    assert!(
+        h.markdown.starts_with("`Chase(target: Category"),
+        "{}",
+        h.markdown
+    );
     // A condition, and a scenario key.
-    let h = hover_at(FileKind::Species, "Species(behaviors: [Behavior(when: Esc|apeDone)])").unwrap();
+    let h = hover_at(
+        FileKind::Species,
+        "Species(behaviors: [Behavior(when: Esc|apeDone)])",
+    )
+    .unwrap();
     assert!(h.markdown.contains("seed 000 §4.4"), "{}", h.markdown);
     let h = hover_at(FileKind::Scenario, "Scenario(\n    respawn|: 1.0)");
     assert!(h.is_none());
-    let h = hover_at(FileKind::Scenario, "Scenario(\n    food: (respawn_per|_second: 1.0))").unwrap();
+    let h = hover_at(
+        FileKind::Scenario,
+        "Scenario(\n    food: (respawn_per|_second: 1.0))",
+    )
+    .unwrap();
     assert!(h.markdown.contains("respawn_per_second"), "{}", h.markdown);
     // Nothing to say about a number.
     assert!(hover_at(FileKind::Species, "Species(decision_interval: 4|)").is_none());
@@ -246,20 +372,49 @@ fn hover_shows_reference_entries() {
 
 #[test]
 fn hover_on_a_seed_constant_gives_its_paper_default() {
-    let h = hover_at(FileKind::Species, "Species(\n    senses: (vision_half|_angle: 2.0),\n").unwrap();
-    assert!(h.markdown.contains("**Seed constant** `senses.vision_half_angle` (seed 000 §1)"), "{}", h.markdown);
-    assert!(h.markdown.contains("paper 2.618"), "{}", h.markdown);
-    let h = hover_at(FileKind::Species, "Species(behaviors: [Behavior(steer: Chase(max_tu|rn: 0.5))])").unwrap();
-    assert!(h.markdown.contains("`Chase(max_turn)` (seed 000 §4.3)"), "{}", h.markdown);
+    let h = hover_at(
+        FileKind::Species,
+        "Species(\n    senses: (vision_half|_angle: 2.0),\n",
+    )
+    .unwrap();
+    assert!(
+        h.markdown
+            .contains("**Seed constant** `senses.vision_half_angle` (seed 000 §1)"),
+        "{}",
+        h.markdown
+    );
+    assert!(
+        h.markdown.contains("default 2.618 · paper 2.618\n"),
+        "{}",
+        h.markdown
+    );
+    let h = hover_at(
+        FileKind::Species,
+        "Species(behaviors: [Behavior(steer: Chase(max_tu|rn: 0.5))])",
+    )
+    .unwrap();
+    assert!(
+        h.markdown.contains("`Chase(max_turn)` (seed 000 §4.3)"),
+        "{}",
+        h.markdown
+    );
     let h = hover_at(
         FileKind::Scenario,
         "Scenario(squads: [(species: \"a\", planning: (must_keep: (k|1: 0.1)))])",
     )
     .unwrap();
-    assert!(h.markdown.contains("`squads[].planning.must_keep.k1` (seed 004)"), "{}", h.markdown);
+    assert!(
+        h.markdown
+            .contains("`squads[].planning.must_keep.k1` (seed 004)"),
+        "{}",
+        h.markdown
+    );
     // A key of the same name elsewhere is no seed constant.
-    let h = hover_at(FileKind::Species, "Species(behaviors: [Behavior(steer: Escape(max_tu|rn: 0.5))])");
-    assert!(h.map_or(true, |h| !h.markdown.contains("Seed constant")));
+    let h = hover_at(
+        FileKind::Species,
+        "Species(behaviors: [Behavior(steer: Escape(max_tu|rn: 0.5))])",
+    );
+    assert!(h.is_none_or(|h| !h.markdown.contains("Seed constant")));
 }
 
 #[test]
@@ -268,21 +423,37 @@ fn hover_on_api_functions_and_own_functions() {
     let (text, i) = at(&doc);
     let text = text.replacen('|', "", 1);
     let h = hover(FileKind::Script, &text, i).expect("hover on seek");
-    assert!(h.markdown.contains("Agent.seek(Vec3) -> Steer"), "{}", h.markdown);
+    assert!(
+        h.markdown.contains("Agent.seek(Vec3) -> Steer"),
+        "{}",
+        h.markdown
+    );
     assert!(h.markdown.contains("steering toward"), "{}", h.markdown);
     let j = text.find("nearest_p").unwrap() + 3;
     let h = hover(FileKind::Script, &text, j).expect("hover on a Percepts property");
-    assert!(h.markdown.contains("Percepts.nearest_pos: Vec3"), "{}", h.markdown);
+    assert!(
+        h.markdown.contains("Percepts.nearest_pos: Vec3"),
+        "{}",
+        h.markdown
+    );
     let k = text.find("tired").unwrap() + 1;
     let h = hover(FileKind::Script, &text, k).expect("hover on an own function");
-    assert!(h.markdown.contains("fn tired()") && h.markdown.contains("How tired the fish is."), "{}", h.markdown);
+    assert!(
+        h.markdown.contains("fn tired()") && h.markdown.contains("How tired the fish is."),
+        "{}",
+        h.markdown
+    );
     let h = hover_at(FileKind::Test, "fn t() { assert_beh|avior(a, \"x\"); }").unwrap();
-    assert!(h.markdown.contains("the agent is in another behavior"), "{}", h.markdown);
+    assert!(
+        h.markdown.contains("the agent is in another behavior"),
+        "{}",
+        h.markdown
+    );
 }
 
 /// Problems of the table's type `name` against the real type `T`: the field or variant lists
 /// differ, or a variant's template does not parse.
-fn check_type<T: DeserializeOwned>(name: &str) -> Vec<String> {
+fn check_type<T: DeserializeOwned + serde::Serialize>(name: &str) -> Vec<String> {
     let mut out = Vec::new();
     let Some(t) = schema::get(name) else {
         return vec![format!("{name} is not in the table")];
@@ -303,13 +474,36 @@ fn check_type<T: DeserializeOwned>(name: &str) -> Vec<String> {
     let mut real: Vec<&str> = match ron_options().from_str::<T>(probe).map_err(|e| e.code) {
         Err(::ron::Error::NoSuchStructField { expected, .. })
         | Err(::ron::Error::NoSuchEnumVariant { expected, .. }) => expected.to_vec(),
+        Err(::ron::Error::MissingStructField { .. }) => {
+            // Unknown keys are ignored by this type: write every listed key and read back
+            // the keys the type keeps.
+            let all: Vec<String> = match &t.form {
+                Form::Struct(f) => f
+                    .iter()
+                    .map(|f| format!("{}: {}", f.name, schema::sample(f.ty)))
+                    .collect(),
+                _ => Vec::new(),
+            };
+            let text = format!("({})", all.join(", "));
+            match ron_options().from_str::<T>(&text) {
+                Ok(v) => match serde_json::to_value(&v) {
+                    Ok(serde_json::Value::Object(m)) => {
+                        m.keys().map(|k| &*k.clone().leak()).collect()
+                    }
+                    other => return vec![format!("{name}: serialized as {other:?}")],
+                },
+                Err(e) => return vec![format!("{name}: `{text}` does not parse: {e}")],
+            }
+        }
         other => return vec![format!("{name}: {probe} gave {:?}", other.err())],
     };
     let mut listed_sorted = listed.clone();
     listed_sorted.sort_unstable();
     real.sort_unstable();
     if listed_sorted != real {
-        out.push(format!("{name}: the table has {listed_sorted:?}, the type {real:?}"));
+        out.push(format!(
+            "{name}: the table has {listed_sorted:?}, the type {real:?}"
+        ));
     }
     if let Form::Enum(vs) = &t.form {
         for v in vs {
@@ -322,7 +516,9 @@ fn check_type<T: DeserializeOwned>(name: &str) -> Vec<String> {
     if let Form::Struct(_) = &t.form {
         let s = schema::sample(name);
         if let Err(e) = ron_options().from_str::<T>(&s) {
-            out.push(format!("{name}: `{s}` (the required fields) does not parse: {e}"));
+            out.push(format!(
+                "{name}: `{s}` (the required fields) does not parse: {e}"
+            ));
         }
     }
     out
@@ -335,7 +531,9 @@ fn the_table_matches_the_serde_types() {
     use crate::formation::astar::{ClassFactors, PlanningParams};
     use crate::params::locomotion::{AnimParams, BodyLimits, Mode, RigidParams};
     use crate::params::steering::{AvoidParams, Prediction, VisionTurn, WanderParams, Zones};
-    use crate::perception::{Category, Extent, Level, Occluders, Sector, Sectors, SenseParams, Strength, Volume};
+    use crate::perception::{
+        Category, Extent, Level, Occluders, Sector, Sectors, SenseParams, Strength, Volume,
+    };
     use crate::scenario::def::*;
     use crate::species::def::*;
     use crate::terrain::Mobility;
@@ -349,20 +547,86 @@ fn the_table_matches_the_serde_types() {
         )*};
     }
     check!(
-        SpeciesDef, BodyDef, SenseParams, AvoidParams, AttributesDef, DrivesDef, RelationsDef,
-        BehaviorDef, Recipe, LookDef, EventDef, MemDecl, BodyLimits, Mode, AnimParams, Mobility,
-        Volume, Occluders, Extent, Strength, Sectors, SexDef, Draw, DriveParams, Cond, Contact,
-        Action, Category, Weighted, LookAheadDef, ChaseDef, EscapeDef, PursueDef, SeekDef,
-        GroupRuleDef, Zones, VicsekDef, DisperseDef, WanderParams, CruiseDef, HoldDef, ShapeDef,
-        FieldType, RigidParams, HungerModel, Value, Sector, Level, MessageRef, VisionTurn,
-        Prediction, Target, DriveKind, AttrKind, MessageKind, ScenarioDef, Aabb, ObstacleDef,
-        FoodDef, SpawnGroupDef, TimedEvent, RecordDef, Expectation, TerrainDef, SquadDef,
-        HeadingDef, DrivesOverride, EventAction, PlanningParams, SquadLeader, ClassFactors,
+        SpeciesDef,
+        BodyDef,
+        SenseParams,
+        AvoidParams,
+        AttributesDef,
+        DrivesDef,
+        RelationsDef,
+        BehaviorDef,
+        Recipe,
+        LookDef,
+        EventDef,
+        MemDecl,
+        BodyLimits,
+        Mode,
+        AnimParams,
+        Mobility,
+        Volume,
+        Occluders,
+        Extent,
+        Strength,
+        Sectors,
+        SexDef,
+        Draw,
+        DriveParams,
+        Cond,
+        Contact,
+        Action,
+        Category,
+        Weighted,
+        LookAheadDef,
+        ChaseDef,
+        EscapeDef,
+        PursueDef,
+        SeekDef,
+        GroupRuleDef,
+        Zones,
+        VicsekDef,
+        DisperseDef,
+        WanderParams,
+        CruiseDef,
+        HoldDef,
+        ShapeDef,
+        FieldType,
+        RigidParams,
+        HungerModel,
+        Value,
+        Sector,
+        Level,
+        MessageRef,
+        VisionTurn,
+        Prediction,
+        Target,
+        DriveKind,
+        AttrKind,
+        MessageKind,
+        ScenarioDef,
+        Aabb,
+        ObstacleDef,
+        FoodDef,
+        SpawnGroupDef,
+        TimedEvent,
+        RecordDef,
+        Expectation,
+        TerrainDef,
+        SquadDef,
+        HeadingDef,
+        DrivesOverride,
+        EventAction,
+        PlanningParams,
+        SquadLeader,
+        ClassFactors,
     );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     // Every type of the table is checked, and every type a field names is in the table.
     for t in schema::types() {
-        assert!(checked.contains(&t.name), "{} is not checked against its type", t.name);
+        assert!(
+            checked.contains(&t.name),
+            "{} is not checked against its type",
+            t.name
+        );
     }
     let mut named: Vec<&str> = Vec::new();
     for t in schema::types() {
@@ -382,7 +646,9 @@ fn the_table_matches_the_serde_types() {
     }
     for ty in named {
         let mut t = schema::bare(ty);
-        t = schema::element(t).or_else(|| schema::map_value(t)).map_or(t, schema::bare);
+        t = schema::element(t)
+            .or_else(|| schema::map_value(t))
+            .map_or(t, schema::bare);
         let known = schema::get(t).is_some()
             || PLAIN_TYPES.contains(&t)
             || NAME_TYPES.contains(&t)
@@ -416,10 +682,15 @@ fn every_registered_api_function_has_documentation() {
     // Rhai's own library is not part of the API.
     let script = api::functions(Api::Script);
     assert!(!script.iter().any(|f| f.name == "sin" || f.name == "len"));
-    assert!(script.iter().any(|f| f.name == "vec3" && f.receiver.is_empty()));
+    assert!(script
+        .iter()
+        .any(|f| f.name == "vec3" && f.receiver.is_empty()));
     let test = api::functions(Api::Test);
     assert!(test.iter().any(|f| f.name == "assert_behavior"));
-    assert!(!test.iter().any(|f| f.name == "seek"), "script API listed as test API");
+    assert!(
+        !test.iter().any(|f| f.name == "seek"),
+        "script API listed as test API"
+    );
 }
 
 #[test]
@@ -429,34 +700,59 @@ fn rhai_definitions_list_the_this_api() {
         assert!(d.contains(f), "{f} missing from the definitions:\n{d}");
     }
     let t = api::definitions(Api::Test);
-    assert!(t.contains("fn assert_behavior(") && t.contains("fn seek("), "{t}");
+    assert!(
+        t.contains("fn assert_behavior(") && t.contains("fn seek("),
+        "{t}"
+    );
 }
 
 /// A tiny JSON Schema checker: `$ref`, `type`, `const`, `properties`, `required`,
 /// `additionalProperties`, `items`, `prefixItems`, `oneOf`, `anyOf` (what the generated schemas
 /// use). JSON has no infinity: serde writes it as `null`, taken for a number.
-fn validate(v: &serde_json::Value, s: &serde_json::Value, root: &serde_json::Value, path: &str) -> Vec<String> {
+fn validate(
+    v: &serde_json::Value,
+    s: &serde_json::Value,
+    root: &serde_json::Value,
+    path: &str,
+) -> Vec<String> {
     use serde_json::Value as J;
     if let Some(r) = s.get("$ref").and_then(J::as_str) {
         let name = r.trim_start_matches("#/$defs/");
         return validate(v, &root["$defs"][name], root, path);
     }
     if let Some(c) = s.get("const") {
-        return if v == c { vec![] } else { vec![format!("{path}: {v} is not {c}")] };
+        return if v == c {
+            vec![]
+        } else {
+            vec![format!("{path}: {v} is not {c}")]
+        };
     }
     for (key, need_one) in [("oneOf", true), ("anyOf", false)] {
         if let Some(alts) = s.get(key).and_then(J::as_array) {
-            let ok = alts.iter().filter(|a| validate(v, a, root, path).is_empty()).count();
-            return if ok == 1 || (!need_one && ok > 0) { vec![] } else { vec![format!("{path}: {v} matches {ok} of {key}")] };
+            let ok = alts
+                .iter()
+                .filter(|a| validate(v, a, root, path).is_empty())
+                .count();
+            return if ok == 1 || (!need_one && ok > 0) {
+                vec![]
+            } else {
+                vec![format!("{path}: {v} matches {ok} of {key}")]
+            };
         }
     }
     let mut out = Vec::new();
     match (s.get("type").and_then(J::as_str), v) {
-        (Some("number"), J::Number(_) | J::Null) | (Some("boolean"), J::Bool(_)) | (Some("string"), J::String(_)) => {}
+        (Some("null"), J::Null)
+        | (Some("number"), J::Number(_) | J::Null)
+        | (Some("boolean"), J::Bool(_))
+        | (Some("string"), J::String(_)) => {}
         (Some("integer"), J::Number(n)) if n.is_i64() || n.is_u64() => {}
         (Some("array"), J::Array(a)) => {
             for (i, x) in a.iter().enumerate() {
-                let item = s.get("prefixItems").and_then(|p| p.get(i)).or(s.get("items"));
+                let item = s
+                    .get("prefixItems")
+                    .and_then(|p| p.get(i))
+                    .or(s.get("items"));
                 if let Some(item) = item {
                     out.extend(validate(x, item, root, &format!("{path}[{i}]")));
                 }
@@ -467,13 +763,20 @@ fn validate(v: &serde_json::Value, s: &serde_json::Value, root: &serde_json::Val
                 match s.get("properties").and_then(|p| p.get(k)) {
                     Some(p) => out.extend(validate(x, p, root, &format!("{path}.{k}"))),
                     None => match s.get("additionalProperties") {
-                        Some(J::Bool(false)) => out.push(format!("{path}: key `{k}` is not in the schema")),
+                        Some(J::Bool(false)) => {
+                            out.push(format!("{path}: key `{k}` is not in the schema"))
+                        }
                         Some(a) => out.extend(validate(x, a, root, &format!("{path}.{k}"))),
                         None => {}
                     },
                 }
             }
-            for r in s.get("required").and_then(J::as_array).into_iter().flatten() {
+            for r in s
+                .get("required")
+                .and_then(J::as_array)
+                .into_iter()
+                .flatten()
+            {
                 if !m.contains_key(r.as_str().unwrap_or("")) {
                     out.push(format!("{path}: required `{r}` missing"));
                 }
@@ -520,13 +823,24 @@ fn the_json_schemas_validate_the_shipped_files() {
     }
     assert!(n >= 10, "{n} files");
     // The checker can fail: an unknown key, a wrong variant.
-    let mut v = serde_json::to_value(ron_options().from_str::<crate::species::SpeciesDef>(&shipped("behaviors")[0].1).unwrap()).unwrap();
+    let mut v = serde_json::to_value(
+        ron_options()
+            .from_str::<crate::species::SpeciesDef>(&shipped("behaviors")[0].1)
+            .unwrap(),
+    )
+    .unwrap();
     v["bogus"] = serde_json::json!(1);
     v["body"]["locomotion"] = serde_json::json!("Hovering");
     let e = validate(&v, &species, &species, "");
-    assert!(e.iter().any(|e| e.contains("`bogus` is not in the schema")), "{e:?}");
+    assert!(
+        e.iter().any(|e| e.contains("`bogus` is not in the schema")),
+        "{e:?}"
+    );
     assert!(e.iter().any(|e| e.contains(".body.locomotion")), "{e:?}");
-    assert_eq!(species["$schema"], "https://json-schema.org/draft/2020-12/schema");
+    assert_eq!(
+        species["$schema"],
+        "https://json-schema.org/draft/2020-12/schema"
+    );
 }
 
 #[test]
@@ -536,7 +850,10 @@ fn every_key_of_the_shipped_files_completes_and_hovers_quickly() {
     // a busy machine).
     let mut slowest = std::time::Duration::ZERO;
     let mut calls = 0;
-    for (dir, kind) in [("behaviors", FileKind::Species), ("scenarios", FileKind::Scenario)] {
+    for (dir, kind) in [
+        ("behaviors", FileKind::Species),
+        ("scenarios", FileKind::Scenario),
+    ] {
         for (p, text) in shipped(dir) {
             let toks = cursor::tokens(&text);
             for w in toks.windows(2) {
@@ -551,14 +868,21 @@ fn every_key_of_the_shipped_files_completes_and_hovers_quickly() {
                 slowest = slowest.max(t0.elapsed() / 2);
                 calls += 2;
                 let line = text[..s].matches('\n').count() + 1;
-                assert!(labels(&items).contains(&key), "{}:{line}: `{key}` not offered", p.display());
+                assert!(
+                    labels(&items).contains(&key),
+                    "{}:{line}: `{key}` not offered",
+                    p.display()
+                );
                 assert!(h.is_some(), "{}:{line}: no hover on `{key}`", p.display());
             }
         }
     }
     eprintln!("{calls} calls on the shipped files, slowest {slowest:?}");
     assert!(calls > 200, "{calls}");
-    assert!(slowest < std::time::Duration::from_millis(50), "slowest call {slowest:?}");
+    assert!(
+        slowest < std::time::Duration::from_millis(50),
+        "slowest call {slowest:?}"
+    );
 }
 
 #[test]
@@ -567,7 +891,10 @@ fn rhai_completion_on_the_shipped_scripts_is_quick() {
     let _ = api::functions(Api::Script);
     let _ = api::functions(Api::Test);
     let mut slowest = std::time::Duration::ZERO;
-    for (dir, kind) in [(root.clone(), FileKind::Script), (root.join("tests"), FileKind::Test)] {
+    for (dir, kind) in [
+        (root.clone(), FileKind::Script),
+        (root.join("tests"), FileKind::Test),
+    ] {
         for e in std::fs::read_dir(dir).unwrap() {
             let p = e.unwrap().path();
             if p.extension().is_none_or(|x| x != "rhai") {
@@ -584,5 +911,8 @@ fn rhai_completion_on_the_shipped_scripts_is_quick() {
         }
     }
     eprintln!("slowest Rhai completion + hover {slowest:?}");
-    assert!(slowest < std::time::Duration::from_millis(50), "{slowest:?}");
+    assert!(
+        slowest < std::time::Duration::from_millis(50),
+        "{slowest:?}"
+    );
 }
