@@ -39,6 +39,8 @@ pub struct ApiFn {
     pub params: Vec<String>,
     /// What it returns.
     pub ret: String,
+    /// Its reference entry (cut once, when the API is first read).
+    pub doc: Option<String>,
 }
 
 impl ApiFn {
@@ -62,7 +64,7 @@ impl ApiFn {
     }
 
     /// Its entry in the reference of `api`.
-    pub fn doc(&self, api: Api) -> Option<String> {
+    fn entry(&self, api: Api) -> Option<String> {
         match api {
             Api::Script => {
                 let section = match self.receiver.as_str() {
@@ -161,6 +163,7 @@ fn build(e: &Engine, raws: &[Raw], receivers: &[&str]) -> Vec<ApiFn> {
             settable: false,
             params: rest,
             ret: display(e, ret),
+            doc: None,
         };
         if !out.contains(&f) {
             out.push(f);
@@ -198,7 +201,10 @@ pub fn functions(api: Api) -> &'static [ApiFn] {
     match api {
         Api::Script => SCRIPT.get_or_init(|| {
             let e = new_engine(&SandboxLimits::default());
-            build(&e, &raw(&e), &["Agent", "Percepts", "Vec3", "Steer"])
+            with_docs(
+                Api::Script,
+                build(&e, &raw(&e), &["Agent", "Percepts", "Vec3", "Steer"]),
+            )
         }),
         Api::Test => TEST.get_or_init(|| {
             let script = raw(&new_engine(&SandboxLimits::default()));
@@ -207,9 +213,16 @@ pub fn functions(api: Api) -> &'static [ApiFn] {
                 .into_iter()
                 .filter(|r| !script.contains(r))
                 .collect();
-            build(&e, &own, &["Agent", "World"])
+            with_docs(Api::Test, build(&e, &own, &["Agent", "World"]))
         }),
     }
+}
+
+fn with_docs(api: Api, mut fns: Vec<ApiFn>) -> Vec<ApiFn> {
+    for f in &mut fns {
+        f.doc = f.entry(api);
+    }
+    fns
 }
 
 /// Members of `receiver` in `api` (properties and methods).

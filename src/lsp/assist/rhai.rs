@@ -47,7 +47,7 @@ fn member_sources(kind: FileKind, recv: &str) -> Vec<(Api, &'static str)> {
     out
 }
 
-fn api_item(api: Api, f: &ApiFn) -> Item {
+fn api_item(f: &ApiFn) -> Item {
     let insert = if f.property {
         None
     } else if f.params.is_empty() {
@@ -63,7 +63,7 @@ fn api_item(api: Api, f: &ApiFn) -> Item {
             ItemKind::Function
         },
         detail: f.signature(),
-        doc: f.doc(api).unwrap_or_default(),
+        doc: f.doc.clone().unwrap_or_default(),
         insert,
     }
 }
@@ -71,13 +71,13 @@ fn api_item(api: Api, f: &ApiFn) -> Item {
 /// Items of `fns`, one per name (overloads' signatures joined).
 fn items<'a>(fns: impl Iterator<Item = (Api, &'a ApiFn)>) -> Vec<Item> {
     let mut out: Vec<Item> = Vec::new();
-    for (api, f) in fns {
+    for (_, f) in fns {
         match out.iter_mut().find(|i| i.label == f.name) {
             Some(i) if !i.detail.contains(&f.signature()) => {
                 i.detail = format!("{}\n{}", i.detail, f.signature());
             }
             Some(_) => {}
-            None => out.push(api_item(api, f)),
+            None => out.push(api_item(f)),
         }
     }
     out
@@ -207,12 +207,12 @@ pub fn hover(kind: FileKind, text: &str, offset: usize) -> Option<Hover> {
             .filter(|(_, f)| f.name == word && f.receiver.is_empty())
             .collect()
     };
-    let markdown = if let Some((api, first)) = found.first() {
+    let markdown = if let Some((_, first)) = found.first() {
         let sigs: Vec<String> = found.iter().map(|(_, f)| f.signature()).collect();
         let mut md = format!("```rhai\n{}\n```", sigs.join("\n"));
-        if let Some(doc) = first.doc(*api) {
+        if let Some(doc) = &first.doc {
             md.push_str("\n\n");
-            md.push_str(&doc);
+            md.push_str(doc);
         }
         md
     } else {
