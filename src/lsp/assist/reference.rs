@@ -1,9 +1,9 @@
 //! The designers' references, embedded, and the entry of one word cut out of them: the species
 //! reference (`behaviors/README.md`), the scenario reference (`docs/scenarios.md`), the squads
-//! reference (`docs/squads.md`) and the test reference (`behaviors/tests/README.md`). An entry is the table row that names the word in its
-//! first cell (with the table's header, so it renders as a table), else the bullet that starts
-//! with it, else the paragraph that names it in code.
-
+//! reference (`docs/squads.md`) and the test reference (`behaviors/tests/README.md`). An entry
+//! is the table row that names the word in its first cell (with the table's header, so it
+//! renders as a table), else the bullet that starts with it, else the paragraph that names it in
+//! code.
 /// The species reference.
 pub const SPECIES: &str = include_str!("../../../behaviors/README.md");
 /// The scenario reference.
