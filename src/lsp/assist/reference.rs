@@ -4,6 +4,7 @@
 //! is the table row that names the word in its first cell (with the table's header, so it
 //! renders as a table), else the bullet that starts with it, else the paragraph that names it in
 //! code.
+
 /// The species reference.
 pub const SPECIES: &str = include_str!("../../../behaviors/README.md");
 /// The scenario reference.
