@@ -40,6 +40,8 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     /// Serve the Language Server Protocol on stdio, for editors.
     Lsp,
+    /// Write Rhai definition files of the script and test APIs and JSON Schemas of the formats.
+    Defs(cli::defs::DefsArgs),
 }
 
 fn main() -> ExitCode {
@@ -72,6 +74,7 @@ fn main() -> ExitCode {
         Command::Test(a) => cli::test::test(a),
         Command::Bench(a) => cli::bench::bench(a),
         Command::Lsp => cli::lsp::lsp(),
+        Command::Defs(a) => cli::defs::defs(a),
     };
     match result {
         Ok(code) => code,

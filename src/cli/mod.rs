@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod check;
+pub mod defs;
 pub mod diff;
 pub mod health;
 pub mod lsp;

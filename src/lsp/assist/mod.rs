@@ -1,6 +1,23 @@
 //! What the editor is offered at a cursor: completion items and hover text for species, scenario,
 //! script and test files. Pure functions of a document's text and the project's names; the
 //! server ([`super::server`]) converts protocol positions to byte offsets before calling them.
+//!
+//! One file per concept: where a RON cursor stands (`cursor.rs`), the formats' vocabulary
+//! (`schema.rs` with `species.table` and `scenario.table`), completion and hover in RON
+//! (`ron.rs`), the designers' references and their entries (`reference.rs`), the Rhai APIs
+//! (`api.rs`) and completion and hover in Rhai (`rhai.rs`), seed constants (`seeds.rs`), and the
+//! JSON Schemas of the formats (`json_schema.rs`, written by `shoal defs`).
+
+pub mod api;
+pub mod cursor;
+pub mod json_schema;
+pub mod reference;
+pub mod rhai;
+pub mod ron;
+pub mod schema;
+pub mod seeds;
+#[cfg(test)]
+mod tests;
 
 use std::path::Path;
 
@@ -105,12 +122,18 @@ pub struct Hover {
 
 /// Completion items at byte `offset` of `text`, a document of kind `kind`.
 pub fn complete(kind: FileKind, text: &str, offset: usize, names: &ProjectNames) -> Vec<Item> {
-    let _ = (kind, text, offset, names);
-    Vec::new()
+    match kind {
+        FileKind::Species | FileKind::Scenario => ron::complete(kind, text, offset, names),
+        FileKind::Script | FileKind::Test => rhai::complete(kind, text, offset, names),
+        FileKind::Other => Vec::new(),
+    }
 }
 
 /// Hover text for the word at byte `offset` of `text`, if shoal documents it.
 pub fn hover(kind: FileKind, text: &str, offset: usize) -> Option<Hover> {
-    let _ = (kind, text, offset);
-    None
+    match kind {
+        FileKind::Species | FileKind::Scenario => ron::hover(kind, text, offset),
+        FileKind::Script | FileKind::Test => rhai::hover(kind, text, offset),
+        FileKind::Other => None,
+    }
 }
