@@ -77,7 +77,8 @@ impl Analysis {
             .filter(|(p, u)| p.as_path() != path && u.deps.contains(path))
             .map(|(p, _)| p.clone())
             .collect();
-        let own = is_unit(path) || (docs.open.contains_key(path) && again.is_empty() && is_script(path));
+        let own =
+            is_unit(path) || (docs.open.contains_key(path) && again.is_empty() && is_script(path));
         if own {
             again.push(path.to_path_buf());
         } else {

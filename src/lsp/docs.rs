@@ -213,8 +213,14 @@ mod tests {
     #[test]
     fn diagnostic_ranges() {
         let t = "ab cd\nef";
-        assert_eq!(diag_range(t, 1, 4), Range::new(Position::new(0, 3), Position::new(0, 5)));
-        assert_eq!(diag_range(t, 0, 0), Range::new(Position::new(0, 0), Position::new(0, 5)));
+        assert_eq!(
+            diag_range(t, 1, 4),
+            Range::new(Position::new(0, 3), Position::new(0, 5))
+        );
+        assert_eq!(
+            diag_range(t, 0, 0),
+            Range::new(Position::new(0, 0), Position::new(0, 5))
+        );
         assert_eq!(diag_range(t, 7, 7).start, Position::new(1, 2));
     }
 }

@@ -255,17 +255,15 @@ fn scenario(text: &str, toks: &[Tok], f: &mut FileIndex) {
                 depth = depth.saturating_sub(1);
             }
             Tok::Ident(..) => match text_of(text, t) {
-                "species" if is_punct(toks.get(i + 1), ':') => {
-                    match toks.get(i + 2) {
-                        Some(Tok::Punct('[', _)) => in_species = Some(depth + 1),
-                        Some(Tok::Str(a, b)) => f.uses.push(Use {
-                            name: text[*a..*b].to_string(),
-                            span: (*a, *b),
-                            what: UseKind::Species,
-                        }),
-                        _ => {}
-                    }
-                }
+                "species" if is_punct(toks.get(i + 1), ':') => match toks.get(i + 2) {
+                    Some(Tok::Punct('[', _)) => in_species = Some(depth + 1),
+                    Some(Tok::Str(a, b)) => f.uses.push(Use {
+                        name: text[*a..*b].to_string(),
+                        span: (*a, *b),
+                        what: UseKind::Species,
+                    }),
+                    _ => {}
+                },
                 "name" if is_punct(toks.get(i + 1), ':') => {
                     if let Some(Tok::Str(a, b)) = toks.get(i + 2) {
                         f.defs.push(Sym {
@@ -290,7 +288,9 @@ fn scenario(text: &str, toks: &[Tok], f: &mut FileIndex) {
 }
 
 /// Words followed by `(` that are not calls.
-const KEYWORDS: &[&str] = &["if", "while", "for", "switch", "return", "loop", "in", "throw"];
+const KEYWORDS: &[&str] = &[
+    "if", "while", "for", "switch", "return", "loop", "in", "throw",
+];
 
 fn rhai_file(text: &str, toks: &[Tok], engine: &rhai::Engine, f: &mut FileIndex) {
     let test = f.kind == Kind::Test;
@@ -352,14 +352,15 @@ fn rhai_file(text: &str, toks: &[Tok], engine: &rhai::Engine, f: &mut FileIndex)
                         span: (*s, *e),
                         what: UseKind::Function,
                     });
-                    if test && matches!(word, "add_agent" | "add_squad") {
-                        if let Some((a, b)) = call_arg(toks, i) {
-                            f.uses.push(Use {
-                                name: text[a..b].to_string(),
-                                span: (a, b),
-                                what: UseKind::Species,
-                            });
-                        }
+                }
+                // `w.add_agent("goby", ..)`: the species a test uses (a method call).
+                if test && matches!(word, "add_agent" | "add_squad") {
+                    if let Some((a, b)) = call_arg(toks, i) {
+                        f.uses.push(Use {
+                            name: text[a..b].to_string(),
+                            span: (a, b),
+                            what: UseKind::Species,
+                        });
                     }
                 }
             }
@@ -435,10 +436,7 @@ pub fn project_files(root: &Path) -> Vec<PathBuf> {
                 }) {
                     walk(&e, depth + 1, out);
                 }
-            } else if e
-                .extension()
-                .is_some_and(|x| x == "ron" || x == "rhai")
-            {
+            } else if e.extension().is_some_and(|x| x == "ron" || x == "rhai") {
                 out.push(e);
             }
         }
@@ -478,10 +476,9 @@ mod tests {
             .collect();
         assert_eq!(fns, ["go", "hit"]);
         // `initial: "a"` is a use of behavior `a`.
-        assert!(f
-            .uses
-            .iter()
-            .any(|u| u.what == UseKind::Behavior && u.name == "a" && &t[u.span.0..u.span.1] == "a"));
+        assert!(f.uses.iter().any(|u| u.what == UseKind::Behavior
+            && u.name == "a"
+            && &t[u.span.0..u.span.1] == "a"));
     }
 
     #[test]

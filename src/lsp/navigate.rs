@@ -65,17 +65,24 @@ fn owners(index: &Index, file: &Path, f: &FileIndex) -> Vec<PathBuf> {
 /// The behavior a literal names in a file owned by `owners`, with the span of its segment under
 /// `at`: its path is the literal up to that segment (`"hunt/strike"` on `hunt` is `hunt`); a
 /// short name in a species file is the first behavior of that name.
-fn behavior_at(index: &Index, owners: &[PathBuf], value: &str, span: Span, at: usize) -> Option<(Target, Span)> {
+fn behavior_at(
+    index: &Index,
+    owners: &[PathBuf],
+    value: &str,
+    span: Span,
+    at: usize,
+) -> Option<(Target, Span)> {
     let segs: Vec<&str> = value.split('/').collect();
     let k = (0..segs.len()).find(|&k| segment(value, span, k).is_some_and(|s| at <= s.1))?;
     let path = segs[..=k].join("/");
     for o in owners {
         let Some(f) = index.get(o) else { continue };
         let behaviors = f.behaviors();
-        let hit = behaviors
-            .iter()
-            .find(|(p, _)| *p == path)
-            .or_else(|| behaviors.iter().find(|(_, s)| segs.len() == 1 && s.name == value));
+        let hit = behaviors.iter().find(|(p, _)| *p == path).or_else(|| {
+            behaviors
+                .iter()
+                .find(|(_, s)| segs.len() == 1 && s.name == value)
+        });
         if let Some((p, _)) = hit {
             let target = Target::Behavior {
                 species: o.clone(),
@@ -223,8 +230,10 @@ pub fn references(index: &Index, target: &Target, with_def: bool) -> Vec<(PathBu
         Target::File(_) => {
             for (file, f) in index {
                 for u in &f.uses {
-                    if matches!(u.what, UseKind::Species | UseKind::Module | UseKind::ScriptFile)
-                        && target_at(index, file, "", u.span.0).is_some_and(|t| t.0 == *target)
+                    if matches!(
+                        u.what,
+                        UseKind::Species | UseKind::Module | UseKind::ScriptFile
+                    ) && target_at(index, file, "", u.span.0).is_some_and(|t| t.0 == *target)
                     {
                         out.push((file.clone(), u.span));
                     }

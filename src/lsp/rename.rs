@@ -2,8 +2,8 @@
 //! references [`super::navigate`] finds, rewritten in one workspace edit. The new name is
 //! checked first (a behavior name holds no `/` or quote; a function name is an identifier).
 
-use super::navigate::{references, target_at, Target};
 use super::index::{Index, Span};
+use super::navigate::{references, target_at, Target};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -11,7 +11,12 @@ use std::path::{Path, PathBuf};
 pub type Refusal = String;
 
 /// The name under byte `at` of `file` that can be renamed, and its span.
-pub fn prepare(index: &Index, file: &Path, text: &str, at: usize) -> Result<(Target, Span), Refusal> {
+pub fn prepare(
+    index: &Index,
+    file: &Path,
+    text: &str,
+    at: usize,
+) -> Result<(Target, Span), Refusal> {
     match target_at(index, file, text, at) {
         Some((t @ (Target::Behavior { .. } | Target::Function { .. }), span)) => Ok((t, span)),
         Some(_) => Err("only behaviors and script functions can be renamed".into()),
@@ -30,14 +35,18 @@ const RESERVED: &[&str] = &[
 pub fn check_name(target: &Target, new: &str) -> Result<(), Refusal> {
     match target {
         Target::Behavior { .. } => {
-            if new.is_empty() || new.contains(['/', '"', '\\']) || new.chars().any(char::is_control) {
+            if new.is_empty() || new.contains(['/', '"', '\\']) || new.chars().any(char::is_control)
+            {
                 return Err(format!(
                     "\"{new}\" cannot name a behavior: use a non-empty name without `/`, quotes or backslashes"
                 ));
             }
         }
         Target::Function { .. } => {
-            let ident = new.chars().next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+            let ident = new
+                .chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
                 && new.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
             if !ident || RESERVED.contains(&new) {
                 return Err(format!(
@@ -60,6 +69,29 @@ pub fn rename(
 ) -> Result<BTreeMap<PathBuf, Vec<Span>>, Refusal> {
     let (target, _) = prepare(index, file, text, at)?;
     check_name(&target, new)?;
+    // A name already taken would merge two behaviors or two functions into one.
+    let taken = match &target {
+        Target::Behavior { species, path } => {
+            let sibling = match path.rsplit_once('/') {
+                Some((parent, _)) => format!("{parent}/{new}"),
+                None => new.to_string(),
+            };
+            let other = Target::Behavior {
+                species: species.clone(),
+                path: sibling,
+            };
+            super::navigate::definition(index, &other).is_some()
+        }
+        Target::Function { script, .. } => {
+            index.get(script).and_then(|f| f.function(new)).is_some()
+        }
+        Target::File(_) => false,
+    };
+    if taken {
+        return Err(format!(
+            "\"{new}\" is already defined there: pick another name"
+        ));
+    }
     let mut out: BTreeMap<PathBuf, Vec<Span>> = BTreeMap::new();
     for (f, span) in references(index, &target, true) {
         out.entry(f).or_default().push(span);

@@ -14,9 +14,10 @@ use crate::load::overlay::normalize;
 use lsp_server::{Connection, ErrorCode, Message, Notification, Request, RequestId, Response};
 use lsp_types::*;
 use serde_json::Value;
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::SystemTime;
 
 /// Serves the Language Server Protocol on stdin/stdout until the client says `exit`; returns
 /// the process's exit code (1 when `exit` came without `shutdown`, or the client went away).
@@ -59,6 +60,7 @@ pub fn serve(conn: &Connection) -> i32 {
         index: Index::new(),
         analysis: Analysis::default(),
         engine: crate::script::new_engine(&crate::scenario::script_limits()),
+        mtimes: BTreeMap::new(),
     };
     // Before `initialize`: requests are refused, `exit` ends the session.
     loop {
@@ -96,13 +98,18 @@ pub fn serve(conn: &Connection) -> i32 {
             Err(_) => return 1,
             Ok(Message::Request(req)) => {
                 if shut {
-                    s.err(req.id, ErrorCode::InvalidRequest, "the server is shut down".into());
+                    s.err(
+                        req.id,
+                        ErrorCode::InvalidRequest,
+                        "the server is shut down".into(),
+                    );
                 } else if req.method == "shutdown" {
                     shut = true;
                     s.ok(req.id, Value::Null);
                 } else {
                     let id = req.id.clone();
-                    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| s.request(req)));
+                    let r =
+                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| s.request(req)));
                     if r.is_err() {
                         s.err(id, ErrorCode::InternalError, "internal error".into());
                     }
@@ -125,7 +132,10 @@ fn root_of(params: &Value) -> Option<PathBuf> {
     let uri = params["workspaceFolders"][0]["uri"]
         .as_str()
         .or_else(|| params["rootUri"].as_str());
-    if let Some(p) = uri.and_then(|u| u.parse::<Uri>().ok()).and_then(|u| uri_to_path(&u)) {
+    if let Some(p) = uri
+        .and_then(|u| u.parse::<Uri>().ok())
+        .and_then(|u| uri_to_path(&u))
+    {
         return Some(p);
     }
     params["rootPath"].as_str().map(|p| normalize(Path::new(p)))
@@ -140,13 +150,20 @@ struct Server<'c> {
     analysis: Analysis,
     /// Compiles scripts and tests for the index's behavior names.
     engine: rhai::Engine,
+    /// When each indexed file that is not open was last read from disk.
+    mtimes: BTreeMap<PathBuf, Option<SystemTime>>,
+}
+
+fn mtime(p: &Path) -> Option<SystemTime> {
+    std::fs::metadata(p).and_then(|m| m.modified()).ok()
 }
 
 /// A request's failure: its error code and message.
 type Fail = (ErrorCode, String);
 
 fn params<P: serde::de::DeserializeOwned>(req: &Request) -> Result<P, Fail> {
-    serde_json::from_value(req.params.clone()).map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
+    serde_json::from_value(req.params.clone())
+        .map_err(|e| (ErrorCode::InvalidParams, e.to_string()))
 }
 
 fn json<T: serde::Serialize>(v: T) -> Result<Value, Fail> {
@@ -182,7 +199,8 @@ impl Server<'_> {
     fn ensure_loaded(&mut self, file: Option<&Path>) {
         let has_behaviors = |p: &Path| p.join("behaviors").is_dir();
         if !self.root.as_deref().is_some_and(has_behaviors) {
-            if let Some(found) = file.and_then(|f| f.ancestors().skip(1).find(|a| has_behaviors(a))) {
+            if let Some(found) = file.and_then(|f| f.ancestors().skip(1).find(|a| has_behaviors(a)))
+            {
                 self.root = Some(found.to_path_buf());
                 self.loaded = false;
             }
@@ -190,7 +208,9 @@ impl Server<'_> {
         if self.loaded {
             return;
         }
-        let Some(root) = self.root.clone() else { return };
+        let Some(root) = self.root.clone() else {
+            return;
+        };
         self.loaded = true;
         let files = project_files(&root);
         for f in &files {
@@ -201,6 +221,9 @@ impl Server<'_> {
     }
 
     fn reindex(&mut self, path: &Path) {
+        if !self.docs.open.contains_key(path) {
+            self.mtimes.insert(path.to_path_buf(), mtime(path));
+        }
         match self.docs.text(path) {
             Some(t) => {
                 let f = index(path, &t, &self.engine);
@@ -243,7 +266,9 @@ impl Server<'_> {
                     return;
                 };
                 if let Some(f) = path(&p.text_document.uri) {
-                    self.docs.open.insert(f.clone(), Arc::from(p.text_document.text));
+                    self.docs
+                        .open
+                        .insert(f.clone(), Arc::from(p.text_document.text));
                     self.changed(&f);
                 }
             }
@@ -251,8 +276,10 @@ impl Server<'_> {
                 let Ok(p) = serde_json::from_value::<DidChangeTextDocumentParams>(n.params) else {
                     return;
                 };
-                let (Some(f), Some(c)) = (path(&p.text_document.uri), p.content_changes.into_iter().last())
-                else {
+                let (Some(f), Some(c)) = (
+                    path(&p.text_document.uri),
+                    p.content_changes.into_iter().last(),
+                ) else {
                     return;
                 };
                 // Full sync: the last change holds the whole text.
@@ -312,10 +339,25 @@ impl Server<'_> {
         }
     }
 
+    /// Files changed on disk behind the server's back (a rename's edits applied to closed
+    /// files, a checkout): re-read, re-checked.
+    fn refresh(&mut self) {
+        let stale: Vec<PathBuf> = self
+            .mtimes
+            .iter()
+            .filter(|(p, t)| !self.docs.open.contains_key(*p) && mtime(p) != **t)
+            .map(|(p, _)| p.clone())
+            .collect();
+        for p in stale {
+            self.changed(&p);
+        }
+    }
+
     /// The file, text and byte offset of a position in a request.
     fn at(&mut self, pos: &TextDocumentPositionParams) -> Result<(PathBuf, Arc<str>, usize), Fail> {
         let f = file_of(&pos.text_document.uri)?;
         self.ensure_loaded(Some(&f));
+        self.refresh();
         let text = self.docs.text(&f).unwrap_or_else(|| Arc::from(""));
         if !self.index.contains_key(&f) && !text.is_empty() {
             self.reindex(&f);
@@ -365,10 +407,11 @@ impl Server<'_> {
         let Some((t, _)) = navigate::target_at(&self.index, &f, &text, at) else {
             return json(Value::Null);
         };
-        let locs: Vec<Location> = navigate::references(&self.index, &t, p.context.include_declaration)
-            .into_iter()
-            .filter_map(|(file, span)| self.location(&file, span))
-            .collect();
+        let locs: Vec<Location> =
+            navigate::references(&self.index, &t, p.context.include_declaration)
+                .into_iter()
+                .filter_map(|(file, span)| self.location(&file, span))
+                .collect();
         json(locs)
     }
 
@@ -388,7 +431,9 @@ impl Server<'_> {
             .map_err(|why| (ErrorCode::RequestFailed, why))?;
         let mut changes: HashMap<Uri, Vec<TextEdit>> = HashMap::new();
         for (file, spans) in edits {
-            let Some(uri) = path_to_uri(&file) else { continue };
+            let Some(uri) = path_to_uri(&file) else {
+                continue;
+            };
             let t = self.docs.text(&file).unwrap_or_else(|| Arc::from(""));
             let list = spans
                 .into_iter()

@@ -49,7 +49,8 @@ pub fn names(index: &Index, file: &Path, f: Option<&FileIndex>) -> ProjectNames 
     for (p, x) in index {
         match x.kind {
             Kind::Species if p.parent() == Some(root.as_path()) => {
-                n.species.extend(p.file_stem().map(|s| s.to_string_lossy().into_owned()));
+                n.species
+                    .extend(p.file_stem().map(|s| s.to_string_lossy().into_owned()));
             }
             Kind::Script if !scripts.contains(p) => {
                 if let Ok(rel) = p.with_extension("").strip_prefix(&root) {
@@ -76,7 +77,8 @@ pub fn names(index: &Index, file: &Path, f: Option<&FileIndex>) -> ProjectNames 
         _ => Vec::new(),
     };
     for o in &owners {
-        n.behaviors.extend(o.behaviors().into_iter().map(|(p, _)| p));
+        n.behaviors
+            .extend(o.behaviors().into_iter().map(|(p, _)| p));
         let script = o.script.as_deref().map(normalize);
         if let Some(s) = script.as_ref().and_then(|s| index.get(s)) {
             n.functions.extend(s.defs.iter().map(|d| d.name.clone()));
@@ -85,7 +87,12 @@ pub fn names(index: &Index, file: &Path, f: Option<&FileIndex>) -> ProjectNames 
     if f.kind == Kind::Script {
         n.functions.extend(f.defs.iter().map(|d| d.name.clone()));
     }
-    for v in [&mut n.species, &mut n.behaviors, &mut n.functions, &mut n.modules] {
+    for v in [
+        &mut n.species,
+        &mut n.behaviors,
+        &mut n.functions,
+        &mut n.modules,
+    ] {
         v.sort();
         v.dedup();
     }

@@ -4,7 +4,7 @@
 #![allow(dead_code)]
 
 use serde_json::{json, Value};
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{channel, Receiver};
@@ -169,7 +169,10 @@ impl Client {
         };
         // The latest one already received counts first.
         if let Some(v) = self.pending.iter().rev().find(|v| matches(v)) {
-            let list = v["params"]["diagnostics"].as_array().cloned().unwrap_or_default();
+            let list = v["params"]["diagnostics"]
+                .as_array()
+                .cloned()
+                .unwrap_or_default();
             if ok(&list) {
                 self.pending.retain(|v| !matches(v));
                 return list;
@@ -184,7 +187,10 @@ impl Client {
                 .recv_timeout(left)
                 .unwrap_or_else(|_| panic!("no matching diagnostics for {}", file.display()));
             if matches(&v) {
-                let list = v["params"]["diagnostics"].as_array().cloned().unwrap_or_default();
+                let list = v["params"]["diagnostics"]
+                    .as_array()
+                    .cloned()
+                    .unwrap_or_default();
                 if ok(&list) {
                     return list;
                 }
@@ -196,7 +202,11 @@ impl Client {
 
     /// Opens `file` with `text`.
     pub fn open(&mut self, file: &Path, text: &str) {
-        let lang = if file.extension().is_some_and(|x| x == "rhai") { "rhai" } else { "ron" };
+        let lang = if file.extension().is_some_and(|x| x == "rhai") {
+            "rhai"
+        } else {
+            "ron"
+        };
         self.notify(
             "textDocument/didOpen",
             json!({"textDocument": {"uri": uri(file), "languageId": lang, "version": 1, "text": text}}),
@@ -245,7 +255,10 @@ impl Drop for Client {
 /// The LSP position (line, UTF-16 column; the test files are ASCII) of the first `needle` in
 /// `text`, plus `skip` characters.
 pub fn pos_of(text: &str, needle: &str, skip: usize) -> Value {
-    let at = text.find(needle).unwrap_or_else(|| panic!("{needle} not in text")) + skip;
+    let at = text
+        .find(needle)
+        .unwrap_or_else(|| panic!("{needle} not in text"))
+        + skip;
     let line = text[..at].matches('\n').count();
     let col = at - text[..at].rfind('\n').map_or(0, |i| i + 1);
     json!({"line": line, "character": col})
@@ -261,7 +274,8 @@ pub fn apply(edit: &Value) {
             .chain(text.match_indices('\n').map(|(i, _)| i + 1))
             .collect();
         let off = |pos: &Value| {
-            starts[pos["line"].as_u64().unwrap() as usize] + pos["character"].as_u64().unwrap() as usize
+            starts[pos["line"].as_u64().unwrap() as usize]
+                + pos["character"].as_u64().unwrap() as usize
         };
         let mut list: Vec<(usize, usize, String)> = edits
             .as_array()
