@@ -455,7 +455,7 @@ mod tests {
     use super::*;
 
     fn engine() -> rhai::Engine {
-        rhai::Engine::new_raw()
+        crate::script::new_engine(&crate::scenario::script_limits())
     }
 
     #[test]
