@@ -424,6 +424,8 @@ impl Server<'_> {
         }
     }
 
+    // The protocol's `WorkspaceEdit` keys its changes by `Uri`, which clippy deems mutable.
+    #[allow(clippy::mutable_key_type)]
     fn rename(&mut self, req: &Request) -> Result<Value, Fail> {
         let p: RenameParams = params(req)?;
         let (f, text, at) = self.at(&p.text_document_position)?;
@@ -455,12 +457,12 @@ impl Server<'_> {
                 label: i.label,
                 kind: Some(item_kind(i.kind)),
                 detail: (!i.detail.is_empty()).then_some(i.detail),
-                documentation: (!i.doc.is_empty()).then(|| {
-                    Documentation::MarkupContent(MarkupContent {
+                documentation: (!i.doc.is_empty()).then_some(Documentation::MarkupContent(
+                    MarkupContent {
                         kind: MarkupKind::Markdown,
                         value: i.doc,
-                    })
-                }),
+                    },
+                )),
                 insert_text: i.insert,
                 ..Default::default()
             })
