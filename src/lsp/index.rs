@@ -490,11 +490,17 @@ mod tests {
         let uses: Vec<(&str, UseKind)> = f.uses.iter().map(|u| (u.name.as_str(), u.what)).collect();
         assert_eq!(
             uses,
-            [
-                ("common/x", UseKind::Module),
-                ("helper", UseKind::Function),
-                ("a", UseKind::Behavior)
-            ]
+            [("common/x", UseKind::Module), ("helper", UseKind::Function)]
         );
+        // Behavior names come from the compiled AST: only comparisons with `this.behavior`.
+        let t = "fn ready() {\n    if this.behavior == \"a\" && this.speed < 2.0 {\n        this.say(\"b\");\n    }\n}\n";
+        let f = index(Path::new("/p/behaviors/s.rhai"), t, &engine());
+        let b: Vec<(&str, &str)> = f
+            .uses
+            .iter()
+            .filter(|u| u.what == UseKind::Behavior)
+            .map(|u| (u.name.as_str(), &t[u.span.0..u.span.1]))
+            .collect();
+        assert_eq!(b, [("a", "a")]);
     }
 }
