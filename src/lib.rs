@@ -43,6 +43,7 @@ pub mod locomotion;
 pub mod lsp;
 pub mod params;
 pub mod perception;
+pub mod project;
 pub mod record;
 pub mod scenario;
 pub mod script;

@@ -254,6 +254,10 @@ pub fn read_bytes(path: &Path, what: &str) -> Result<Vec<u8>, Diagnostic> {
 /// The text of the regular file `path`; text that is not UTF-8 is refused at the line and
 /// column of its first bad byte.
 pub fn read_text(path: &Path, what: &str) -> Result<String, Diagnostic> {
+    // An editor's unsaved buffer, when the language server checks with one.
+    if let Some(text) = super::overlay::read(path) {
+        return Ok(text);
+    }
     let bytes = read_bytes(path, what)?;
     String::from_utf8(bytes).map_err(|e| utf8_diag(path, what, e.as_bytes(), e.utf8_error()))
 }

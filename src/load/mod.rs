@@ -5,12 +5,14 @@
 //! - [`parse`]: the RON options every file is read with, and RON's errors as diagnostics;
 //! - [`locate`](mod@locate): the line and column where a name or a key's value is written;
 //! - [`hints`]: "did you mean" suggestions for misspelt names;
-//! - [`numbers`]: load-time number checks (finite, ranges, orders) and the size limits.
+//! - [`numbers`]: load-time number checks (finite, ranges, orders) and the size limits;
+//! - [`overlay`]: texts read in place of files (an editor's unsaved buffers).
 
 pub mod diag;
 pub mod hints;
 pub mod locate;
 pub mod numbers;
+pub mod overlay;
 pub mod parse;
 
 pub use diag::{read_bytes, read_text, Diagnostic, Diagnostics};

@@ -263,6 +263,40 @@ fn hint(message: &str) -> String {
     }
 }
 
+/// The test file `text` (named `path`) compiled, or where it does not parse.
+fn parse(
+    path: &Path,
+    text: &str,
+    limits: &crate::script::SandboxLimits,
+) -> Result<AST, Diagnostic> {
+    let engine = crate::script::new_engine(limits);
+    let mut ast = engine.compile(text).map_err(|e| {
+        let (line, col) = crate::script::position_of(e.1);
+        // Rhai points where parsing failed; the bracket left open may be far above.
+        let note = crate::script::brackets::note(text, line, col).unwrap_or_default();
+        Diagnostic::new(
+            path,
+            line,
+            col,
+            format!("{}{note}", hint(&e.0.to_string())),
+            Some(text),
+        )
+    })?;
+    ast.set_source(path.display().to_string());
+    Ok(ast)
+}
+
+/// What `shoal test` reports about the test file `text` (named `path`) before running it: a
+/// syntax error, or literal species and behavior names that do not exist. The species are read
+/// from the behaviors folder above the file's `tests` folder (through the loaders' reader, so an
+/// editor's overlay applies).
+pub fn check_text(path: &Path, text: &str) -> Vec<Diagnostic> {
+    match parse(path, text, &crate::scenario::script_limits()) {
+        Ok(ast) => names::check(&ast, &Library::new(world::behaviors_root(path)), path, text),
+        Err(d) => vec![d],
+    }
+}
+
 fn compile(
     path: &Path,
     opts: &Options,
@@ -270,20 +304,7 @@ fn compile(
 ) -> Result<TestFile, Diagnostics> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Diagnostic::file(path, format!("cannot read test file: {e}")))?;
-    let engine = crate::script::new_engine(&limits(opts));
-    let mut ast = engine.compile(&text).map_err(|e| {
-        let (line, col) = crate::script::position_of(e.1);
-        // Rhai points where parsing failed; the bracket left open may be far above.
-        let note = crate::script::brackets::note(&text, line, col).unwrap_or_default();
-        Diagnostic::new(
-            path,
-            line,
-            col,
-            format!("{}{note}", hint(&e.0.to_string())),
-            Some(&text),
-        )
-    })?;
-    ast.set_source(path.display().to_string());
+    let ast = parse(path, &text, &limits(opts))?;
     let fn_params = ast
         .iter_functions()
         .map(|f| (f.name.to_string(), f.params.len()))
