@@ -3,9 +3,9 @@
 //! `publishDiagnostics` it causes). Ignored by default; run it on a release build:
 //! `cargo test --release --test lsp_latency -- --ignored --nocapture`.
 
-mod lsp_client;
+mod lsp_rpc;
 
-use lsp_client::{pos_of, uri, Client};
+use lsp_rpc::{pos_of, uri, Client};
 use serde_json::json;
 use std::path::Path;
 use std::time::{Duration, Instant};

@@ -3,9 +3,9 @@
 //! go to definition, references, rename across species, scripts and tests (after which
 //! `shoal check` passes), and hostile requests.
 
-mod lsp_client;
+mod lsp_rpc;
 
-use lsp_client::{apply, pos_of, project, uri, Client};
+use lsp_rpc::{apply, pos_of, project, uri, Client};
 use serde_json::{json, Value};
 use std::path::Path;
 use std::process::Command;

@@ -215,6 +215,14 @@ fn an_unknown_behavior_name_is_an_error_at_load() {
         "{}",
         r.details
     );
+    // Both ends of an asserted transition are behavior names too.
+    assert!(
+        lines.iter().any(|l| l.starts_with(
+            "behaviors/tests/fixtures/unknown_behavior.rhai:16:39: \"eat/bit\" is not a behavior"
+        ) && l.contains("did you mean `eat/bite`?")),
+        "{}",
+        r.details
+    );
 }
 
 #[test]

@@ -111,8 +111,8 @@ impl Analysis {
     }
 
     /// What to publish now: every file whose problems changed since the last call, and the
-    /// file `edited` (its ranges move with its text), each with its whole list (empty when its
-    /// problems went away).
+    /// file `edited` (its ranges move with its text; an empty list when it is clean), each with
+    /// its whole list (empty when its problems went away).
     pub fn publish(
         &mut self,
         docs: &Documents,
@@ -130,6 +130,13 @@ impl Analysis {
                 let text = docs.text(p);
                 let lsp = ds.iter().map(|d| to_lsp(d, text.as_deref())).collect();
                 out.push((p.clone(), lsp));
+            }
+        }
+        // The edited file always gets an answer, an empty list when it is clean: an editor then
+        // knows its text was checked.
+        if let Some(e) = edited {
+            if !out.iter().any(|(p, _)| p == e) {
+                out.push((e.to_path_buf(), Vec::new()));
             }
         }
         self.published = now;

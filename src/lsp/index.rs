@@ -342,6 +342,19 @@ fn rhai_file(text: &str, toks: &[Tok], engine: &rhai::Engine, f: &mut FileIndex)
                         });
                     }
                 } else if is_punct(toks.get(i + 1), '(')
+                    && is_punct(prev, ':')
+                    && i >= 3
+                    && is_punct(toks.get(i - 2), ':')
+                {
+                    // `alias::f(…)`: a call into an imported module, named with its alias.
+                    if let Some(Tok::Ident(a, b)) = toks.get(i - 3) {
+                        f.uses.push(Use {
+                            name: format!("{}::{word}", &text[*a..*b]),
+                            span: (*s, *e),
+                            what: UseKind::Function,
+                        });
+                    }
+                } else if is_punct(toks.get(i + 1), '(')
                     && !KEYWORDS.contains(&word)
                     && !is_punct(prev, '.')
                     && !is_punct(prev, ':')

@@ -141,6 +141,22 @@ pub fn target_at(index: &Index, file: &Path, text: &str, at: usize) -> Option<(T
                 u.span,
             ))
         }
+        UseKind::Function if u.name.contains("::") => {
+            // `alias::f`: the module its `import "m" as alias` names, then `f` in it.
+            let (alias, name) = u.name.split_once("::")?;
+            let module = import_of(text, alias)?;
+            let rel = format!("{module}.rhai");
+            let script = [script_root(file).join(&rel), dir.join(&rel)]
+                .into_iter()
+                .map(|p| normalize(&p))
+                .find(|p| index.contains_key(p))?;
+            index.get(&script)?.function(name)?;
+            let target = Target::Function {
+                script,
+                name: name.to_string(),
+            };
+            Some((target, u.span))
+        }
         UseKind::Function => {
             f.function(&u.name)?;
             let target = Target::Function {
@@ -244,4 +260,16 @@ pub fn references(index: &Index, target: &Target, with_def: bool) -> Vec<(PathBu
     out.sort();
     out.dedup();
     out
+}
+
+/// The module path of `import "path" as alias;` in a script's text.
+fn import_of<'a>(text: &'a str, alias: &str) -> Option<&'a str> {
+    text.lines().find_map(|l| {
+        let rest = l.trim_start().strip_prefix("import")?.trim_start();
+        let rest = rest.strip_prefix('"')?;
+        let (path, after) = rest.split_once('"')?;
+        let after = after.trim_start().strip_prefix("as")?.trim_start();
+        let name = after.trim_end_matches(|c: char| c == ';' || c.is_whitespace());
+        (name == alias).then_some(path)
+    })
 }

@@ -203,7 +203,8 @@ pub struct TestNames {
     /// Species named by `add_agent` / `add_squad`.
     pub species: Vec<Named>,
     /// Behavior names: compared with `.behavior`, given to `assert_behavior`, `assert_stack`,
-    /// `force_behavior`, or to `add_agent`'s `behavior` and `stack` options.
+    /// `assert_behavior_within`, `assert_transition`, `force_behavior`, or to `add_agent`'s
+    /// `behavior` and `stack` options.
     pub behaviors: Vec<Named>,
 }
 
@@ -279,9 +280,16 @@ pub fn test_names(ast: &AST) -> TestNames {
                     }
                 }
             }
-            "assert_behavior" | "assert_stack" => out
+            "assert_behavior" | "assert_stack" | "assert_behavior_within" => out
                 .behaviors
                 .extend(arg(0).map(strings_of).unwrap_or_default()),
+            // `assert_transition(a, "from", "to", "cause")`: both ends are behaviors.
+            "assert_transition" => {
+                for i in [0, 1] {
+                    out.behaviors
+                        .extend(arg(i).map(strings_of).unwrap_or_default());
+                }
+            }
             "force_behavior" => out
                 .behaviors
                 .extend(arg(0).map(strings_of).unwrap_or_default()),

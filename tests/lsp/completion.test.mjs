@@ -94,8 +94,10 @@ test('`this.` in a behavior script lists the script API', async () => {
     for (const other of ['assert_behavior', 'add_agent', 'Wander']) assert.ok(!labels.includes(other), other);
     // Methods come with their signature.
     const range = items.find((i) => i.label.replace(/\(.*$/, '') === 'random_range');
-    const shown = [range.label, range.detail, range.labelDetails && range.labelDetails.detail].join(' ');
-    assert.match(shown, /lo\b.*\bhi\b/, `random_range shows (lo, hi): ${JSON.stringify(range)}`);
+    // The registered signature (its types) and the reference entry (its parameters' names).
+    assert.match(range.detail || '', /random_range\(float, float\) -> float/, `random_range's signature: ${JSON.stringify(range)}`);
+    const doc = typeof range.documentation === 'string' ? range.documentation : (range.documentation || {}).value || '';
+    assert.match(doc, /random_range\(lo, hi\)/, `random_range's reference entry: ${JSON.stringify(range)}`);
   });
 });
 

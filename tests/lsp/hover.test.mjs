@@ -48,7 +48,7 @@ test('a condition in a species file', async () => {
 
 test('a `this.` method in a script', async () => {
   await withServer(async (s) => {
-    const { hover, position } = await hoverAt(s, 'behaviors/reef_fish.rhai', 'this.has(', 6);
+    const { hover, position } = await hoverAt(s, 'behaviors/jellyfish.rhai', 'this.has(', 6);
     // "| `this.has("key")`, `this.forget("key")` | whether the key is set; unset it |"
     expectMarkdown(hover, 'whether the key is set', 'has', position);
   });
