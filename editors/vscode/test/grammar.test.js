@@ -123,12 +123,13 @@ test('Rhai: a behavior script', async () => {
   expectScope(tokens, ' Script of the reef fish: what the RON form cannot say.', 'comment.line.double-slash.rhai');
   expectScope(tokens, 'fn', 'storage.type.function.rhai');
   expectScope(tokens, 'crowded', 'entity.name.function.rhai');
-  expectScope(tokens, 'let', 'storage.type.rhai');
-  expectScope(tokens, 'mated', 'variable.other.declaration.rhai');
   expectScope(tokens, 'this', 'variable.language.this.rhai');
-  expectScope(tokens, 'has', 'entity.name.function.member.rhai');
   expectScope(tokens, 'mated_at', 'string.quoted.double.rhai');
-  expectScope(tokens, '1.0', 'constant.numeric.float.rhai');
+  expectScope(tokens, '0.5', 'constant.numeric.float.rhai');
+  const jelly = await tokenize('source.rhai', read('jellyfish.rhai'));
+  expectScope(jelly, 'let', 'storage.type.rhai');
+  expectScope(jelly, 'side', 'variable.other.declaration.rhai');
+  expectScope(jelly, 'has', 'entity.name.function.member.rhai');
   expectScope(tokens, '8', 'constant.numeric.integer.decimal.rhai');
   expectScope(tokens, 'kin', 'variable.other.property.rhai');
   expectScope(tokens, 'if', 'keyword.control.rhai');
