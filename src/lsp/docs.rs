@@ -122,6 +122,66 @@ pub fn range(text: &str, span: (usize, usize)) -> Range {
     }
 }
 
+/// Where each line of a text starts and whether it is ASCII: many offsets of one text (an
+/// outline, a rename's edits) convert in O(log n) each instead of a scan from the start, which
+/// made a hostile file of 50,000 functions on one line take 48 s.
+pub struct LineIndex<'a> {
+    text: &'a str,
+    starts: Vec<usize>,
+    ascii: Vec<bool>,
+}
+
+impl<'a> LineIndex<'a> {
+    /// The index of `text`.
+    pub fn new(text: &'a str) -> Self {
+        let mut starts = vec![0];
+        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        let ascii = starts
+            .iter()
+            .enumerate()
+            .map(|(k, &s)| {
+                let e = starts.get(k + 1).copied().unwrap_or(text.len());
+                text.as_bytes()[s..e].is_ascii()
+            })
+            .collect();
+        LineIndex {
+            text,
+            starts,
+            ascii,
+        }
+    }
+
+    /// What [`position`] gives for byte `at`.
+    pub fn position(&self, at: usize) -> Position {
+        let mut at = at.min(self.text.len());
+        while !self.text.is_char_boundary(at) {
+            at -= 1;
+        }
+        let line = self.starts.partition_point(|&s| s <= at) - 1;
+        let ls = self.starts[line];
+        let character = if self.ascii[line] {
+            (at - ls) as u32
+        } else {
+            self.text[ls..at]
+                .chars()
+                .map(|c| c.len_utf16() as u32)
+                .sum()
+        };
+        Position {
+            line: line as u32,
+            character,
+        }
+    }
+
+    /// What [`range`] gives for bytes `span`.
+    pub fn range(&self, span: (usize, usize)) -> Range {
+        Range {
+            start: self.position(span.0),
+            end: self.position(span.1),
+        }
+    }
+}
+
 /// The range of a diagnostic at 1-based `line`:`col` (characters) of `text`: from there to the
 /// end of the word, or the whole first line when the line is 0.
 pub fn diag_range(text: &str, line: usize, col: usize) -> Range {
@@ -198,6 +258,16 @@ mod tests {
         assert_eq!(offset(t, Position::new(9, 0)), t.len());
         assert_eq!(position(t, 999), Position::new(1, 2));
         assert_eq!(position(t, 2), Position::new(0, 1));
+    }
+
+    #[test]
+    fn the_line_index_converts_like_position_at_every_byte() {
+        let t = "aé😀b\nxy\n\nfn f() {}\n😀";
+        let lines = LineIndex::new(t);
+        for at in 0..=t.len() + 2 {
+            assert_eq!(lines.position(at), position(t, at), "byte {at}");
+        }
+        assert_eq!(lines.range((0, 3)), range(t, (0, 3)));
     }
 
     #[test]

@@ -503,7 +503,12 @@ mod tests {
         let uses: Vec<(&str, UseKind)> = f.uses.iter().map(|u| (u.name.as_str(), u.what)).collect();
         assert_eq!(
             uses,
-            [("common/x", UseKind::Module), ("helper", UseKind::Function)]
+            [
+                ("common/x", UseKind::Module),
+                ("helper", UseKind::Function),
+                // A call into an imported module, named with its alias.
+                ("x::f", UseKind::Function)
+            ]
         );
         // Behavior names come from the compiled AST: only comparisons with `this.behavior`.
         let t = "fn ready() {\n    if this.behavior == \"a\" && this.speed < 2.0 {\n        this.say(\"b\");\n    }\n}\n";

@@ -7,7 +7,7 @@
 
 use super::assist::{self, FileKind, ItemKind};
 use super::diagnostics::Analysis;
-use super::docs::{offset, path_to_uri, range, uri_to_path, Documents};
+use super::docs::{offset, path_to_uri, range, uri_to_path, Documents, LineIndex};
 use super::index::{index, project_files, Index};
 use super::{navigate, rename, symbols};
 use crate::load::overlay::normalize;
@@ -407,11 +407,25 @@ impl Server<'_> {
         let Some((t, _)) = navigate::target_at(&self.index, &f, &text, at) else {
             return json(Value::Null);
         };
-        let locs: Vec<Location> =
-            navigate::references(&self.index, &t, p.context.include_declaration)
-                .into_iter()
-                .filter_map(|(file, span)| self.location(&file, span))
-                .collect();
+        // One line index per file: a file may hold many references.
+        let mut texts: HashMap<PathBuf, Arc<str>> = HashMap::new();
+        let found = navigate::references(&self.index, &t, p.context.include_declaration);
+        for (file, _) in &found {
+            texts
+                .entry(file.clone())
+                .or_insert_with(|| self.docs.text(file).unwrap_or_else(|| Arc::from("")));
+        }
+        let lines: HashMap<&PathBuf, LineIndex> =
+            texts.iter().map(|(p, t)| (p, LineIndex::new(t))).collect();
+        let locs: Vec<Location> = found
+            .iter()
+            .filter_map(|(file, span)| {
+                Some(Location {
+                    uri: path_to_uri(file)?,
+                    range: lines.get(file)?.range(*span),
+                })
+            })
+            .collect();
         json(locs)
     }
 
@@ -437,9 +451,10 @@ impl Server<'_> {
                 continue;
             };
             let t = self.docs.text(&file).unwrap_or_else(|| Arc::from(""));
+            let lines = LineIndex::new(&t);
             let list = spans
                 .into_iter()
-                .map(|s| TextEdit::new(range(&t, s), p.new_name.clone()))
+                .map(|s| TextEdit::new(lines.range(s), p.new_name.clone()))
                 .collect();
             changes.insert(uri, list);
         }

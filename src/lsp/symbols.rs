@@ -3,7 +3,7 @@
 //! ([`super::assist::ProjectNames`]), both read from the symbol index.
 
 use super::assist::ProjectNames;
-use super::docs::range;
+use super::docs::LineIndex;
 use super::index::{FileIndex, Index, Sym, SymKind};
 use crate::load::overlay::normalize;
 use crate::project::{script_root, Kind};
@@ -12,11 +12,12 @@ use std::path::Path;
 
 /// The outline of a file indexed as `f`, with text `text`.
 pub fn outline(f: &FileIndex, text: &str) -> Vec<DocumentSymbol> {
-    f.defs.iter().map(|s| symbol(s, text)).collect()
+    let lines = LineIndex::new(text);
+    f.defs.iter().map(|s| symbol(s, &lines)).collect()
 }
 
 #[allow(deprecated)] // `deprecated` is a required field of the protocol's type.
-fn symbol(s: &Sym, text: &str) -> DocumentSymbol {
+fn symbol(s: &Sym, lines: &LineIndex) -> DocumentSymbol {
     let (kind, detail) = match s.kind {
         SymKind::Behavior => (SymbolKind::CLASS, "behavior"),
         SymKind::Function => (SymbolKind::FUNCTION, "function"),
@@ -24,15 +25,15 @@ fn symbol(s: &Sym, text: &str) -> DocumentSymbol {
         SymKind::Group => (SymbolKind::NAMESPACE, "group"),
     };
     let full = (s.full.0.min(s.name_span.0), s.full.1.max(s.name_span.1));
-    let children: Vec<DocumentSymbol> = s.children.iter().map(|c| symbol(c, text)).collect();
+    let children: Vec<DocumentSymbol> = s.children.iter().map(|c| symbol(c, lines)).collect();
     DocumentSymbol {
         name: s.name.clone(),
         detail: Some(detail.into()),
         kind,
         tags: None,
         deprecated: None,
-        range: range(text, full),
-        selection_range: range(text, s.name_span),
+        range: lines.range(full),
+        selection_range: lines.range(s.name_span),
         children: (!children.is_empty()).then_some(children),
     }
 }
