@@ -103,5 +103,14 @@ fn perceive(bencher: divan::Bencher) {
 /// Formation A* + smoothing + follower paths on a 1024² terrain (see `src/bench/plan.rs`).
 #[divan::bench(sample_count = 5)]
 fn plan() {
-    divan::black_box(bench::plan::measure(1));
+    divan::black_box(bench::plan::measure(1, 1.0));
+}
+
+/// The same plan with the weighted search (`search_weight` 1.25).
+#[divan::bench(sample_count = 5)]
+fn plan_weighted() {
+    divan::black_box(bench::plan::measure(
+        1,
+        shoal::formation::astar::SEARCH_WEIGHT_FAST,
+    ));
 }

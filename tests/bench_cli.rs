@@ -90,3 +90,52 @@ fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
     let (_, out, _) = shoal(&["bench", "boids", "--agents", "300", "--ticks", "2"]);
     assert!(!out.contains("stages"), "{out}");
 }
+
+#[test]
+fn every_boids_row_is_read_against_the_reference_kernel() {
+    let (code, out, err) = shoal(&["bench", "boids", "--agents", "300", "--ticks", "3"]);
+    assert_eq!(code, 0, "{err}");
+    let note = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("reference kernel"))
+        .unwrap_or_else(|| panic!("no reference line under the boids row:\n{out}"));
+    let ratio: f64 = note
+        .rsplit("boids runs at ")
+        .next()
+        .and_then(|r| r.split('×').next())
+        .and_then(|r| r.parse().ok())
+        .unwrap_or_else(|| panic!("no ratio in {note}"));
+    assert!(ratio > 0.0 && ratio.is_finite(), "{note}");
+    // The reference workload alone sees about as many kin as boids do at this density.
+    let (code, out, err) = shoal(&["bench", "reference", "--agents", "2000", "--ticks", "2"]);
+    assert_eq!(code, 0, "{err}");
+    let kin = row(&out, "reference")[6];
+    assert!((20.0..35.0).contains(&kin), "{kin} kin:\n{out}");
+}
+
+#[test]
+fn the_weighted_plan_states_what_it_gave_up() {
+    let (code, out, err) = shoal(&[
+        "bench",
+        "plan-weighted",
+        "--ticks",
+        "1",
+        "--search-weight",
+        "1.1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let note = out
+        .lines()
+        .find(|l| l.contains("search weight 1.1: score"))
+        .unwrap_or_else(|| panic!("no note under the row:\n{out}"));
+    assert!(
+        note.contains("bound +10 %") && note.contains("nodes expanded"),
+        "{note}"
+    );
+    let (code, _, err) = shoal(&["bench", "plan-weighted", "--search-weight", "0.5"]);
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("the search weight must be from 1 to 10, not 0.5"),
+        "{err}"
+    );
+}

@@ -481,6 +481,11 @@ fn bad_squad_planning_constants_are_refused_at_their_keys() {
             "k1: ",
             "`k1` must be a number in (0, 1], not 0",
         ),
+        (
+            "search_weight: 0.5",
+            "search_weight: ",
+            "`search_weight` must be a number from 1 to 10, not 0.5",
+        ),
     ];
     for (value, key, msg) in cases {
         let planning = format!("spacing: 4.0,\n            planning: ({value}),");
@@ -495,7 +500,7 @@ fn bad_squad_planning_constants_are_refused_at_their_keys() {
         edit(d, rel, &planning, "spacing: 4.0,");
     }
     // The defaults written out are accepted.
-    let planning = "spacing: 4.0,\n            planning: (relax_step: 0.1, fm_broken: 2.0, keep_share: true, must_keep: (k1: 0.05, k2: 0.95)),";
+    let planning = "spacing: 4.0,\n            planning: (relax_step: 0.1, fm_broken: 2.0, keep_share: true, must_keep: (k1: 0.05, k2: 0.95), search_weight: 1.5),";
     edit(d, rel, "spacing: 4.0,", planning);
     let (code, out) = shoal(d, &["check", rel]);
     assert_eq!(code, 0, "{out}");

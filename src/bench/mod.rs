@@ -10,9 +10,13 @@
 //!   behaviors), with their scripts, or with every `Script(..)` condition replaced by a native one;
 //! - `decide`: the decision stage alone (scripts bound to the typed agent view, then arbitration);
 //! - `perceive`: stages 1–2 alone (spatial index and perception);
-//! - `plan`: formation path planning (seed 004), see [`plan`].
+//! - `plan` / `plan-weighted`: formation path planning (seed 004), exact or with a heuristic
+//!   weight, see [`plan`];
+//! - `reference`: the `boids` world as a minimal hand-written program ([`reference`]), the floor
+//!   every `boids` row is compared with.
 
 pub mod plan;
+pub mod reference;
 
 use crate::decision::{self, scripts, Ctx};
 use crate::diag::Diagnostics;
@@ -75,12 +79,17 @@ pub enum Workload {
     Perceive,
     /// Formation path planning on a 1024² terrain.
     Plan,
+    /// The `boids` world as a minimal hand-written program: the floor boids is read against.
+    Reference,
+    /// The same plan with the weighted search ([`crate::formation::astar::SEARCH_WEIGHT_FAST`]).
+    PlanWeighted,
 }
 
 impl Workload {
     /// Every workload, in the order `shoal bench` runs them.
-    pub const ALL: [Workload; 8] = [
+    pub const ALL: [Workload; 10] = [
         Workload::Boids,
+        Workload::Reference,
         Workload::Flock,
         Workload::Reef,
         Workload::ReefNative,
@@ -88,6 +97,7 @@ impl Workload {
         Workload::DecideNative,
         Workload::Perceive,
         Workload::Plan,
+        Workload::PlanWeighted,
     ];
 
     /// Name on the command line and in tables.
@@ -101,6 +111,8 @@ impl Workload {
             Workload::DecideNative => "decide-native",
             Workload::Perceive => "perceive",
             Workload::Plan => "plan",
+            Workload::Reference => "reference",
+            Workload::PlanWeighted => "plan-weighted",
         }
     }
 
@@ -112,10 +124,10 @@ impl Workload {
     /// Agent counts measured when none are given.
     pub fn default_agents(self) -> &'static [usize] {
         match self {
-            Workload::Boids | Workload::Flock => &[1_000, 10_000, 100_000],
+            Workload::Boids | Workload::Flock | Workload::Reference => &[1_000, 10_000, 100_000],
             Workload::Reef | Workload::ReefNative => &[1_000, 10_000, 50_000],
             Workload::Decide | Workload::DecideNative | Workload::Perceive => &[10_000],
-            Workload::Plan => &[1],
+            Workload::Plan | Workload::PlanWeighted => &[1],
         }
     }
 
@@ -154,6 +166,8 @@ pub struct Sample {
     pub bytes_per_agent: Option<f64>,
     /// Wall time by stage over the timed ticks (the tick workloads and `perceive`).
     pub stages: Option<crate::tick::StageTimes>,
+    /// What the row measured besides speed, printed under it (the weighted plan's excess).
+    pub note: Option<String>,
 }
 
 impl Sample {
@@ -461,7 +475,7 @@ pub fn world_of(
             reef(n, behaviors_dir, true)
         }
         Workload::ReefNative => reef(n, behaviors_dir, false),
-        Workload::Plan => Ok(boids(0)),
+        Workload::Plan | Workload::PlanWeighted | Workload::Reference => Ok(boids(0)),
     }
 }
 
@@ -473,8 +487,16 @@ pub fn measure(
     ticks: u64,
     behaviors_dir: &Path,
 ) -> Result<Option<Sample>, Diagnostics> {
-    if workload == Workload::Plan {
-        return Ok(plan::measure(ticks));
+    match workload {
+        Workload::Plan => return Ok(plan::measure(ticks, 1.0)),
+        Workload::PlanWeighted => {
+            return Ok(plan::measure(
+                ticks,
+                crate::formation::astar::SEARCH_WEIGHT_FAST,
+            ))
+        }
+        Workload::Reference => return Ok(Some(reference::measure(n, ticks))),
+        _ => {}
     }
     let base = memory().map(|m| m.0);
     let mut w = world_of(workload, n, behaviors_dir)?;
@@ -508,6 +530,18 @@ pub fn measure(
             Workload::Decide | Workload::DecideNative => None,
             _ => Some(w.run.sim.pipeline.stage_times()),
         },
+        // Every boids figure is read against the minimal program doing the same work.
+        note: (workload == Workload::Boids).then(|| {
+            let floor = reference::measure(n, ticks);
+            format!(
+                "reference kernel (same world, minimal program): {:.0} ticks/s, {:.2} M agent-upd/s, \
+                 {:.1} kin each; boids runs at {:.2}× its speed",
+                floor.ticks_per_s(),
+                floor.updates_per_s() / 1e6,
+                floor.neighbors,
+                (updates as f64 / seconds.max(1e-12)) / floor.updates_per_s().max(1e-12)
+            )
+        }),
     }))
 }
 
@@ -611,6 +645,7 @@ mod tests {
             neighbors: 0.0,
             bytes_per_agent: None,
             stages: None,
+            note: None,
         }
     }
 

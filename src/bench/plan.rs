@@ -1,10 +1,12 @@
 //! The `plan` benchmark workload: formation-keeping A* + smoothing + follower paths (seed 004) on
 //! a 1024² procedural terrain (rolling hills, 2 m cells), a 5-member team (wedge, falling back to
 //! a column), task class "may change rarely", corner to opposite corner. `agents` is the team
-//! size, `ticks` the number of plans timed and `updates` the search nodes expanded.
+//! size, `ticks` the number of plans timed and `updates` the search nodes expanded. The
+//! `plan-weighted` row plans with a heuristic weight above 1 and notes what the path gave up
+//! against the exact plan.
 
 use super::Sample;
-use crate::formation::{Formation, FormationShape, PlanRequest, Planner, TaskClass};
+use crate::formation::{Formation, FormationShape, PlanRequest, Planner, TaskClass, Weights};
 use crate::terrain::{Cell, CostGrid, Mobility, Terrain};
 use std::time::Instant;
 
@@ -35,9 +37,10 @@ pub fn free_near(grid: &CostGrid, c: Cell) -> Option<Cell> {
     None
 }
 
-/// Measures `passes` plans (at least one) on the workload's terrain; `None` if the map has no
-/// path (it always has one with the seed used).
-pub fn measure(passes: u64) -> Option<Sample> {
+/// Measures `passes` plans (at least one) on the workload's terrain with heuristic weight
+/// `search_weight` (1: exact); `None` if the map has no path (it always has one with the seed
+/// used).
+pub fn measure(passes: u64, search_weight: f32) -> Option<Sample> {
     let n = TERRAIN_SIDE;
     let grid = hills(n);
     let formations = [
@@ -46,7 +49,7 @@ pub fn measure(passes: u64) -> Option<Sample> {
     ];
     let start = free_near(&grid, Cell::new(n / 16, n / 16))?;
     let goal = free_near(&grid, Cell::new(n - n / 16, n - n / 12))?;
-    let req = PlanRequest {
+    let exact = PlanRequest {
         grid: &grid,
         start: grid.center_of(start),
         goal: grid.center_of(goal),
@@ -54,9 +57,33 @@ pub fn measure(passes: u64) -> Option<Sample> {
         leader: 0,
         weights: TaskClass::MayChangeRarely.weights(),
     };
+    let req = PlanRequest {
+        weights: Weights {
+            search_weight,
+            ..exact.weights
+        },
+        ..exact
+    };
     let mut planner = Planner::new();
-    // One untimed plan warms the search buffers.
-    planner.plan(&req).ok()?;
+    // One untimed plan warms the search buffers; against the exact plan it also tells what the
+    // weighted search gave up.
+    let first = planner.plan(&req).ok()?;
+    let note = (search_weight > 1.0)
+        .then(|| planner.plan(&exact).ok())
+        .flatten()
+        .map(|best| {
+            format!(
+                "search weight {search_weight}: score {:.1} vs {:.1} exact (+{:.2} %, bound +{:.0} %), \
+                 terrain cost +{:.2} %, {} vs {} nodes expanded",
+                first.score,
+                best.score,
+                100.0 * (first.score / best.score - 1.0),
+                100.0 * (search_weight - 1.0),
+                100.0 * (first.cost / best.cost - 1.0),
+                first.expanded,
+                best.expanded
+            )
+        });
     let passes = passes.clamp(1, 20);
     let t = Instant::now();
     let mut expanded = 0u64;
@@ -64,7 +91,12 @@ pub fn measure(passes: u64) -> Option<Sample> {
         expanded += planner.plan(&req).ok()?.expanded as u64;
     }
     Some(Sample {
-        workload: "plan".into(),
+        workload: if search_weight > 1.0 {
+            "plan-weighted"
+        } else {
+            "plan"
+        }
+        .into(),
         agents: MEMBERS,
         ticks: passes,
         seconds: t.elapsed().as_secs_f64(),
@@ -72,5 +104,6 @@ pub fn measure(passes: u64) -> Option<Sample> {
         neighbors: 0.0,
         bytes_per_agent: None,
         stages: None,
+        note,
     })
 }

@@ -7,8 +7,8 @@ use std::process::ExitCode;
 /// Arguments of `shoal bench`.
 #[derive(clap::Args, Debug, Default)]
 pub struct BenchArgs {
-    /// Workload: boids, flock, reef, reef-native, decide, decide-native, perceive, plan (default:
-    /// all of them).
+    /// Workload: boids, flock, reef, reef-native, decide, decide-native, perceive, plan,
+    /// plan-weighted (default: all of them).
     pub workload: Option<String>,
     /// Agent counts, comma-separated (default: the workload's standard sizes).
     #[arg(long, value_delimiter = ',')]
@@ -32,6 +32,22 @@ pub struct BenchArgs {
     /// the run of the row.
     #[arg(long)]
     pub stages: bool,
+    /// Heuristic weight of `plan-weighted` (default 1.25; 1 is the exact search).
+    #[arg(long, value_name = "W", value_parser = search_weight)]
+    pub search_weight: Option<f32>,
+}
+
+/// A heuristic weight in [1, 10].
+fn search_weight(s: &str) -> Result<f32, String> {
+    let w: f32 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    let max = shoal::formation::astar::MAX_SEARCH_WEIGHT;
+    if (1.0..=max).contains(&w) {
+        Ok(w)
+    } else {
+        Err(format!(
+            "the search weight must be from 1 to {max}, not {s}"
+        ))
+    }
 }
 
 /// Runs `shoal bench`.
@@ -97,7 +113,13 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             let ticks = args.ticks.unwrap_or_else(|| w.default_ticks(n)).max(1);
             let mut samples = Vec::with_capacity(repeat);
             for _ in 0..repeat {
-                match pool.install(|| bench::measure(w, n, ticks, &behaviors)) {
+                let measured = match (w, args.search_weight) {
+                    (Workload::PlanWeighted, Some(weight)) => {
+                        Ok(bench::plan::measure(ticks, weight))
+                    }
+                    _ => pool.install(|| bench::measure(w, n, ticks, &behaviors)),
+                };
+                match measured {
                     Ok(Some(s)) => samples.push(s),
                     Ok(None) => break,
                     Err(d) => return Ok(super::report(&d)),
@@ -133,6 +155,9 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
                             .map(|(name, ms)| format!("{name} {ms:.3}"))
                             .collect();
                         println!("  stages, ms/tick: {}", parts.join(", "));
+                    }
+                    if let Some(note) = &s.note {
+                        println!("  {note}");
                     }
                 }
                 None => {

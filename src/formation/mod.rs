@@ -105,6 +105,9 @@ pub struct Plan {
     pub tried: Vec<(f32, f32)>,
     /// Terrain cost of the leader's path (step lengths in cells × cell costs).
     pub cost: f32,
+    /// The successful search's minimised score `Σ len · (K1·cost + K2·FM)`.
+    #[serde(default)]
+    pub score: f32,
     /// Nodes expanded by the successful search.
     pub expanded: usize,
 }
@@ -226,6 +229,7 @@ impl Planner {
             held: laid.held,
             tried,
             cost: found.cost,
+            score: found.score,
             expanded: found.expanded,
         })
     }

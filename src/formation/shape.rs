@@ -163,7 +163,7 @@ pub enum FormationError {
         roles: String,
     },
     /// Task weights out of range.
-    #[error("task weights must satisfy 0 < K1 ≤ 1, 0 ≤ K2 ≤ 1, 0 < step ≤ 1 and a finite fm_broken ≥ 1; found K1 = {k1}, K2 = {k2}, step = {step}, fm_broken = {fm_broken}")]
+    #[error("task weights must satisfy 0 < K1 ≤ 1, 0 ≤ K2 ≤ 1, 0 < step ≤ 1, a finite fm_broken ≥ 1 and 1 ≤ search_weight ≤ 10; found K1 = {k1}, K2 = {k2}, step = {step}, fm_broken = {fm_broken}, search_weight = {search_weight}")]
     BadWeights {
         /// K1 given.
         k1: f32,
@@ -173,6 +173,8 @@ pub enum FormationError {
         step: f32,
         /// Formation cost of an all-blocked step given.
         fm_broken: f32,
+        /// Heuristic weight given.
+        search_weight: f32,
     },
 }
 

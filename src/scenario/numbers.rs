@@ -185,7 +185,8 @@ pub(super) fn scenario_numbers(file: &Path, text: &str, def: &ScenarioDef) -> Ve
 }
 
 /// A squad's `planning` constants (seed 004): `relax_step` and each class's `k1` in (0, 1], each
-/// `k2` in [0, 1], `fm_broken` finite and ≥ 1 (one follower fitting costs 1).
+/// `k2` in [0, 1], `fm_broken` finite and ≥ 1 (one follower fitting costs 1), `search_weight` in
+/// [1, 10].
 fn check_planning(n: &mut NumberCheck<'_>, p: &crate::formation::PlanningParams) {
     let here = n.from;
     n.enter("planning");
@@ -196,6 +197,12 @@ fn check_planning(n: &mut NumberCheck<'_>, p: &crate::formation::PlanningParams)
     };
     unit(n, "relax_step", p.relax_step);
     n.range("fm_broken", p.fm_broken, 1.0, f32::MAX);
+    n.range(
+        "search_weight",
+        p.search_weight,
+        1.0,
+        crate::formation::astar::MAX_SEARCH_WEIGHT,
+    );
     let inside = n.from;
     for (class, f) in [
         ("must_keep", p.must_keep),

@@ -35,6 +35,7 @@ fn squad() -> Squad {
         transitions: Vec::new(),
         tried: vec![(0.1, 0.9)],
         cost: 50.0,
+        score: 50.0,
         expanded: 0,
     };
     let ground = Ground {
