@@ -28,6 +28,7 @@ use std::time::Instant;
 mod agent_pass;
 mod awake;
 pub mod explain;
+pub mod governor;
 mod reads;
 mod remap;
 mod spawn;
@@ -96,6 +97,10 @@ pub struct Pipeline {
     pub explained: Vec<serde_json::Value>,
     /// Agent ids by index at the start of the tick, kept while explaining.
     explain_ids: Vec<u32>,
+    /// Whether each tick runs on the whole pool or on one thread ([`governor`]).
+    pub governor: governor::Governor,
+    /// The one-thread pool of one-thread ticks, made when first needed.
+    solo: Option<rayon::ThreadPool>,
 }
 
 /// The species with the most agents in `counts` (the first of equals): its query radius sizes
@@ -145,6 +150,8 @@ impl Pipeline {
             explain: Explain::default(),
             explained: Vec::new(),
             explain_ids: Vec::new(),
+            governor: governor::Governor::default(),
+            solo: None,
         };
         p.set_species(species);
         p
@@ -306,12 +313,38 @@ impl Pipeline {
     /// length of the tick, looking for the tick's work (`awake::with_helper`); in a pool
     /// shared with other work it may pick up a job of someone else's, and the tick then ends
     /// when that job does. A panic inside a tick (a bug) leaves `world` part-way through it.
+    ///
+    /// With two threads or more and [`HELPER_FROM`] agents, the [`governor`] chooses whether
+    /// the tick runs on the pool or on one thread (the results are the same either way).
     pub fn step(&mut self, world: &mut World) {
-        if world.agents.len() >= HELPER_FROM {
-            awake::with_helper(|| self.step_on(world));
-        } else {
+        let agents = world.agents.len();
+        let adaptive = self.governor.schedule == governor::Schedule::Adaptive;
+        if rayon::current_num_threads() < 2 || (adaptive && agents < HELPER_FROM) {
             self.step_on(world);
+            return;
         }
+        let mode = self.governor.next();
+        let start = Instant::now();
+        match mode {
+            governor::Mode::Pool => awake::with_helper(|| self.step_on(world)),
+            governor::Mode::Solo => {
+                let solo = match self.solo.take() {
+                    Some(pool) => Some(pool),
+                    None => rayon::ThreadPoolBuilder::new()
+                        .num_threads(1)
+                        .thread_name(|_| "shoal-solo-tick".into())
+                        .build()
+                        .ok(),
+                };
+                match &solo {
+                    Some(pool) => pool.install(|| self.step_on(world)),
+                    // No thread to be had: the pool it is.
+                    None => self.step_on(world),
+                }
+                self.solo = solo;
+            }
+        }
+        self.governor.record(mode, agents, start.elapsed());
     }
 
     /// The phases of a tick, timed.
