@@ -50,7 +50,7 @@ impl Setting {
     /// The file part of the key: `scenario` or a species name.
     pub fn root(&self) -> &str {
         self.key
-            .split(|c| c == '.' || c == '[')
+            .split(['.', '['])
             .next()
             .unwrap_or_default()
     }
