@@ -7,8 +7,9 @@ use std::process::ExitCode;
 /// Arguments of `shoal bench`.
 #[derive(clap::Args, Debug, Default)]
 pub struct BenchArgs {
-    /// Workload: boids, flock, reef, reef-native, decide, decide-native, perceive, plan,
-    /// plan-weighted (default: all of them).
+    /// Workload: boids, reference, flock, reef, reef-native, decide, decide-native, perceive,
+    /// plan, plan-weighted (default: all of them); or `sweep`: the overhead of `shoal sweep run`
+    /// over 100 runs of scenarios/tiny.ron (`--runs`, `--scenario`).
     pub workload: Option<String>,
     /// Agent counts, comma-separated (default: the workload's standard sizes).
     #[arg(long, value_delimiter = ',')]
@@ -35,6 +36,15 @@ pub struct BenchArgs {
     /// Heuristic weight of `plan-weighted` (default 1.25; 1 is the exact search).
     #[arg(long, value_name = "W", value_parser = search_weight)]
     pub search_weight: Option<f32>,
+    /// `sweep` only: how many runs.
+    #[arg(long, default_value_t = 100)]
+    pub runs: u32,
+    /// `sweep` only: the scenario (default: scenarios/tiny.ron).
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// `sweep` only: each run's duration in seconds (default: the scenario's).
+    #[arg(long)]
+    pub duration: Option<f32>,
 }
 
 /// A heuristic weight in [1, 10].
@@ -52,6 +62,13 @@ fn search_weight(s: &str) -> Result<f32, String> {
 
 /// Runs `shoal bench`.
 pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
+    if args.workload.as_deref() == Some("sweep") {
+        let scenario = args
+            .scenario
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("scenarios/tiny.ron"));
+        return super::sweep::bench_overhead(&scenario, args.runs, args.duration);
+    }
     let workloads: Vec<Workload> = match &args.workload {
         None => Workload::ALL.to_vec(),
         Some(name) => match Workload::parse(name) {
