@@ -1,0 +1,1 @@
+"""Sweeps from Python: placeholder until the engine's sweep API is wired in."""
