@@ -76,15 +76,32 @@ fn python_package_tests_pass() {
     run(
         "maturin develop",
         Command::new(&python)
-            .args(["-m", "maturin", "develop", "--profile", "dev", "--manifest-path"])
+            .args([
+                "-m",
+                "maturin",
+                "develop",
+                "--profile",
+                "dev",
+                "--manifest-path",
+            ])
             .arg(repo().join("python/Cargo.toml"))
             .env("VIRTUAL_ENV", &venv)
-            .env("CARGO_TARGET_DIR", folder("SHOAL_PY_TARGET", "target/python")),
+            .env(
+                "CARGO_TARGET_DIR",
+                folder("SHOAL_PY_TARGET", "target/python"),
+            ),
     );
     run(
         "pytest python/tests",
         Command::new(&python)
-            .args(["-m", "pytest", "python/tests", "-q", "-p", "no:cacheprovider"])
+            .args([
+                "-m",
+                "pytest",
+                "python/tests",
+                "-q",
+                "-p",
+                "no:cacheprovider",
+            ])
             .env("SHOAL_BIN", env!("CARGO_BIN_EXE_shoal")),
     );
 }

@@ -225,8 +225,11 @@ impl Column {
                         bytes(&self.data),
                     ],
                 )?;
-                PyTuple::new(py, [self.items.into_pyobject(py)?.into_any(), child.into_any()])?
-                    .into_any()
+                PyTuple::new(
+                    py,
+                    [self.items.into_pyobject(py)?.into_any(), child.into_any()],
+                )?
+                .into_any()
             }
             Kind::Dict => {
                 buffers.push(bytes(&self.data));

@@ -16,7 +16,10 @@ use shoal::scenario::expect::Tracker;
 use shoal::scenario::{Overrides, Run, Scenario};
 // TEMP until overrides land.
 #[derive(Debug, Clone)]
-pub struct Setting { pub key: String, pub value: String }
+pub struct Setting {
+    pub key: String,
+    pub value: String,
+}
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -63,8 +66,7 @@ pub struct Output {
 
 /// Loads and runs the scenario `o` names.
 pub fn run(o: &Options) -> Result<Output, Failure> {
-    let scenario =
-        Scenario::load(&o.file).map_err(|d| Failure::Load(d.to_string()))?;
+    let scenario = Scenario::load(&o.file).map_err(|d| Failure::Load(d.to_string()))?;
     let interval = o.interval.unwrap_or(scenario.def.record.interval).max(1);
     let threads = o
         .threads
