@@ -68,6 +68,7 @@ fn a_naive_fish_meets_every_health_bound_in_the_reef() {
             Overrides {
                 seed: Some(seed),
                 duration: Some(30.0),
+                set: Vec::new(),
             },
         );
         while !run.finished() {

@@ -20,6 +20,7 @@ fn failures(file: &str, seed: u64) -> Vec<String> {
         Overrides {
             seed: Some(seed),
             duration: None,
+            set: Vec::new(),
         },
     );
     while !run.finished() {

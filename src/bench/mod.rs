@@ -213,6 +213,8 @@ fn built(name: &str, def: ScenarioDef, behaviors_dir: PathBuf, species: SpeciesS
         species: Arc::new(species),
         ground: None,
         squads: Vec::new(),
+        settings: Vec::new(),
+        patched: Default::default(),
     };
     BenchWorld {
         run: Run::new(scenario, Overrides::default()),

@@ -22,6 +22,11 @@ pub struct RunArgs {
     /// Duration in seconds (default: the scenario's).
     #[arg(long)]
     pub duration: Option<f32>,
+    /// Override a key of the scenario or of a species file it loads, with a RON value:
+    /// `scenario.groups[0].count=50`, `sardine.senses.vision_radius=6` (repeatable; see
+    /// docs/scenarios.md, "Overriding keys").
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -412,7 +417,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .scenario
         .clone()
         .unwrap_or_else(|| PathBuf::from("scenarios/reef.ron"));
-    let scenario = match Scenario::load(&file) {
+    let mut set = Vec::new();
+    for s in &args.set {
+        match shoal::scenario::Setting::parse(s) {
+            Ok(s) => set.push(s),
+            Err(e) => {
+                eprintln!("error: --set {e}");
+                return Ok(ExitCode::from(2));
+            }
+        }
+    }
+    let scenario = match Scenario::load_with(&file, &set) {
         Ok(s) => s,
         Err(d) => return Ok(super::report(&d)),
     };
@@ -427,6 +442,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         Overrides {
             seed: Some(seed),
             duration: args.duration,
+            set,
         },
     );
     run.pipeline.set_time_budget(time_budget(&args));
@@ -621,6 +637,7 @@ pub fn replay_live(
         Overrides {
             seed: Some(rec.seed),
             duration: None,
+            set: Vec::new(),
         },
     );
     if let Some(t) = rec.ticks {

@@ -325,6 +325,7 @@ impl Session {
             Overrides {
                 seed: options.seed,
                 duration: None,
+                set: Vec::new(),
             },
         );
         let started_with = run.alive();

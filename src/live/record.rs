@@ -264,6 +264,7 @@ pub fn rerun(dir: &Path, ticks: u64) -> Result<Run, Diagnostics> {
         Overrides {
             seed: Some(rec.seed),
             duration: None,
+            set: Vec::new(),
         },
     );
     for (tick, scenario) in versions.iter().skip(1) {

@@ -6,7 +6,8 @@
 //! - [`locate`](mod@locate): the line and column where a name or a key's value is written;
 //! - [`hints`]: "did you mean" suggestions for misspelt names;
 //! - [`numbers`]: load-time number checks (finite, ranges, orders) and the size limits;
-//! - [`overlay`]: texts read in place of files (an editor's unsaved buffers).
+//! - [`overlay`]: texts read in place of files (an editor's unsaved buffers, a run's settings);
+//! - [`ron_lex`], [`ron_patch`]: RON's tokens, and a text's value changed by key.
 
 pub mod diag;
 pub mod hints;
@@ -14,6 +15,8 @@ pub mod locate;
 pub mod numbers;
 pub mod overlay;
 pub mod parse;
+pub mod ron_lex;
+pub mod ron_patch;
 
 pub use diag::{read_bytes, read_text, Diagnostic, Diagnostics};
 pub use hints::did_you_mean;

@@ -57,6 +57,23 @@ pub fn sha256_file(path: &Path) -> std::io::Result<String> {
     Ok(hex(&Sha256::digest(&bytes)))
 }
 
+/// SHA-256 of `bytes`, hex.
+pub fn sha256_bytes(bytes: &[u8]) -> String {
+    hex(&Sha256::digest(bytes))
+}
+
+/// SHA-256 of an input of `run`: the text its settings patched, else the file.
+fn input_hash(f: &Path, run: &Run) -> String {
+    match run
+        .scenario
+        .patched
+        .get(&crate::load::overlay::normalize(f))
+    {
+        Some(t) => sha256_bytes(t.as_bytes()),
+        None => sha256_file(f).unwrap_or_default(),
+    }
+}
+
 fn hex(b: &[u8]) -> String {
     b.iter().map(|x| format!("{x:02x}")).collect()
 }
@@ -289,10 +306,7 @@ impl Recorder {
         let mut files = serde_json::Map::new();
         for f in run.scenario.files() {
             let rel = rel_name(&f, run);
-            files.insert(
-                rel,
-                serde_json::Value::String(sha256_file(&f).unwrap_or_default()),
-            );
+            files.insert(rel, serde_json::Value::String(input_hash(&f, run)));
         }
         let mut m = serde_json::json!({
             "format": 1,
@@ -309,6 +323,15 @@ impl Recorder {
             "files": files,
             "summary": summary.unwrap_or(serde_json::Value::Null),
         });
+        if !run.scenario.settings.is_empty() {
+            // The inputs' copies hold the patched texts; the settings say what was patched.
+            m["settings"] = serde_json::json!(run
+                .scenario
+                .settings
+                .iter()
+                .map(|s| s.to_string())
+                .collect::<Vec<_>>());
+        }
         if status == "complete" {
             // What the folder holds besides its inputs: the recording and any extra outputs.
             let outputs: Vec<&str> = RUN_FILES
@@ -444,7 +467,16 @@ fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
         if let Some(p) = dest.parent() {
             std::fs::create_dir_all(p).map_err(at(p))?;
         }
-        std::fs::copy(&f, &dest).map_err(at(&dest))?;
+        match run
+            .scenario
+            .patched
+            .get(&crate::load::overlay::normalize(&f))
+        {
+            Some(t) => std::fs::write(&dest, t.as_bytes()).map_err(at(&dest))?,
+            None => {
+                std::fs::copy(&f, &dest).map_err(at(&dest))?;
+            }
+        }
     }
     // Species named only in relations (a shark's prey that is not in this world) must still
     // resolve when the copy is loaded again.

@@ -1,6 +1,7 @@
 //! Scenarios: RON files naming the world, its species, its agents and timed events, loaded and
 //! validated once ([`validate`]), and a [`Run`] that drives the tick pipeline through them
-//! ([`run`]). This layer reads files; the core below it does not.
+//! ([`run`]). A scenario may be loaded with settings that override any of its or its species'
+//! keys ([`settings`]). This layer reads files; the core below it does not.
 
 mod bounds;
 pub mod def;
@@ -8,11 +9,13 @@ pub mod expect;
 mod numbers;
 mod reload;
 pub mod run;
+pub mod settings;
 pub mod validate;
 
 pub use def::*;
 pub use reload::ScenarioReload;
 pub use run::{GroupSpan, Overrides, Run, PLACE_TRIES};
+pub use settings::Setting;
 
 use crate::species::SpeciesSet;
 use std::path::{Path, PathBuf};
@@ -37,6 +40,11 @@ pub struct Scenario {
     pub ground: Option<Arc<crate::squad::Ground>>,
     /// The squads, checked and planned.
     pub squads: Vec<crate::squad::SquadSetup>,
+    /// The settings it was loaded with ([`Scenario::load_with`]); empty for a plain load.
+    pub settings: Vec<Setting>,
+    /// The texts those settings patched, by normalized path, read in place of the files
+    /// (a run's copies of its inputs are these texts).
+    pub patched: crate::load::overlay::Texts,
 }
 
 /// Removes `.` and `a/..` components without touching the file system, so that diagnostics

@@ -11,12 +11,15 @@ use crate::world::{Aabb, Rng, Shape, World};
 use glam::Vec3;
 
 /// Options a run may override.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Overrides {
     /// Seed.
     pub seed: Option<u64>,
     /// Duration (s).
     pub duration: Option<f32>,
+    /// Settings of keys of the scenario and its species: they apply when the scenario is read
+    /// ([`Scenario::load_with`]), so [`Run::new`] takes them as already applied.
+    pub set: Vec<Setting>,
 }
 
 /// A scenario being run: world, pipeline and the scenario's own clock of timed events.

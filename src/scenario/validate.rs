@@ -307,6 +307,8 @@ impl Scenario {
             species,
             ground,
             squads,
+            settings: Vec::new(),
+            patched: Default::default(),
         };
         // The expectations name species and behaviors: resolved here so that `check`, `run` and
         // a reload reject a bad one with its location instead of a run judging nothing.

@@ -568,6 +568,7 @@ mod tests {
             Overrides {
                 seed: None,
                 duration: Some(12.0),
+                set: Vec::new(),
             },
         )
     }
