@@ -110,11 +110,6 @@ impl Column {
         self.data.reserve(rows * width);
     }
 
-    /// Rows so far.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
     fn row(&mut self, valid: bool) {
         if !valid && self.valid.is_none() {
             let mut bits = Vec::with_capacity(self.len / 8 + 1);

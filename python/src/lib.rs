@@ -10,7 +10,7 @@ mod sweep;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use run::Setting;
+use shoal::scenario::Setting;
 use std::path::PathBuf;
 
 pyo3::create_exception!(
@@ -21,10 +21,10 @@ pyo3::create_exception!(
      diagnostics (file:line:col)."
 );
 
-/// `(key, RON text)` pairs as settings.
-fn settings(set: Vec<(String, String)>) -> Vec<Setting> {
+/// `(key, RON text)` pairs as settings, read as `shoal run --set KEY=VALUE` reads them.
+fn settings(set: Vec<(String, String)>) -> PyResult<Vec<Setting>> {
     set.into_iter()
-        .map(|(key, value)| Setting { key, value })
+        .map(|(key, value)| Setting::parse(&format!("{key}={value}")).map_err(LoadError::new_err))
         .collect()
 }
 
@@ -45,7 +45,7 @@ fn run_scenario<'py>(
         file: scenario,
         seed,
         duration,
-        set: settings(set),
+        set: settings(set)?,
         interval: record_interval,
         threads,
     };

@@ -13,13 +13,7 @@ use shoal::events::Event;
 use shoal::health::Monitor;
 use shoal::record::schema::{FOOD_COLUMNS, TRAJECTORY_COLUMNS};
 use shoal::scenario::expect::Tracker;
-use shoal::scenario::{Overrides, Run, Scenario};
-// TEMP until overrides land.
-#[derive(Debug, Clone)]
-pub struct Setting {
-    pub key: String,
-    pub value: String,
-}
+use shoal::scenario::{Overrides, Run, Scenario, Setting};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -66,7 +60,8 @@ pub struct Output {
 
 /// Loads and runs the scenario `o` names.
 pub fn run(o: &Options) -> Result<Output, Failure> {
-    let scenario = Scenario::load(&o.file).map_err(|d| Failure::Load(d.to_string()))?;
+    let scenario =
+        Scenario::load_with(&o.file, &o.set).map_err(|d| Failure::Load(d.to_string()))?;
     let interval = o.interval.unwrap_or(scenario.def.record.interval).max(1);
     let threads = o
         .threads

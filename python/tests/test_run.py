@@ -150,3 +150,43 @@ def test_ron_writes_python_values_as_ron_text():
         shoal.settings(["nokey"])
     with pytest.raises(ValueError):
         shoal.ron(float("nan"))
+
+
+def test_overrides_change_the_run(tiny):
+    base = shoal.run(tiny, seed=2, duration=1.0)
+    more = shoal.run(tiny, seed=2, duration=1.0, set={"scenario.groups[reef_fish].count": 10})
+
+    def per_tick(r: shoal.RunResult) -> int:
+        return r.trajectories.filter(pa.compute.equal(r.trajectories["tick"], 0)).num_rows
+
+    assert per_tick(base) == 41
+    assert per_tick(more) == 11
+    assert more.summary["alive"]["reef_fish"] == 10
+    longer = shoal.run(tiny, seed=2, set=["scenario.duration=1.5"])
+    assert longer.summary["ticks"] == 30
+    slow = shoal.run(tiny, seed=2, duration=1.0, set={"reef_fish.body.limits.max_speed": 0.5})
+
+    def fastest_fish(r: shoal.RunResult) -> float:
+        t = r.trajectories
+        fish = t.filter(pa.compute.equal(t["species"].cast(pa.string()), "reef_fish"))
+        return pa.compute.max(fish["speed"]).as_py()
+
+    assert fastest_fish(slow) <= 0.5 + 1e-6
+    assert fastest_fish(base) > 0.5
+
+
+def test_an_unknown_key_is_a_located_error_with_a_suggestion(tiny):
+    with pytest.raises(shoal.LoadError) as e:
+        shoal.run(tiny, set={"reef_fish.senses.vision_radus": 3.0})
+    message = str(e.value)
+    assert "reef_fish.ron:" in message
+    assert "vision_radus" in message and "vision_radius" in message
+
+
+def test_a_bad_value_names_its_setting(tiny):
+    with pytest.raises(shoal.LoadError) as e:
+        shoal.run(tiny, set={"scenario.groups[0].count": -1})
+    assert f"{tiny}:" in str(e.value)
+    assert "scenario.groups[0].count=-1" in str(e.value)
+    with pytest.raises(shoal.LoadError, match="no value"):
+        shoal.run(tiny, set=["scenario.duration= "])
