@@ -15,6 +15,8 @@ import pyarrow as pa
 Column = Tuple[str, str, int, int, List[Optional[bytes]], Any]
 
 _PRIMITIVES = {
+    "bool": pa.bool_(),
+    "i64": pa.int64(),
     "u8": pa.uint8(),
     "u32": pa.uint32(),
     "u64": pa.uint64(),

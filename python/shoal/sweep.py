@@ -41,9 +41,14 @@ __all__ = [
 class Entry(NamedTuple):
     """One planned run of a sweep."""
 
-    #: Its number (``shoal sweep run --index``), from 0.
+    #: Its number (``shoal sweep run --index``), from 0: ``point * seeds + replicate``.
     index: int
-    #: Its seed, derived from the sweep's seed and its replicate number.
+    #: The point (combination of axis values) it runs.
+    point: int
+    #: Which of the point's seeds it is, from 0.
+    replicate: int
+    #: Its seed, derived from the sweep's seed and the replicate number (the same for every
+    #: point: points are compared on common random numbers).
     seed: int
     #: The settings it runs with: key → value as RON text.
     settings: Dict[str, str]
@@ -71,19 +76,29 @@ def plan(path: "os.PathLike[str] | str") -> List[Entry]:
             diagnostics).
     """
     return [
-        Entry(e["index"], e["seed"], dict(e["settings"]), dict(e["values"]))
+        Entry(
+            e["index"],
+            e["point"],
+            e["replicate"],
+            e["seed"],
+            dict(e["settings"]),
+            dict(e["values"]),
+        )
         for e in _native.sweep_plan(_path(path))
     ]
 
 
 def plan_table(path: "os.PathLike[str] | str") -> pa.Table:
-    """:func:`plan` as a table: ``index``, ``seed``, then one column per axis (RON text)."""
+    """:func:`plan` as a table: ``index``, ``point``, ``replicate``, ``seed``, then one column
+    per axis (its values as RON text)."""
     entries = plan(path)
     keys: List[str] = []
     for e in entries:
         keys.extend(k for k in e.values if k not in keys)
     columns: Dict[str, Any] = {
         "index": pa.array([e.index for e in entries], pa.uint64()),
+        "point": pa.array([e.point for e in entries], pa.uint64()),
+        "replicate": pa.array([e.replicate for e in entries], pa.uint32()),
         "seed": pa.array([e.seed for e in entries], pa.uint64()),
     }
     for k in keys:
@@ -142,6 +157,8 @@ def submit(
     keep 1 unless the executor has fewer workers than cores.
     """
     path, out = _path(path), _path(out)
+    # The manifest is written here, once, before any worker writes a run folder beside it.
+    _native.sweep_prepare(path, out)
     return [executor.submit(run_entry, path, i, out, threads) for i in pending(path, out)]
 
 
@@ -174,6 +191,7 @@ def run(
             an error: its row says so).
     """
     if executor is None:
+        _native.sweep_prepare(_path(path), _path(out))
         for i in pending(path, out):
             run_entry(path, i, out, threads)
     else:

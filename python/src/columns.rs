@@ -8,6 +8,10 @@ use pyo3::types::{PyBytes, PyList, PyTuple};
 /// The Arrow type of a column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
+    /// `bool` (bit-packed).
+    Bool,
+    /// `int64`.
+    I64,
     /// `uint8`.
     U8,
     /// `uint32`.
@@ -30,6 +34,8 @@ impl Kind {
     /// The name `_tables.py` maps to a pyarrow type.
     fn name(self) -> &'static str {
         match self {
+            Kind::Bool => "bool",
+            Kind::I64 => "i64",
             Kind::U8 => "u8",
             Kind::U32 => "u32",
             Kind::U64 => "u64",
@@ -46,7 +52,7 @@ impl Kind {
 #[derive(Debug, Clone)]
 pub struct Column {
     /// Its name in the table.
-    pub name: &'static str,
+    pub name: String,
     kind: Kind,
     /// Values (numbers), string bytes (`Str`), `int32` indices (`Dict`), or the strings' bytes
     /// of a list's items (`ListStr`).
@@ -83,7 +89,12 @@ fn offset(n: usize) -> [u8; 4] {
 
 impl Column {
     /// An empty column of `kind`.
-    pub fn new(name: &'static str, kind: Kind) -> Column {
+    pub fn new(name: &str, kind: Kind) -> Column {
+        Column::named(name.to_string(), kind)
+    }
+
+    /// [`Column::new`], with a name of its own.
+    pub fn named(name: String, kind: Kind) -> Column {
         let mut c = Column {
             name,
             kind,
@@ -133,6 +144,15 @@ impl Column {
         self.row(true);
     }
 
+    /// Appends a `bool` (one bit).
+    pub fn bool(&mut self, v: bool) {
+        push_bit(&mut self.data, self.len, v);
+        self.row(true);
+    }
+    /// Appends an `i64`.
+    pub fn i64(&mut self, v: i64) {
+        self.bytes(&v.to_ne_bytes());
+    }
     /// Appends a `u8`.
     pub fn u8(&mut self, v: u8) {
         self.bytes(&[v]);
@@ -181,6 +201,7 @@ impl Column {
         match self.kind {
             Kind::Str => self.offsets.extend(offset(self.data.len())),
             Kind::ListStr => self.offsets.extend(offset(self.items)),
+            Kind::Bool => push_bit(&mut self.data, self.len, false),
             k => {
                 let width = match k {
                     Kind::U8 => 1,
@@ -238,7 +259,7 @@ impl Column {
         PyTuple::new(
             py,
             [
-                self.name.into_pyobject(py)?.into_any(),
+                self.name.as_str().into_pyobject(py)?.into_any(),
                 self.kind.name().into_pyobject(py)?.into_any(),
                 self.len.into_pyobject(py)?.into_any(),
                 self.nulls.into_pyobject(py)?.into_any(),
