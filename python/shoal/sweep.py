@@ -4,8 +4,9 @@ The functions here do what ``shoal sweep plan / run / collect`` do, through the 
 :func:`run_entry` writes the same run folder as ``shoal sweep run --index``, and :func:`collect`
 reads the same table ``shoal sweep collect`` writes as ``results.csv``. :func:`submit` hands every
 unfinished entry to any ``concurrent.futures``-style executor (an object whose
-``submit(fn, *args)`` returns a future): a ``ProcessPoolExecutor``, a Dask ``Client``, Ray's
-``ray.util.multiprocessing.Pool`` through a small adapter (see ``docs/python.md``). What is
+``submit(fn, *args)`` returns a future): a ``ProcessPoolExecutor``, a Dask ``Client``, or a
+pool with ``apply_async`` (``multiprocessing.Pool``, Ray's ``ray.util.multiprocessing.Pool``)
+through :class:`PoolExecutor`. What is
 submitted is a module-level function of this module with plain arguments, so it pickles; every
 worker needs this package installed and the sweep's files at the same paths.
 
@@ -27,6 +28,7 @@ from ._tables import table as _table
 __all__ = [
     "Entry",
     "Executor",
+    "PoolExecutor",
     "plan",
     "plan_table",
     "pending",
@@ -61,6 +63,23 @@ class Executor(Protocol):
 
     def submit(self, fn: Any, *args: Any) -> Any:  # pragma: no cover
         ...
+
+
+class PoolExecutor:
+    """An executor over a pool with ``apply_async(fn, args)``: ``multiprocessing.Pool``, or
+    Ray's ``ray.util.multiprocessing.Pool``, which runs the calls on a Ray cluster.
+
+    >>> from multiprocessing import Pool
+    >>> with Pool(2) as pool:
+    ...     table = shoal.sweep.run("sweeps/tiny_grid.ron", "out", PoolExecutor(pool))
+    """
+
+    def __init__(self, pool: Any) -> None:
+        self.pool = pool
+
+    def submit(self, fn: Any, *args: Any) -> Any:
+        """Starts ``fn(*args)`` on the pool; returns its ``AsyncResult`` (``get()`` waits)."""
+        return self.pool.apply_async(fn, args)
 
 
 def _path(p: "os.PathLike[str] | str") -> str:
