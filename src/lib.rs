@@ -51,6 +51,7 @@ pub mod sim;
 pub mod species;
 pub mod squad;
 pub mod steering;
+pub mod sweep;
 pub mod terrain;
 #[cfg(feature = "tools")]
 pub mod testing;

@@ -38,6 +38,8 @@ enum Command {
     Test(cli::test::TestArgs),
     /// Run a benchmark workload and print a table.
     Bench(cli::bench::BenchArgs),
+    /// Plan, run and collect parameter sweeps (see docs/sweeps.md).
+    Sweep(cli::sweep::SweepArgs),
     /// Serve the Language Server Protocol on stdio, for editors.
     Lsp,
     /// Write Rhai definition files of the script and test APIs and JSON Schemas of the formats.
@@ -73,6 +75,7 @@ fn main() -> ExitCode {
         Command::Watch(a) => cli::watch::watch(a),
         Command::Test(a) => cli::test::test(a),
         Command::Bench(a) => cli::bench::bench(a),
+        Command::Sweep(a) => cli::sweep::sweep(a),
         Command::Lsp => cli::lsp::lsp(),
         Command::Defs(a) => cli::defs::defs(a),
     };

@@ -8,7 +8,8 @@ use std::process::ExitCode;
 #[derive(clap::Args, Debug, Default)]
 pub struct BenchArgs {
     /// Workload: boids, flock, reef, reef-native, decide, decide-native, perceive, plan (default:
-    /// all of them).
+    /// all of them); or `sweep`: the overhead of `shoal sweep run` over 100 runs of
+    /// scenarios/tiny.ron (`--runs`, `--scenario`).
     pub workload: Option<String>,
     /// Agent counts, comma-separated (default: the workload's standard sizes).
     #[arg(long, value_delimiter = ',')]
@@ -32,10 +33,26 @@ pub struct BenchArgs {
     /// the run of the row.
     #[arg(long)]
     pub stages: bool,
+    /// `sweep` only: how many runs.
+    #[arg(long, default_value_t = 100)]
+    pub runs: u32,
+    /// `sweep` only: the scenario (default: scenarios/tiny.ron).
+    #[arg(long)]
+    pub scenario: Option<PathBuf>,
+    /// `sweep` only: each run's duration in seconds (default: the scenario's).
+    #[arg(long)]
+    pub duration: Option<f32>,
 }
 
 /// Runs `shoal bench`.
 pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
+    if args.workload.as_deref() == Some("sweep") {
+        let scenario = args
+            .scenario
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("scenarios/tiny.ron"));
+        return super::sweep::bench_overhead(&scenario, args.runs, args.duration);
+    }
     let workloads: Vec<Workload> = match &args.workload {
         None => Workload::ALL.to_vec(),
         Some(name) => match Workload::parse(name) {

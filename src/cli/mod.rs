@@ -7,6 +7,7 @@ pub mod diff;
 pub mod health;
 pub mod lsp;
 pub mod run;
+pub mod sweep;
 pub mod test;
 pub mod view;
 pub mod watch;
