@@ -49,10 +49,7 @@ impl Setting {
 
     /// The file part of the key: `scenario` or a species name.
     pub fn root(&self) -> &str {
-        self.key
-            .split(|c| c == '.' || c == '[')
-            .next()
-            .unwrap_or_default()
+        self.key.split(['.', '[']).next().unwrap_or_default()
     }
 }
 
