@@ -23,6 +23,9 @@ enum SweepCmd {
     Plan {
         /// The sweep file.
         file: PathBuf,
+        /// Print only the number of runs (for scripts: `seq 0 $((N - 1))`).
+        #[arg(long)]
+        count: bool,
     },
     /// Run entries of a sweep into an output folder (finished runs there are skipped).
     Run(RunArgs),
@@ -64,17 +67,21 @@ pub struct RunArgs {
 /// Runs `shoal sweep`.
 pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     match args.cmd {
-        SweepCmd::Plan { file } => plan(&file),
+        SweepCmd::Plan { file, count } => plan(&file, count),
         SweepCmd::Run(a) => run(a),
         SweepCmd::Collect { dir, partial } => collect(&dir, partial),
     }
 }
 
-fn plan(file: &Path) -> anyhow::Result<ExitCode> {
+fn plan(file: &Path, count: bool) -> anyhow::Result<ExitCode> {
     let p = match Plan::load(file) {
         Ok(p) => p,
         Err(d) => return Ok(super::report(&d)),
     };
+    if count {
+        println!("{}", p.len());
+        return Ok(ExitCode::SUCCESS);
+    }
     println!(
         "{}: {} run(s) = {} point(s) × {} seed(s)",
         file.display(),

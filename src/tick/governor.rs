@@ -92,11 +92,11 @@ fn slot(m: Mode) -> usize {
 
 impl Governor {
     /// The mode the next tick runs in.
-    pub fn next(&mut self) -> Mode {
+    pub fn next_mode(&mut self) -> Mode {
         match self.schedule {
             Schedule::Fixed(m) => m,
             Schedule::Alternate => {
-                if self.ticks % 2 == 0 {
+                if self.ticks.is_multiple_of(2) {
                     Mode::Pool
                 } else {
                     Mode::Solo
@@ -159,7 +159,7 @@ mod tests {
     fn drive(g: &mut Governor, ticks: usize, cost: impl Fn(Mode, usize) -> f64) -> Vec<Mode> {
         (0..ticks)
             .map(|k| {
-                let m = g.next();
+                let m = g.next_mode();
                 g.record(m, 1000, Duration::from_secs_f64(cost(m, k)));
                 m
             })

@@ -323,7 +323,7 @@ impl Pipeline {
             self.step_on(world);
             return;
         }
-        let mode = self.governor.next();
+        let mode = self.governor.next_mode();
         let start = Instant::now();
         match mode {
             governor::Mode::Pool => awake::with_helper(|| self.step_on(world)),
