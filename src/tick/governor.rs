@@ -43,7 +43,9 @@ pub enum Schedule {
     Alternate,
 }
 
-/// Ticks between probes after a switch or at the start.
+/// Ticks before the first probe: a short run should not spend its first ticks in the wrong mode.
+pub const FIRST_PROBE: u64 = 4;
+/// Ticks between probes after a switch.
 pub const MIN_INTERVAL: u64 = 16;
 /// Longest interval between probes.
 pub const MAX_INTERVAL: u64 = 512;
@@ -75,7 +77,7 @@ impl Default for Governor {
             schedule: Schedule::Adaptive,
             mode: Mode::Pool,
             per_agent: [None, None],
-            until_probe: MIN_INTERVAL,
+            until_probe: FIRST_PROBE,
             interval: MIN_INTERVAL,
             probing: 0,
             ticks: 0,
@@ -172,7 +174,7 @@ mod tests {
         let modes = drive(&mut g, 4000, |m, _| if m == Mode::Pool { 1.0 } else { 2.0 });
         assert_eq!(g.mode(), Mode::Pool);
         let solo = modes.iter().filter(|&&m| m == Mode::Solo).count();
-        // 2 ticks per probe, probes at 16, 32, 64, … then every 512 ticks.
+        // 2 ticks per probe, probes after 4 ticks, then 32, 64, … then every 512 ticks.
         assert!(solo > 0 && solo <= 2 * 12, "{solo} solo ticks of 4000");
         assert_eq!(g.interval, MAX_INTERVAL);
     }
