@@ -5,18 +5,26 @@
 
   // Far agents (and all of them without instancing) are point sprites, one vertex each: the
   // vertex shader projects the body axis to find the on-screen heading and foreshortening; the
-  // fragment shader cuts the silhouette of the shape family (`uShape`: 0 fish, 1 shark, 2 jelly,
-  // 3 walker) out of the square. Software GL draws these far faster than instanced meshes (its
-  // instancing costs much per instance), so only agents near the eye get a mesh (`drawAgents`).
-  const AGENT_VS = `
+  // fragment shader cuts the silhouette of the shape family out of the square. Software GL draws
+  // these far faster than instanced meshes (its instancing costs much per instance), so only
+  // agents near the eye get a mesh (`drawAgents`). With 10,000 agents most of a frame is spent
+  // filling these squares, so each shape family has its own program (no branch on the shape per
+  // pixel) and everything constant over a sprite (its axes, its tail's bend, its width) is worked
+  // out once per vertex.
+  const SPRITE_SHAPES = { fish: 0, custom: 0, shark: 1, jelly: 2, walker: 3 };
+  const spriteVs = (shape) => `
+#define SHAPE ${shape}
 attribute vec3 iPos; attribute vec3 iFwd; attribute vec3 iColor; attribute float iLen; attribute float iBend;
 uniform mat4 uViewProj; uniform vec2 uViewport; uniform float uProjF; uniform float uMinPx; uniform float uMaxPx;
-uniform mediump float uShape;
-varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
+varying vec3 vColor; varying vec2 vU; varying vec2 vV; varying float vBend; varying float vInvW2;
 vec2 toPx(vec4 c) { return c.xy / max(c.w, 1e-4) * 0.5 * uViewport; }
 void main() {
+#if SHAPE == 3
   // A walker stands on its position: the sprite is centered half its height up.
-  vec3 center = uShape > 2.5 ? iPos + vec3(0.0, 0.5 * iLen, 0.0) : iPos;
+  vec3 center = iPos + vec3(0.0, 0.5 * iLen, 0.0);
+#else
+  vec3 center = iPos;
+#endif
   vec4 c = uViewProj * vec4(center, 1.0);
   gl_Position = c;
   vec3 f = iFwd; float fl = length(f);
@@ -25,52 +33,55 @@ void main() {
   float onScreen = length(d);
   // side-on length in pixels at this depth
   float full = iLen * uProjF * 0.5 * uViewport.y / max(c.w, 1e-4);
-  float size = clamp(full, uMinPx, uMaxPx);
-  gl_PointSize = size;
-  vDir = onScreen > 1e-3 ? d / onScreen : vec2(1.0, 0.0);
-  vAspect = clamp(onScreen / max(full, 1e-3), 0.3, 1.0);
+  gl_PointSize = clamp(full, uMinPx, uMaxPx);
+  vec2 dir = onScreen > 1e-3 ? d / onScreen : vec2(1.0, 0.0);
+  float aspect = clamp(onScreen / max(full, 1e-3), 0.3, 1.0);
+  // The sprite's axes in point coordinates (y down): u along the body, nose at +0.5, shortened
+  // by the foreshortening; v to the body's left on screen.
+  vU = vec2(dir.x, -dir.y) / aspect;
+  vV = vec2(-dir.y, -dir.x);
+  float w = mix(0.2, 0.13, aspect) * (SHAPE == 1 ? 0.7 : 1.0);
+  vInvW2 = 1.0 / (w * w);
+  vBend = sin(iBend);
   vColor = iColor;
-  vBend = iBend;
 }`;
-  const AGENT_FS = `
+  const spriteFs = (shape) => `
+#define SHAPE ${shape}
 precision mediump float;
-uniform float uShape;
-varying vec3 vColor; varying vec2 vDir; varying float vAspect; varying float vBend;
+varying vec3 vColor; varying vec2 vU; varying vec2 vV; varying float vBend; varying float vInvW2;
 void main() {
-  vec2 p = vec2(gl_PointCoord.x - 0.5, 0.5 - gl_PointCoord.y);
+  vec2 p = gl_PointCoord - 0.5;
   float shade;
-  if (uShape > 2.5) {
-    // walker: upright on screen, head, body, legs
-    float head = length(p - vec2(0.0, 0.38)) / 0.09;
-    if (head <= 1.0) shade = 1.0 - 0.2 * head;
-    else if (abs(p.x) < 0.13 && p.y > -0.05 && p.y < 0.3) shade = 0.9;
-    else if (abs(abs(p.x) - 0.06) < 0.04 && p.y >= -0.5 && p.y <= -0.05) shade = 0.7;
-    else discard;
-    gl_FragColor = vec4(vColor * shade, 1.0);
-    return;
-  }
-  // u along the body (nose +0.5), v to the body's left on screen
-  float u = dot(p, vDir) / vAspect;
-  float v = dot(p, vec2(-vDir.y, vDir.x));
-  if (uShape > 1.5) {
-    // jelly: a round bell leading, tentacles trailing
-    float e = length(vec2(u - 0.2, v)) / 0.28;
-    if (e <= 1.0) shade = e > 0.75 ? 0.65 : 1.0 - 0.25 * e;
-    else if (u < 0.0 && u > -0.5 && abs(fract((v + 0.2) * 10.0) - 0.5) < 0.18 && abs(v) < 0.18) shade = 0.6;
-    else discard;
-    gl_FragColor = vec4(vColor * shade, 1.0);
-    return;
-  }
-  float w = mix(0.2, 0.13, vAspect) * (uShape > 0.5 ? 0.7 : 1.0);
-  float e = ((u - 0.08) * (u - 0.08)) / (0.38 * 0.38) + (v * v) / (w * w);
+#if SHAPE == 3
+  // walker: upright on screen, head, body, legs
+  p.y = -p.y;
+  float head = length(p - vec2(0.0, 0.38)) / 0.09;
+  if (head <= 1.0) shade = 1.0 - 0.2 * head;
+  else if (abs(p.x) < 0.13 && p.y > -0.05 && p.y < 0.3) shade = 0.9;
+  else if (abs(abs(p.x) - 0.06) < 0.04 && p.y >= -0.5 && p.y <= -0.05) shade = 0.7;
+  else discard;
+#else
+  float u = dot(p, vU);
+  float v = dot(p, vV);
+#if SHAPE == 2
+  // jelly: a round bell leading, tentacles trailing
+  float e = length(vec2(u - 0.2, v)) / 0.28;
+  if (e <= 1.0) shade = e > 0.75 ? 0.65 : 1.0 - 0.25 * e;
+  else if (u < 0.0 && u > -0.5 && abs(fract((v + 0.2) * 10.0) - 0.5) < 0.18 && abs(v) < 0.18) shade = 0.6;
+  else discard;
+#else
+  // fish and shark: an ellipse body and a tail bent by the swim phase
+  float du = u - 0.08;
+  float e = du * du * 6.925 + v * v * vInvW2;
   if (e <= 1.0) {
     shade = e > 0.72 ? 0.6 : 1.0 - 0.3 * e;
   } else {
     float back = -0.2 - u;
-    float vt = v + sin(vBend) * back;
-    if (back < 0.0 || u < -0.5 || abs(vt) > 0.02 + back * (uShape > 0.5 ? 0.7 : 0.5)) discard;
+    if (back < 0.0 || u < -0.5 || abs(v + vBend * back) > 0.02 + back * ${shape === 1 ? '0.7' : '0.5'}) discard;
     shade = 0.75;
   }
+#endif
+#endif
   gl_FragColor = vec4(vColor * shade, 1.0);
 }`;
   // Instanced body meshes: one draw call per species, the mesh turned to the heading and scaled
@@ -131,23 +142,32 @@ void main() { gl_Position = uViewProj * vec4(aPos, 1.0); vColor = aColor; vNorma
 precision mediump float; varying vec3 vColor; varying vec3 vNormal; varying float vDist;` + LIT + `
 void main() { gl_FragColor = fogged(lit(vColor, vNormal), vDist); }`;
   // The seabed: a wide plane under the world, sand with ripples and a faint 10 m grid for scale.
+  // The plane is cut into many cells so that the distance to the eye (fog, and the fading of the
+  // ripples) is taken per vertex: per pixel it cost a fifth of a 10,000-agent frame in software GL.
   const GROUND_VS = `
-attribute vec3 aPos; uniform mat4 uViewProj; varying vec3 vWorld;
-void main() { gl_Position = uViewProj * vec4(aPos, 1.0); vWorld = aPos; }`;
-  // The plane's corners are far away, so the distance is taken per pixel, not interpolated.
-  const GROUND_FS = `
-precision highp float; varying vec3 vWorld; uniform float uGrid; uniform vec3 uEye;` + LIT + `
+attribute vec3 aPos; uniform mat4 uViewProj; uniform vec3 uEye; uniform vec2 uFog;
+varying vec2 vXZ; varying float vNear; varying float vFogK;
 void main() {
-  vec2 q = vWorld.xz;
-  float dist = distance(vWorld, uEye);
+  gl_Position = uViewProj * vec4(aPos, 1.0);
+  vXZ = aPos.xz;
+  float dist = distance(aPos, uEye);
+  vNear = 1.0 - clamp(dist / uFog.y, 0.0, 1.0);
+  vFogK = clamp((dist - uFog.x) / max(uFog.y - uFog.x, 1e-3), 0.0, 1.0);
+}`;
+  const GROUND_FS = `
+precision highp float; varying vec2 vXZ; varying float vNear; varying float vFogK;
+uniform float uGrid; uniform vec3 uFogColor; uniform float uAlpha;
+void main() {
+  vec2 q = vXZ;
   // Ripples and grid fade out with distance, where they would only shimmer.
-  float near = 1.0 - clamp(dist / uFog.y, 0.0, 1.0);
   float ripple = sin(q.x * 0.6 + 2.0 * sin(q.y * 0.25)) * sin(q.y * 0.45 + 1.5 * sin(q.x * 0.15));
-  vec3 c = vec3(0.38, 0.36, 0.29) * (0.95 + 0.05 * ripple * near);
+  vec3 c = vec3(0.38, 0.36, 0.29) * (0.95 + 0.05 * ripple * vNear);
   vec2 g = abs(fract(q / uGrid + 0.5) - 0.5) * uGrid;
   float line = 1.0 - smoothstep(0.0, uGrid * 0.012, min(g.x, g.y));
-  c = mix(c, vec3(0.30, 0.36, 0.34), line * 0.6 * near);
-  gl_FragColor = fogged(lit(c, vec3(0.0, 1.0, 0.0)), dist);
+  c = mix(c, vec3(0.30, 0.36, 0.34), line * 0.6 * vNear);
+  // lit()'s factor for an upward normal: 0.5 + 0.55 * dot(up, sun) = 0.9483.
+  c *= 0.9483;
+  gl_FragColor = vec4(mix(c, uFogColor, vFogK), uAlpha);
 }`;
 
   // The page's deep-water background (#0b1a2a): what the fog fades to.
@@ -158,7 +178,6 @@ void main() {
   const AGENT_FLOATS = 11; // pos 3, fwd 3, color 3, length 1, bend 1
   // On-screen lengths (CSS px): every body is drawn at least MIN_PX long; from MESH_PX on, as a mesh.
   const MIN_PX = 12, MESH_PX = 30;
-  const SPRITE_SHAPES = { fish: 0, custom: 0, shark: 1, jelly: 2, walker: 3 };
 
   const renderer = {
     gl: null, ok: false, progs: {}, maxPointPx: 64, inst: null,
@@ -182,7 +201,7 @@ void main() {
         if (ext) this.inst = { divisor: (l, d) => ext.vertexAttribDivisorANGLE(l, d), draw: (m, n, t, o, k) => ext.drawElementsInstancedANGLE(m, n, t, o, k) };
       }
       this.maxPointPx = Math.min(512, gl.getParameter(gl.ALIASED_POINT_SIZE_RANGE)[1] || 64);
-      this.progs.agent = this.program(AGENT_VS, AGENT_FS);
+      this.progs.sprite = [0, 1, 2, 3].map((k) => this.program(spriteVs(k), spriteFs(k)));
       if (this.inst) this.progs.body = this.program(BODY_VS, BODY_FS);
       this.progs.line = this.program(LINE_VS, COLOR_FS);
       this.progs.point = this.program(LINE_VS, POINT_FS);
@@ -241,11 +260,18 @@ void main() {
     setGround(y, cx, cz, reach, grid) {
       const gl = this.gl;
       if (y === null) { this.ground = null; return; }
-      const a = [cx - reach, y, cz - reach], b = [cx + reach, y, cz - reach], c = [cx + reach, y, cz + reach], d = [cx - reach, y, cz + reach];
+      // CELLS × CELLS squares, two triangles each.
+      const CELLS = 48, step = (2 * reach) / CELLS, v = [];
+      for (let i = 0; i < CELLS; i++) {
+        for (let j = 0; j < CELLS; j++) {
+          const x0 = cx - reach + i * step, z0 = cz - reach + j * step, x1 = x0 + step, z1 = z0 + step;
+          v.push(x0, y, z0, x1, y, z0, x1, y, z1, x0, y, z0, x1, y, z1, x0, y, z1);
+        }
+      }
       const buf = gl.createBuffer();
       gl.bindBuffer(gl.ARRAY_BUFFER, buf);
-      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array([...a, ...b, ...c, ...a, ...c, ...d]), gl.STATIC_DRAW);
-      this.ground = { buf, count: 6 };
+      gl.bufferData(gl.ARRAY_BUFFER, new Float32Array(v), gl.STATIC_DRAW);
+      this.ground = { buf, count: v.length / 3 };
       this.grid = grid;
     },
     // The GL buffers of the body mesh of a look, made once per shape.
@@ -387,18 +413,17 @@ void main() {
       const gl = this.gl;
       const split = this.splitByDistance(vp, heightPx, dpr);
       if (split.ns) {
-        const p = this.progs.agent;
-        gl.useProgram(p.p);
-        gl.uniformMatrix4fv(p.u.uViewProj, false, vp);
-        gl.uniform2f(p.u.uViewport, widthPx, heightPx);
-        gl.uniform1f(p.u.uProjF, vp.projF);
-        gl.uniform1f(p.u.uMinPx, MIN_PX * dpr);
-        gl.uniform1f(p.u.uMaxPx, this.maxPointPx);
         gl.bindBuffer(gl.ARRAY_BUFFER, this.agentBuf);
         gl.bufferData(gl.ARRAY_BUFFER, this.spriteRows.subarray(0, split.ns * AGENT_FLOATS), gl.STREAM_DRAW);
         for (const g of split.sprite) {
           if (!g.count) continue;
-          gl.uniform1f(p.u.uShape, SPRITE_SHAPES[g.look ? g.look.shape : 'fish'] || 0);
+          const p = this.progs.sprite[SPRITE_SHAPES[g.look ? g.look.shape : 'fish'] || 0];
+          gl.useProgram(p.p);
+          gl.uniformMatrix4fv(p.u.uViewProj, false, vp);
+          gl.uniform2f(p.u.uViewport, widthPx, heightPx);
+          gl.uniform1f(p.u.uProjF, vp.projF);
+          gl.uniform1f(p.u.uMinPx, MIN_PX * dpr);
+          gl.uniform1f(p.u.uMaxPx, this.maxPointPx);
           const o = g.start * AGENT_FLOATS;
           this.attrib(p, 'iPos', 3, AGENT_FLOATS, o);
           this.attrib(p, 'iFwd', 3, AGENT_FLOATS, o + 3);
@@ -440,15 +465,6 @@ void main() {
       const gl = this.gl;
       gl.viewport(0, 0, widthPx, heightPx);
       gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-      if (this.ground && !this.terrain) {
-        const p = this.progs.ground;
-        this.litUniforms(p, vp, 1);
-        gl.uniform1f(p.u.uGrid, this.grid);
-        gl.bindBuffer(gl.ARRAY_BUFFER, this.ground.buf);
-        this.attrib(p, 'aPos', 3, 3, 0);
-        gl.drawArrays(gl.TRIANGLES, 0, this.ground.count);
-        this.releaseAttribs();
-      }
       if (this.terrain) {
         const p = this.progs.mesh;
         this.litUniforms(p, vp, 1);
@@ -468,6 +484,17 @@ void main() {
       this.drawSet(this.staticPoints, gl.POINTS, this.progs.point, vp, 5 * dpr);
       this.drawSet(this.foodPoints, gl.POINTS, this.progs.point, vp, 4 * dpr);
       if (this.agentCount) this.drawAgents(vp, widthPx, heightPx, dpr);
+      // The seabed after the opaque things over it: the pixels they cover fail the depth test
+      // and are never shaded (with 10,000 agents that is a good part of the frame).
+      if (this.ground && !this.terrain) {
+        const p = this.progs.ground;
+        this.litUniforms(p, vp, 1);
+        gl.uniform1f(p.u.uGrid, this.grid);
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.ground.buf);
+        this.attrib(p, 'aPos', 3, 3, 0);
+        gl.drawArrays(gl.TRIANGLES, 0, this.ground.count);
+        this.releaseAttribs();
+      }
       if (this.solids.count) {
         // Rocks last, slightly transparent: a fish behind or inside one still shows through.
         const p = this.progs.mesh;
