@@ -465,6 +465,15 @@ void main() {
       const gl = this.gl;
       gl.viewport(0, 0, widthPx, heightPx);
       gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      if (this.ground && !this.terrain) {
+        const p = this.progs.ground;
+        this.litUniforms(p, vp, 1);
+        gl.uniform1f(p.u.uGrid, this.grid);
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.ground.buf);
+        this.attrib(p, 'aPos', 3, 3, 0);
+        gl.drawArrays(gl.TRIANGLES, 0, this.ground.count);
+        this.releaseAttribs();
+      }
       if (this.terrain) {
         const p = this.progs.mesh;
         this.litUniforms(p, vp, 1);
@@ -484,17 +493,6 @@ void main() {
       this.drawSet(this.staticPoints, gl.POINTS, this.progs.point, vp, 5 * dpr);
       this.drawSet(this.foodPoints, gl.POINTS, this.progs.point, vp, 4 * dpr);
       if (this.agentCount) this.drawAgents(vp, widthPx, heightPx, dpr);
-      // The seabed after the opaque things over it: the pixels they cover fail the depth test
-      // and are never shaded (with 10,000 agents that is a good part of the frame).
-      if (this.ground && !this.terrain) {
-        const p = this.progs.ground;
-        this.litUniforms(p, vp, 1);
-        gl.uniform1f(p.u.uGrid, this.grid);
-        gl.bindBuffer(gl.ARRAY_BUFFER, this.ground.buf);
-        this.attrib(p, 'aPos', 3, 3, 0);
-        gl.drawArrays(gl.TRIANGLES, 0, this.ground.count);
-        this.releaseAttribs();
-      }
       if (this.solids.count) {
         // Rocks last, slightly transparent: a fish behind or inside one still shows through.
         const p = this.progs.mesh;
