@@ -94,7 +94,7 @@ pub fn run(o: &Options) -> Result<Output, Failure> {
         }
     });
     let elapsed = start.elapsed().as_secs_f64();
-    let mut summary = summary(&run, elapsed);
+    let mut summary = run.summary(elapsed);
     let verdicts = if tracker.is_empty() {
         Vec::new()
     } else {
@@ -114,47 +114,6 @@ pub fn run(o: &Options) -> Result<Output, Failure> {
         events: rec.ev.columns,
         summary,
         health: report.to_json(),
-    })
-}
-
-/// The run summary, as `shoal run` writes it into the manifest (`ticks_per_second` is this
-/// run's speed; the rest depends on the inputs only).
-fn summary(run: &Run, elapsed: f64) -> Value {
-    let s = &run.pipeline.stats;
-    let mut shares = serde_json::Map::new();
-    for (i, sp) in run.scenario.species.species.iter().enumerate() {
-        let row = &s.behavior_ticks[i];
-        let total: u64 = row.iter().sum();
-        let m: serde_json::Map<String, Value> = sp
-            .behaviors
-            .iter()
-            .zip(row)
-            .map(|(b, n)| {
-                let share = if total > 0 {
-                    *n as f64 / total as f64
-                } else {
-                    0.0
-                };
-                (b.name.to_string(), json!((share * 1000.0).round() / 1000.0))
-            })
-            .collect();
-        shares.insert(sp.name.clone(), Value::Object(m));
-    }
-    let alive: serde_json::Map<String, Value> = run
-        .alive()
-        .into_iter()
-        .map(|(k, v)| (k, json!(v)))
-        .collect();
-    json!({
-        "ticks": run.world.tick,
-        "alive": alive,
-        "food_eaten": s.meals,
-        "catches": s.catches,
-        "matings": s.matings,
-        "transitions": s.transitions,
-        "script_errors": s.script_errors,
-        "behavior_shares": shares,
-        "ticks_per_second": (run.world.tick as f64 / elapsed.max(1e-9)).round(),
     })
 }
 

@@ -197,7 +197,7 @@ fn execute_with_versions(
     let elapsed = start.elapsed().as_secs_f64();
     match result {
         Ok(()) => {
-            let mut summary = summary(&run, elapsed);
+            let mut summary = run.summary(elapsed);
             summary["time_shares"] = time_shares(&run, elapsed, recording);
             let verdicts = tracker
                 .filter(|t| !t.is_empty())
@@ -292,45 +292,6 @@ fn print_errors(first: &[String], total: u64, quiet: bool) {
             println!("{l}");
         }
     }
-}
-
-/// The run summary as JSON (also stored in the manifest).
-pub fn summary(run: &Run, elapsed: f64) -> serde_json::Value {
-    let s = &run.pipeline.stats;
-    let mut shares = serde_json::Map::new();
-    for (i, sp) in run.scenario.species.species.iter().enumerate() {
-        let row = &s.behavior_ticks[i];
-        let total: u64 = row.iter().sum();
-        let mut m = serde_json::Map::new();
-        for (b, n) in sp.behaviors.iter().zip(row) {
-            let share = if total > 0 {
-                *n as f64 / total as f64
-            } else {
-                0.0
-            };
-            m.insert(
-                b.name.to_string(),
-                serde_json::json!((share * 1000.0).round() / 1000.0),
-            );
-        }
-        shares.insert(sp.name.clone(), serde_json::Value::Object(m));
-    }
-    let alive: serde_json::Map<String, serde_json::Value> = run
-        .alive()
-        .into_iter()
-        .map(|(k, v)| (k, serde_json::json!(v)))
-        .collect();
-    serde_json::json!({
-        "ticks": run.world.tick,
-        "alive": alive,
-        "food_eaten": s.meals,
-        "catches": s.catches,
-        "matings": s.matings,
-        "transitions": s.transitions,
-        "script_errors": s.script_errors,
-        "behavior_shares": shares,
-        "ticks_per_second": (run.world.tick as f64 / elapsed.max(1e-9)).round(),
-    })
 }
 
 /// Where the run's wall time went: each stage of the tick, the recording, and the rest (what

@@ -359,4 +359,46 @@ impl Run {
             .map(|(s, c)| (s.name.clone(), c))
             .collect()
     }
+
+    /// The run summary as JSON, as `shoal run` stores it in the manifest and the Python package
+    /// returns it: counters, each species' behavior shares (per behavior, to 0.001) and
+    /// `ticks_per_second` over `elapsed` seconds (the only figure that is not a pure function of
+    /// the inputs).
+    pub fn summary(&self, elapsed: f64) -> serde_json::Value {
+        let s = &self.pipeline.stats;
+        let mut shares = serde_json::Map::new();
+        for (i, sp) in self.scenario.species.species.iter().enumerate() {
+            let row = &s.behavior_ticks[i];
+            let total: u64 = row.iter().sum();
+            let mut m = serde_json::Map::new();
+            for (b, n) in sp.behaviors.iter().zip(row) {
+                let share = if total > 0 {
+                    *n as f64 / total as f64
+                } else {
+                    0.0
+                };
+                m.insert(
+                    b.name.to_string(),
+                    serde_json::json!((share * 1000.0).round() / 1000.0),
+                );
+            }
+            shares.insert(sp.name.clone(), serde_json::Value::Object(m));
+        }
+        let alive: serde_json::Map<String, serde_json::Value> = self
+            .alive()
+            .into_iter()
+            .map(|(k, v)| (k, serde_json::json!(v)))
+            .collect();
+        serde_json::json!({
+            "ticks": self.world.tick,
+            "alive": alive,
+            "food_eaten": s.meals,
+            "catches": s.catches,
+            "matings": s.matings,
+            "transitions": s.transitions,
+            "script_errors": s.script_errors,
+            "behavior_shares": shares,
+            "ticks_per_second": (self.world.tick as f64 / elapsed.max(1e-9)).round(),
+        })
+    }
 }
