@@ -4,7 +4,8 @@
 //! temporary copy of the shipped project. Under CI (`CI` set) a missing node or
 //! `npm ci --prefix tests/lsp` is a failure; locally the test skips with a visible message.
 
-use std::io::Write as _;
+mod prereq;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -32,20 +33,12 @@ fn missing_prerequisites() -> Vec<String> {
 
 /// True when the test may run; under CI a missing prerequisite fails instead of skipping.
 fn client_available(test: &str) -> bool {
-    let missing = missing_prerequisites();
-    if missing.is_empty() {
-        return true;
-    }
-    let what = missing.join(", ");
-    if std::env::var_os("CI").is_some() {
-        panic!("{test}: LSP client test prerequisites missing under CI: {what}");
-    }
-    // Straight to the process's stderr so that the test harness does not capture it.
-    let _ = writeln!(
-        std::io::stderr().lock(),
-        "SKIPPED: {test}: missing {what}; run `bash tests/lsp/setup.sh` to enable it"
-    );
-    false
+    prereq::may_run(
+        test,
+        "LSP client test",
+        &missing_prerequisites(),
+        "bash tests/lsp/setup.sh",
+    )
 }
 
 /// Runs `node --test tests/lsp/<file>` against this build's `shoal`, prints its report, and

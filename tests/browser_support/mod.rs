@@ -4,8 +4,10 @@
 // Each test crate uses its own part of this module.
 #![allow(dead_code)]
 
+#[path = "../prereq/mod.rs"]
+mod prereq;
+
 use std::ffi::OsStr;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -40,20 +42,12 @@ pub fn missing_prerequisites() -> Vec<String> {
 
 /// True when the test may run; under CI a missing prerequisite fails instead of skipping.
 pub fn browser_available(test: &str) -> bool {
-    let missing = missing_prerequisites();
-    if missing.is_empty() {
-        return true;
-    }
-    let what = missing.join(", ");
-    if std::env::var_os("CI").is_some() {
-        panic!("{test}: browser test prerequisites missing under CI: {what}; run `bash tests/browser/setup.sh`");
-    }
-    // Straight to the process's stderr so that the test harness does not capture it.
-    let _ = writeln!(
-        std::io::stderr().lock(),
-        "SKIPPED: {test}: missing {what}; run `bash tests/browser/setup.sh` to enable it"
-    );
-    false
+    prereq::may_run(
+        test,
+        "browser test",
+        &missing_prerequisites(),
+        "bash tests/browser/setup.sh",
+    )
 }
 
 /// Runs `node tests/browser/<script> <args…>`, prints its output, and fails with it when the
