@@ -21,7 +21,8 @@ thread_local! {
 }
 
 /// Removes `.` and `a/..` components without touching the file system, so that the same file
-/// reached through `scenarios/../behaviors` and `behaviors` is one key.
+/// reached through `scenarios/../behaviors` and `behaviors` is one key and diagnostics name
+/// files the way a user would. A path that comes to nothing is `.`.
 pub fn normalize(p: &Path) -> PathBuf {
     let mut out: Vec<Component> = Vec::new();
     for c in p.components() {
@@ -33,7 +34,11 @@ pub fn normalize(p: &Path) -> PathBuf {
             c => out.push(c),
         }
     }
-    out.iter().collect()
+    if out.is_empty() {
+        PathBuf::from(".")
+    } else {
+        out.iter().collect()
+    }
 }
 
 /// Runs `f` with `texts` read in place of those files, and returns its result with the
@@ -70,6 +75,21 @@ pub(super) fn read(path: &Path) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn normalize_removes_dots_without_the_file_system() {
+        let n = |p: &str| normalize(Path::new(p));
+        assert_eq!(
+            n("scenarios/../behaviors/a.ron"),
+            Path::new("behaviors/a.ron")
+        );
+        assert_eq!(n("./a/./b"), Path::new("a/b"));
+        assert_eq!(n("/p/x/../../q"), Path::new("/q"));
+        // `..` that climbs above where the path starts is kept: nothing there is known.
+        assert_eq!(n("../a/../b"), Path::new("../b"));
+        assert_eq!(n("a/.."), Path::new("."));
+        assert_eq!(n("."), Path::new("."));
+    }
 
     #[test]
     fn overlaid_text_is_read_and_reads_are_recorded() {

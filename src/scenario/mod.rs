@@ -47,26 +47,7 @@ pub struct Scenario {
     pub patched: crate::load::overlay::Texts,
 }
 
-/// Removes `.` and `a/..` components without touching the file system, so that diagnostics
-/// name files the way a user would.
-pub fn normalize(p: &Path) -> PathBuf {
-    use std::path::Component;
-    let mut out: Vec<Component> = Vec::new();
-    for c in p.components() {
-        match c {
-            Component::CurDir => {}
-            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
-                out.pop();
-            }
-            c => out.push(c),
-        }
-    }
-    if out.is_empty() {
-        PathBuf::from(".")
-    } else {
-        out.iter().collect()
-    }
-}
+pub use crate::load::overlay::normalize;
 
 /// Script limits used for every load.
 pub fn script_limits() -> crate::script::SandboxLimits {
