@@ -229,3 +229,40 @@ fn a_misspelt_script_function_gets_a_did_you_mean() {
         err.0[0].message
     );
 }
+
+#[test]
+fn a_reload_carries_memory_to_the_new_declaration() {
+    let script = "fn startled() {\n    this[\"meals\"] = this[\"meals\"] + 1;\n    false\n}\n";
+    let v1 = r#"memory: { "meals": Int(0), "mood": String("calm"), "old": Bool(true) },"#;
+    let dir = folder(&[("minnow.ron", &species(v1)), ("minnow.rhai", script)]);
+    let sp = load(&dir.path().join("minnow.ron"), dir.path());
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)));
+    let id = sim.spawn("minnow", Vec3::ZERO, 0.0);
+    sim.run(3);
+    let meals = sim.agent(id).memory[0].clone();
+    assert!(
+        matches!(meals, (ref k, MemValue::Int(n)) if k == "meals" && n > 0),
+        "{meals:?}"
+    );
+    // The new version adds "naps", makes "mood" a number and drops "old"; the script uses "naps".
+    let v2 = r#"memory: { "meals": Int(0), "mood": Float(0.5), "naps": Int(7) },"#;
+    let script2 = "fn startled() {\n    this[\"naps\"] = this[\"naps\"] + 1;\n    false\n}\n";
+    std::fs::write(dir.path().join("minnow.ron"), species(v2)).unwrap();
+    std::fs::write(dir.path().join("minnow.rhai"), script2).unwrap();
+    let sp2 = load(&dir.path().join("minnow.ron"), dir.path());
+    let set =
+        shoal::species::SpeciesSet::with_library(vec![std::sync::Arc::new(sp2)], |_| true).unwrap();
+    sim.set_species(set);
+    assert_eq!(
+        sim.agent(id).memory,
+        vec![
+            meals,
+            ("mood".to_string(), MemValue::Float(0.5)),
+            ("naps".to_string(), MemValue::Int(7)),
+        ],
+        "kept where the type holds, new and retyped keys at their start values, dropped keys gone"
+    );
+    sim.run(3);
+    assert!(sim.script_errors().is_empty(), "{:?}", sim.script_errors());
+    assert!(matches!(sim.agent(id).memory[2].1, MemValue::Int(n) if n > 7));
+}

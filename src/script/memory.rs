@@ -105,6 +105,20 @@ impl MemorySpec {
             .join(", ")
     }
 
+    /// Carries an agent's blackboard over to this declaration (hot reload): a value stays where
+    /// its key is still declared with the same type; a newly declared key, or one whose type
+    /// changed, starts at its start value (or unset); keys no longer declared are dropped, as
+    /// nothing could read them. Without this, a key added while the run goes on would read as
+    /// `()` in every agent already swimming.
+    pub fn carry(&self, memory: &mut Vec<(String, MemValue)>) {
+        memory.retain(|(k, v)| self.type_of(k) == Some(MemType::of(v)));
+        for (k, v) in &self.initial {
+            if let Err(i) = memory.binary_search_by(|(m, _)| m.as_str().cmp(k)) {
+                memory.insert(i, (k.clone(), v.clone()));
+            }
+        }
+    }
+
     /// Checks that `value` may be stored under `key`.
     pub fn check_write(&self, key: &str, value: &MemValue) -> Result<(), String> {
         if let Some(why) = self.undeclared(key) {

@@ -92,7 +92,8 @@ impl Pipeline {
     /// Installs `species` (a new version of the running species, matched by name) at a tick
     /// boundary and carries every agent of `world` over to it: species index, current behavior,
     /// stack and cooldowns by behavior name, cached script results by function name. Agents
-    /// keep their position, drives, memory and random stream. Agents whose current behavior no
+    /// keep their position, drives, memory (carried to the new declaration:
+    /// [`crate::script::memory::MemorySpec::carry`]) and random stream. Agents whose current behavior no
     /// longer exists fall back to the initial behavior; agents whose species is not in the new
     /// set are removed. Per-behavior statistics are carried over by name too.
     pub fn install_species(&mut self, world: &mut World, species: Arc<SpeciesSet>) -> Remap {
@@ -162,6 +163,7 @@ impl Pipeline {
                 }
             }
             m.cooldown_until = cooldown;
+            nsp.memory.carry(&mut a.memory);
             let (values, steer) = carry_script_state(osp, nsp, &m.script_values, &m.script_steer);
             m.script_values = values;
             m.script_steer = steer;
