@@ -143,7 +143,8 @@ precision mediump float; varying vec3 vColor; varying vec3 vNormal; varying floa
 void main() { gl_FragColor = fogged(lit(vColor, vNormal), vDist); }`;
   // The seabed: a wide plane under the world, sand with ripples and a faint 10 m grid for scale.
   // The plane is cut into many cells so that the distance to the eye (fog, and the fading of the
-  // ripples) is taken per vertex: per pixel it cost a fifth of a 10,000-agent frame in software GL.
+  // ripples) can be taken per vertex rather than per pixel, which software GL pays for on most of
+  // the screen every frame.
   const GROUND_VS = `
 attribute vec3 aPos; uniform mat4 uViewProj; uniform vec3 uEye; uniform vec2 uFog;
 varying vec2 vXZ; varying float vNear; varying float vFogK;
