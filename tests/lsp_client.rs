@@ -6,13 +6,9 @@
 
 mod prereq;
 
-use std::path::PathBuf;
-use std::process::Command;
+use prereq::repo;
 
-/// The repository root.
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use std::process::Command;
 
 /// What is missing for the client tests, if anything.
 fn missing_prerequisites() -> Vec<String> {
@@ -47,22 +43,13 @@ fn run_client_tests(file: &str) {
     if !client_available(file) {
         return;
     }
-    let out = Command::new("node")
-        .arg("--test")
-        .arg("--test-reporter=spec")
-        .arg(repo().join("tests/lsp").join(file))
-        .env("SHOAL_BIN", env!("CARGO_BIN_EXE_shoal"))
-        .current_dir(repo())
-        .output()
-        .expect("run node");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
-    eprintln!("{stderr}");
-    assert!(
-        out.status.success(),
-        "{file} failed ({}):\n{stdout}\n{stderr}",
-        out.status
+    prereq::run_tool(
+        file,
+        Command::new("node")
+            .arg("--test")
+            .arg("--test-reporter=spec")
+            .arg(repo().join("tests/lsp").join(file))
+            .env("SHOAL_BIN", env!("CARGO_BIN_EXE_shoal")),
     );
 }
 

@@ -7,13 +7,10 @@
 
 mod prereq;
 
+use prereq::{repo, run_tool};
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// The repository root.
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// A folder given by the environment variable `var`, else `default` under the repository.
 fn folder(var: &str, default: &str) -> PathBuf {
@@ -43,20 +40,6 @@ fn python(venv: &Path) -> Result<PathBuf, String> {
     }
 }
 
-/// Runs `cmd`, printing what it printed; fails the test with it when it fails.
-fn run(what: &str, cmd: &mut Command) {
-    let out = cmd.current_dir(repo()).output().expect(what);
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
-    eprintln!("{stderr}");
-    assert!(
-        out.status.success(),
-        "{what} failed ({}):\n{stdout}\n{stderr}",
-        out.status
-    );
-}
-
 #[test]
 fn python_package_tests_pass() {
     let venv = folder("SHOAL_PYENV", "target/pyenv");
@@ -73,7 +56,7 @@ fn python_package_tests_pass() {
             return;
         }
     };
-    run(
+    run_tool(
         "maturin develop",
         Command::new(&python)
             .args([
@@ -91,7 +74,7 @@ fn python_package_tests_pass() {
                 folder("SHOAL_PY_TARGET", "target/python"),
             ),
     );
-    run(
+    run_tool(
         "pytest python/tests",
         Command::new(&python)
             .args([

@@ -8,16 +8,13 @@
 mod prereq;
 
 use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 /// Debian's Chromium.
 pub const CHROMIUM: &str = "/usr/bin/chromium";
 
-/// The repository root.
-pub fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+pub use prereq::repo;
 
 /// What is missing for a browser test, if anything.
 pub fn missing_prerequisites() -> Vec<String> {
@@ -53,18 +50,10 @@ pub fn browser_available(test: &str) -> bool {
 /// Runs `node tests/browser/<script> <args…>`, prints its output, and fails with it when the
 /// script fails.
 pub fn run_node<A: AsRef<OsStr>>(script: &str, args: &[A]) {
-    let out = Command::new("node")
-        .arg(repo().join("tests/browser").join(script))
-        .args(args)
-        .output()
-        .expect("run node");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("{stdout}");
-    eprintln!("{stderr}");
-    assert!(
-        out.status.success(),
-        "{script} failed ({}):\n{stdout}\n{stderr}",
-        out.status
+    prereq::run_tool(
+        script,
+        Command::new("node")
+            .arg(repo().join("tests/browser").join(script))
+            .args(args),
     );
 }
