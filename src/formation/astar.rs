@@ -867,6 +867,16 @@ mod tests {
         g
     }
 
+    /// The grid's opposite corners, unblocked: the start and goal of the random-grid searches.
+    fn open_corners(grid: &mut CostGrid) -> (Cell, Cell) {
+        let (start, goal) = (Cell::new(0, 0), Cell::new(grid.cols - 1, grid.rows - 1));
+        for c in [start, goal] {
+            let i = grid.index(c);
+            grid.blocked[i] = false;
+        }
+        (start, goal)
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(128))]
         #[test]
@@ -875,12 +885,7 @@ mod tests {
             members in 1usize..6
         ) {
             let mut grid = random_grid(cols, rows, seed, density);
-            let start = Cell::new(0, 0);
-            let goal = Cell::new(cols - 1, rows - 1);
-            let si = grid.index(start);
-            grid.blocked[si] = false;
-            let gi = grid.index(goal);
-            grid.blocked[gi] = false;
+            let (start, goal) = open_corners(&mut grid);
             let f = [Formation::new(&FormationShape::Wedge, members, 1.0).unwrap()];
             let team = GridFormations::new(&f, 0, 1.0);
             let mut p = Planner::new();
@@ -910,12 +915,7 @@ mod tests {
             members in 1usize..6, k2 in 0.0f32..0.95, weight in 1.0f32..3.0
         ) {
             let mut grid = random_grid(cols, rows, seed, density);
-            let start = Cell::new(0, 0);
-            let goal = Cell::new(cols - 1, rows - 1);
-            let si = grid.index(start);
-            grid.blocked[si] = false;
-            let gi = grid.index(goal);
-            grid.blocked[gi] = false;
+            let (start, goal) = open_corners(&mut grid);
             let f = [
                 Formation::new(&FormationShape::Wedge, members, 1.0).unwrap(),
                 Formation::new(&FormationShape::Column, members, 1.0).unwrap(),
