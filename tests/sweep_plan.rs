@@ -50,7 +50,7 @@ fn unknown_keys_and_bad_values_are_located_and_named() {
     let e = load(&["reef_fsh.senses.vision_radius=3"]).unwrap_err();
     assert!(e.contains("`reef_fsh` is neither `scenario` nor a species the scenario loads (did you mean `reef_fish`?)"), "{e}");
     let e = load(&["reef_fish.senses.vison_radius=3"]).unwrap_err();
-    assert!(e.contains("reef_fish.ron:29:"), "{e}");
+    assert!(e.contains("reef_fish.ron:30:"), "{e}");
     assert!(e.contains("setting `reef_fish.senses.vison_radius=3`: unknown field `vison_radius` in SenseParams (did you mean `vision_radius`?)"), "{e}");
     let e = load(&["scenario.groups[0].count=-1"]).unwrap_err();
     assert!(

@@ -16,7 +16,8 @@
 //! ([`Perception::run`]): gather the tick's copies (`gather.rs`), index the obstacles, then
 //! walk every perceiver in parallel (`view.rs`, `walk.rs`). A species' senses, relations and
 //! reads are in `senses.rs`, the sense test in `eye.rs`, the kept percepts in `keep.rs`, the
-//! summaries in `fold.rs`.
+//! summaries in `fold.rs`, the bounded kin neighborhood (the nearest `n` kin, an opt-in beside
+//! the paper's metric one) in `nearest.rs`.
 
 mod eye;
 mod fold;
@@ -24,6 +25,7 @@ mod gather;
 pub mod group;
 mod keep;
 pub mod kin;
+mod nearest;
 pub mod occlusion;
 mod senses;
 pub mod strength;
@@ -50,6 +52,8 @@ use view::View;
 
 /// Most percepts a species may keep per agent ([`SenseParams::max_percepts`]).
 pub const MAX_PERCEPTS: usize = 32;
+/// Largest kin neighborhood a species may ask for ([`SenseParams::neighbors`]).
+pub const MAX_NEIGHBORS: u32 = 4096;
 /// Percepts kept per agent unless the species says otherwise.
 pub const DEFAULT_PERCEPTS: usize = 16;
 // Kept percepts are flagged in a `u32` bit mask.
@@ -100,6 +104,9 @@ pub struct Perception {
     kernel: Vec<bool>,
     /// Obstacles by cell, so a perceiver looks only at those that may be in range.
     obstacle_grid: ObstacleGrid,
+    /// For each species with a bounded kin neighborhood, the agents it perceives as other
+    /// than kin.
+    others: nearest::Others,
 }
 
 /// One agent's share of the stage's output buffers.
@@ -311,6 +318,8 @@ impl Perception {
             .fold(0.0, f32::max);
         self.obstacle_grid
             .update(world.bounds, reach, &world.obstacles);
+        self.others
+            .update(world.bounds, agents, &self.tags, senses, relations);
         let view = View {
             world,
             near,
@@ -323,6 +332,7 @@ impl Perception {
             agents,
             food,
             obstacle_grid: &self.obstacle_grid,
+            others: &self.others,
             relations,
             by_grid: self.by_grid,
             angles: &self.angles,

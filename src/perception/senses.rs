@@ -31,6 +31,13 @@ pub struct SenseParams {
     /// Percepts kept per agent (the nearest ones, and always the nearest of each category), at
     /// least one per [`Category`] and at most [`MAX_PERCEPTS`]. Summaries and group sums still cover everything perceived.
     pub max_percepts: usize,
+    /// A bound on the kin perceived: the nearest `n` kin within range (a topological
+    /// neighborhood), not every kin within range (seed 000 §1's metric one, the default). The
+    /// walk grows its box outward and stops once it holds the nearest `n`, so the cost per
+    /// perceiver stays bounded as a school packs tighter. Agents of other categories
+    /// (predators, food, others) are perceived within range as ever; mates are kin of the other
+    /// sex, so they come from the nearest `n`.
+    pub neighbors: Option<u32>,
     /// How perceived strength falls with distance (seed 001): read by `Strength(category)` and
     /// scripts, never by perception itself.
     pub strength: Strength,
@@ -51,6 +58,7 @@ impl Default for SenseParams {
             occluders: Occluders::Shape,
             extent: Extent::Centre,
             max_percepts: DEFAULT_PERCEPTS,
+            neighbors: None,
             strength: Strength::default(),
             sectors: Sectors::default(),
         }

@@ -3,6 +3,7 @@
 //! output row, handed to the walks (`walk.rs`). Read-only: each row writes only its own share.
 
 use super::gather::{Body, Gathered, Me, Tag};
+use super::nearest::Others;
 use super::walk::perceive_one;
 use super::{kin, AgentOut, Reads, Relations, SenseParams};
 use crate::index::{Grid, ObstacleGrid};
@@ -29,6 +30,8 @@ pub(super) struct View<'a> {
     pub(super) agents: &'a Grid,
     pub(super) food: &'a Grid,
     pub(super) obstacle_grid: &'a ObstacleGrid,
+    /// What each species with a bounded kin neighborhood perceives as other than kin.
+    pub(super) others: &'a Others,
     pub(super) relations: &'a Relations,
     /// Whether the output rows are in the agent grid's order (else in agent order).
     pub(super) by_grid: bool,

@@ -9,7 +9,7 @@ use super::eye::{sense_of, sense_point, Eye, MAX_OCCLUDERS, NO_OCCLUDER};
 use super::fold::{kin_only, Acc, Fold, ACC};
 use super::gather::Me;
 use super::view::View;
-use super::{kin, volume, SummaryRow};
+use super::{kin, nearest, volume, SummaryRow};
 use super::{Category, Extent, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams};
 use super::{Sense, Source};
 use crate::frame;
@@ -64,6 +64,7 @@ pub(super) fn kernel_species(
 ) -> bool {
     let keeps_agents = reads.percepts && reads.agent_percepts && sense.slots() > 0;
     !keeps_agents
+        && sense.neighbors.is_none()
         && sense.volume.is_none()
         && sense.extent == Extent::Centre
         && !relations.mates(s)
@@ -250,6 +251,7 @@ impl Perceiver<'_, '_> {
         // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
         // volume, no mates): the neighbors go straight into the kin sums, held in registers.
         let plain = !agent_percepts
+            && sense.neighbors.is_none()
             && sense.volume.is_none()
             && !mates
             && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
@@ -336,55 +338,71 @@ impl Perceiver<'_, '_> {
         let here_a = Vec3A::from(here);
         let entries = view.agents.entries();
         let me_slot = self.me_slot();
-        view.agents
-            .for_each_slot_within(here, agent_radius, |k, pos, d2| {
-                if k == me_slot {
-                    return;
-                }
-                let tag = view.tags[k];
-                let Some(mut cat) = row.get(tag.species as usize).copied().flatten() else {
-                    return;
+        let mut visit = |k: usize, pos: Vec3A, d2: f32| {
+            if k == me_slot {
+                return;
+            }
+            let tag = view.tags[k];
+            let Some(mut cat) = row.get(tag.species as usize).copied().flatten() else {
+                return;
+            };
+            if cat == Category::Kin && mates && tag.sex != my_sex {
+                cat = Category::Mate;
+            }
+            let offset_a = pos - here_a;
+            let offset = Vec3::from(offset_a);
+            let radius = || view.diagonals[k] * 0.5;
+            let Some(seen) = sense_point(here, offset, d2, eye, sense, occ, radius) else {
+                return;
+            };
+            let other = &view.near[k];
+            let vel = Vec3A::from(other.velocity());
+            if matches!(cat, Category::Kin | Category::Mate) {
+                groups.add(sums, offset_a, d2, vel);
+            }
+            // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+            let dist = || d2.sqrt();
+            if !agent_percepts {
+                fold.sum(cat, seen, d2, dist, pos, other.heading.into(), vel);
+                return;
+            }
+            fold.take(
+                cat,
+                seen,
+                d2,
+                dist,
+                pos,
+                other.heading.into(),
+                vel,
+                |dist| {
+                    percept(
+                        Source::Agent(entries[k]),
+                        cat,
+                        seen,
+                        offset,
+                        dist,
+                        view.diagonals[k],
+                    )
+                },
+            );
+        };
+        match (sense.neighbors, view.others.of(self.s)) {
+            (Some(n), Some(others)) => {
+                // A bounded kin neighborhood: the others within range, then the nearest `n` kin.
+                others.for_each_within(here, agent_radius, &mut visit);
+                let is_kin =
+                    |k: usize| row.get(view.tags[k].species as usize) == Some(&Some(Category::Kin));
+                let q = nearest::KinQuery {
+                    here,
+                    radius: agent_radius,
+                    me: me_slot,
+                    n: n as usize,
                 };
-                if cat == Category::Kin && mates && tag.sex != my_sex {
-                    cat = Category::Mate;
-                }
-                let offset_a = pos - here_a;
-                let offset = Vec3::from(offset_a);
-                let radius = || view.diagonals[k] * 0.5;
-                let Some(seen) = sense_point(here, offset, d2, eye, sense, occ, radius) else {
-                    return;
-                };
-                let other = &view.near[k];
-                let vel = Vec3A::from(other.velocity());
-                if matches!(cat, Category::Kin | Category::Mate) {
-                    groups.add(sums, offset_a, d2, vel);
-                }
-                // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
-                let dist = || d2.sqrt();
-                if !agent_percepts {
-                    fold.sum(cat, seen, d2, dist, pos, other.heading.into(), vel);
-                    return;
-                }
-                fold.take(
-                    cat,
-                    seen,
-                    d2,
-                    dist,
-                    pos,
-                    other.heading.into(),
-                    vel,
-                    |dist| {
-                        percept(
-                            Source::Agent(entries[k]),
-                            cat,
-                            seen,
-                            offset,
-                            dist,
-                            view.diagonals[k],
-                        )
-                    },
-                );
-            });
+                let hint = view.others.hint(self.i);
+                nearest::nearest_kin(view.agents, q, hint, is_kin, visit);
+            }
+            _ => view.agents.for_each_slot_within(here, agent_radius, visit),
+        }
     }
 
     /// Folds the food items within range into `fold`: offered as percepts when `keep`, else

@@ -7,6 +7,7 @@
 
 use super::*;
 use crate::load::{Diagnostic, Diagnostics, NumberCheck};
+use crate::perception::MAX_NEIGHBORS;
 use crate::script::{SandboxLimits, Script};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -399,6 +400,14 @@ impl Builder<'_> {
                     crate::perception::MAX_PERCEPTS
                 ),
             );
+        }
+        if let Some(n) = def.senses.neighbors {
+            if !(1..=MAX_NEIGHBORS).contains(&n) {
+                self.error_at(
+                    "neighbors",
+                    format!("`neighbors` must be between 1 and {MAX_NEIGHBORS}, not {n}"),
+                );
+            }
         }
         self.diags.append(&mut self.nums.diags);
         if !self.diags.is_empty() {

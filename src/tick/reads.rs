@@ -324,4 +324,16 @@ mod tests {
         }
         assert!(species(&flock(rule, "max_percepts: 6")).is_ok());
     }
+
+    #[test]
+    fn a_kin_neighborhood_bound_outside_its_range_is_refused() {
+        let rule = "(w: 1.0, steer: Separation(k: 1.0, radius: 1.0))";
+        for n in ["Some(0)", "Some(4097)"] {
+            let e = species(&flock(rule, &format!("neighbors: {n}")))
+                .err()
+                .unwrap_or_else(|| panic!("neighbors {n} accepted"));
+            assert!(e.contains("`neighbors` must be between 1 and 4096"), "{e}");
+        }
+        assert!(species(&flock(rule, "neighbors: Some(7)")).is_ok());
+    }
 }

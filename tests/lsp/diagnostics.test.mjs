@@ -36,7 +36,7 @@ test('a misspelt condition in a species file: located before save, cleared when 
     await s.change(doc, typo);
     const got = await s.diagnostics(doc.uri, errorsAt(line), from, `an error on line ${line}`);
     const d = got.diagnostics.find((x) => x.range.start.line === line);
-    // `shoal check`: reef_fish.ron:70:19: unknown condition `TraficNear` (did you mean …)
+    // `shoal check`: reef_fish.ron:72:19: unknown condition `TraficNear` (did you mean …)
     assert.equal(d.range.start.character, typo.split('\n')[line].indexOf('TraficNear'), JSON.stringify(d));
     assert.match(d.message, /TraficNear/);
     assert.match(d.message, /did you mean `TrafficNear`/);
@@ -60,7 +60,7 @@ test('a script function the species names but its script lacks', async () => {
     await s.change(doc, typo);
     const got = await s.diagnostics(doc.uri, errorsAt(line), from, `an error on line ${line}`);
     const d = got.diagnostics.find((x) => x.range.start.line === line);
-    // `shoal check` points at the string (reef_fish.ron:116:26); the name inside it will do too.
+    // `shoal check` points at the string (reef_fish.ron:139:26); the name inside it will do too.
     expectStringAt(d, typo.split('\n')[line], '"crowde"');
     assert.match(d.message, /crowde\b/);
     assert.match(d.message, /did you mean `crowded`/);

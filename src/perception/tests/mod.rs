@@ -67,5 +67,6 @@ fn rel() -> Relations {
 }
 
 mod keep;
+mod nearest;
 mod paths;
 mod senses;

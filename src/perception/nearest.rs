@@ -1,0 +1,245 @@
+//! The bounded kin neighborhood of stage 2 ([`SenseParams::neighbors`]): a perceiver takes the
+//! nearest `n` kin within range instead of every one (seed 000 §1 perceives everything within
+//! `O_r`, the default).
+//!
+//! Why the runtime adds it: a school packs tighter as a run goes on (reef fish perceive about
+//! 29 kin each at the start of a 10,000-fish run and over 100 by tick 1,500), and with the
+//! paper's metric neighborhood the cost of perception grows with it. With a bound, the walk
+//! grows its box outward from the perceiver and stops once the box holds the nearest `n`, so the
+//! cost stays bounded however dense the school. Predators, food and other species are still
+//! perceived within the whole range: they are walked in a grid of their own, which holds only
+//! the agents a bounded species perceives as something other than kin.
+//!
+//! Which `n` kin: the nearest, ties broken by the grid's order; they are then folded in the
+//! grid's order, so the result is the same whatever box sequence found them.
+
+use super::gather::Tag;
+use super::{Category, Relations, SenseParams};
+use crate::index::Grid;
+use crate::world::Aabb;
+use glam::{Vec3, Vec3A};
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicU32, Ordering};
+
+/// The agents each bounded species perceives as something other than kin, in a grid of
+/// their own (by species; empty for a species without a bound).
+#[derive(Debug, Default)]
+pub(super) struct Others {
+    by_species: Vec<OtherGrid>,
+    /// Where each agent's (by index) last walk found its nearest `n`: the next walk starts
+    /// there. Only the cost depends on it (the nearest `n` are the same from any start), so a
+    /// stale or missing hint after agents come and go changes no result.
+    hints: Vec<AtomicU32>,
+}
+
+/// One bounded species' others: a grid of them, and the agent grid slot of each entry.
+#[derive(Debug, Clone, Default)]
+pub(super) struct OtherGrid {
+    grid: Grid,
+    slots: Vec<u32>,
+    points: Vec<Vec3>,
+}
+
+impl Clone for Others {
+    /// The grids, and the hints as they stand.
+    fn clone(&self) -> Self {
+        Others {
+            by_species: self.by_species.clone(),
+            hints: self
+                .hints
+                .iter()
+                .map(|h| AtomicU32::new(h.load(Ordering::Relaxed)))
+                .collect(),
+        }
+    }
+}
+
+impl Others {
+    /// Rebuilds the grids of the species with a bound from this tick's agent grid (`tags`: the
+    /// species and sex of each of its slots).
+    pub(super) fn update(
+        &mut self,
+        bounds: Aabb,
+        agents: &Grid,
+        tags: &[Tag],
+        senses: &[SenseParams],
+        relations: &Relations,
+    ) {
+        self.by_species
+            .resize_with(senses.len(), OtherGrid::default);
+        let n = tags.len();
+        if self.hints.len() != n {
+            self.hints
+                .resize_with(n, || AtomicU32::new(f32::NAN.to_bits()));
+        }
+        let positions = agents.positions();
+        for (s, (sense, others)) in senses.iter().zip(&mut self.by_species).enumerate() {
+            others.slots.clear();
+            others.points.clear();
+            if sense.neighbors.is_none() {
+                continue;
+            }
+            let row = relations.row(s);
+            for (k, t) in tags.iter().enumerate() {
+                let cat = row.get(t.species as usize).copied().flatten();
+                if cat.is_some_and(|c| c != Category::Kin) {
+                    others.slots.push(k as u32);
+                    others.points.push(positions[k].into());
+                }
+            }
+            others
+                .grid
+                .rebuild(bounds, sense.query_radius(), others.points.iter().copied());
+        }
+    }
+
+    /// Species `s`'s others, when it has a bound.
+    pub(super) fn of(&self, s: usize) -> Option<&OtherGrid> {
+        self.by_species.get(s)
+    }
+
+    /// Agent `i`'s hint slot.
+    pub(super) fn hint(&self, i: usize) -> Option<&AtomicU32> {
+        self.hints.get(i)
+    }
+}
+
+impl OtherGrid {
+    /// Calls `visit(agent grid slot, position, squared distance)` for every other within
+    /// `radius` of `here`, in the agent grid's order.
+    #[inline]
+    pub(super) fn for_each_within(
+        &self,
+        here: Vec3,
+        radius: f32,
+        mut visit: impl FnMut(usize, Vec3A, f32),
+    ) {
+        if self.slots.is_empty() {
+            return;
+        }
+        let entries = self.grid.entries();
+        // The other grid's order is its cells'; the fold takes them in the agent grid's.
+        with_scratch(|hits| {
+            self.grid.for_each_slot_within(here, radius, |k, p, d2| {
+                hits.push((d2, self.slots[entries[k] as usize], p));
+            });
+            hits.sort_unstable_by_key(|h| h.1);
+            for &(d2, k, p) in hits.iter() {
+                visit(k as usize, p, d2);
+            }
+        });
+    }
+}
+
+/// A candidate: squared distance, agent grid slot, position.
+type Hit = (f32, u32, Vec3A);
+
+thread_local! {
+    /// Candidates of the perceiver being walked on this thread (reused: no allocation once
+    /// warmed up).
+    static SCRATCH: RefCell<Vec<Hit>> = const { RefCell::new(Vec::new()) };
+    /// Their distances, for the selection of the `n`-th.
+    static DISTANCES: RefCell<Vec<f32>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with this thread's candidate buffer, emptied.
+fn with_scratch<R>(f: impl FnOnce(&mut Vec<Hit>) -> R) -> R {
+    SCRATCH.with(|s| {
+        // A perceiver's walk never nests another's: the buffer is free, or a fresh one serves.
+        match s.try_borrow_mut() {
+            Ok(mut v) => {
+                v.clear();
+                f(&mut v)
+            }
+            Err(_) => f(&mut Vec::new()),
+        }
+    })
+}
+
+/// First box of the outward walk without a hint, as a share of the range; each next box is
+/// `GROWTH` times wider, the last one the range itself.
+const FIRST_BOX: f32 = 0.25;
+const GROWTH: f32 = 1.25;
+
+/// One perceiver's query: the nearest `n` kin within `radius` of `here`, leaving out slot `me`.
+pub(super) struct KinQuery {
+    pub(super) here: Vec3,
+    pub(super) radius: f32,
+    pub(super) me: usize,
+    pub(super) n: usize,
+}
+
+/// Calls `visit(slot, position, squared distance)` for the nearest `q.n` kin (`is_kin(slot)`)
+/// of the query in `agents`, in the grid's order; `hint` is where the agent's last walk found
+/// its `n` (read as the start, then written).
+#[inline]
+pub(super) fn nearest_kin(
+    agents: &Grid,
+    q: KinQuery,
+    hint: Option<&AtomicU32>,
+    is_kin: impl Fn(usize) -> bool,
+    mut visit: impl FnMut(usize, Vec3A, f32),
+) {
+    let KinQuery {
+        here,
+        radius,
+        me,
+        n,
+    } = q;
+    if n == 0 || radius.is_nan() || radius < 0.0 {
+        return;
+    }
+    with_scratch(|hits| {
+        let mut inner = None;
+        let last = hint.map_or(f32::NAN, |h| f32::from_bits(h.load(Ordering::Relaxed)));
+        // Neighbors move little in a tick: a little beyond last tick's reach mostly suffices.
+        let start = if last > 0.0 {
+            last * 1.1
+        } else {
+            radius * FIRST_BOX
+        };
+        let mut h = start.min(radius);
+        loop {
+            agents.for_each_slot_in_shell(here, radius, inner, h, |k, p, d2| {
+                if k != me && is_kin(k) {
+                    hits.push((d2, k as u32, p));
+                }
+            });
+            // Every kin within `h` is in: once `n` of them are, they are the nearest `n` (a hair
+            // inside `h`, so that rounding of the squared distances cannot count one the box
+            // missed).
+            let h2 = (h * 0.99999) * (h * 0.99999);
+            let within = hits.iter().filter(|c| c.0 <= h2).count();
+            if within >= n || h >= radius {
+                break;
+            }
+            inner = Some(h);
+            h = (h * GROWTH).min(radius);
+        }
+        let mut reach = radius;
+        if hits.len() > n {
+            // The `n`-th distance, selected among the distances alone (a quarter of the bytes
+            // of a candidate to move), then the candidates within it.
+            let t = DISTANCES.with(|d| {
+                let mut d = d.borrow_mut();
+                d.clear();
+                d.extend(hits.iter().map(|h| h.0));
+                *d.select_nth_unstable_by(n - 1, f32::total_cmp).1
+            });
+            hits.retain(|h| h.0 <= t);
+            if hits.len() > n {
+                // Ties at the `n`-th distance (rare): the first in the grid's order.
+                hits.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                hits.truncate(n);
+            }
+            reach = t.sqrt();
+        }
+        if let Some(h) = hint {
+            h.store(reach.to_bits(), Ordering::Relaxed);
+        }
+        hits.sort_unstable_by_key(|h| h.1);
+        for &(d2, k, p) in hits.iter() {
+            visit(k as usize, p, d2);
+        }
+    });
+}

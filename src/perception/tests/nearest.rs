@@ -1,0 +1,158 @@
+//! The bounded kin neighborhood (`SenseParams::neighbors`): the nearest `n` kin, found by the
+//! outward walk, against a brute force; everything else still perceived within range; the
+//! same bits wherever the walk starts, and the same neighbors whatever the grid's cells.
+
+use super::*;
+
+/// 600 kin in a ball and 12 predators among them.
+fn school() -> World {
+    let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 2);
+    let mut rng = Rng::new(11, 0);
+    for k in 0..612 {
+        let species = if k % 51 == 50 { 1 } else { 0 };
+        let mut a = agent(
+            k,
+            species,
+            random_point(&mut rng, 12.0),
+            rng.range(-3.0, 3.0),
+        );
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+    w
+}
+
+fn bounded(n: u32) -> SenseParams {
+    SenseParams {
+        vision_radius: 4.0,
+        smell_radius: 7.0,
+        occlusion: false,
+        neighbors: Some(n),
+        ..SenseParams::default()
+    }
+}
+
+fn perceive(w: &World, sense: SenseParams, cell: f32, p: &mut Perception) {
+    let mut ag = Grid::new();
+    ag.rebuild(w.bounds, cell, w.agents.iter().map(|a| a.pos));
+    p.run(
+        w,
+        &ag,
+        &Grid::new(),
+        &[sense, SenseParams::default()],
+        &rel(),
+    );
+}
+
+#[test]
+fn a_bound_perceives_the_nearest_kin_and_every_predator_in_range() {
+    let w = school();
+    let sense = bounded(9);
+    let mut p = Perception::new();
+    perceive(&w, sense, sense.query_radius(), &mut p);
+    let (mut bounded_some, mut sparse_some) = (false, false);
+    for (i, me) in w.agents.iter().enumerate() {
+        if me.species.0 != 0 {
+            continue;
+        }
+        let mut kin: Vec<(f32, Vec3)> = Vec::new();
+        let mut predators = 0;
+        for (j, o) in w.agents.iter().enumerate() {
+            let d = (o.pos - me.pos).length();
+            if j == i || d > sense.smell_radius {
+                continue;
+            }
+            if o.species.0 == 0 {
+                kin.push((d, o.pos));
+            } else {
+                predators += 1;
+            }
+        }
+        kin.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let in_range = kin.len();
+        kin.truncate(9);
+        let sm = &p.summaries(i);
+        let k = &sm[Category::Kin as usize];
+        assert_eq!(
+            k.count as usize,
+            kin.len(),
+            "agent {i}: {in_range} kin in range"
+        );
+        let centroid = kin.iter().map(|c| c.1).sum::<Vec3>() / kin.len().max(1) as f32;
+        if !kin.is_empty() {
+            assert!((k.centroid - centroid).length() < 1e-4, "agent {i}");
+            assert!((k.nearest_dist - kin[0].0).abs() < 1e-5, "agent {i}");
+        }
+        assert_eq!(
+            sm[Category::Predator as usize].count,
+            predators,
+            "agent {i}: every predator within smell"
+        );
+        bounded_some |= in_range > 9;
+        sparse_some |= in_range < 9;
+    }
+    // The world has both: perceivers the bound cuts, and perceivers with fewer kin in range.
+    assert!(bounded_some && sparse_some);
+}
+
+#[test]
+fn a_bound_gives_the_same_bits_whatever_the_cells_and_the_start() {
+    let w = school();
+    let sense = bounded(12);
+    let bits = |p: &Perception| {
+        (0..w.agents.len())
+            .flat_map(|i| {
+                p.summaries(i)
+                    .iter()
+                    .flat_map(|s| {
+                        let c = s.centroid.to_array().map(f32::to_bits);
+                        let h = s.mean_velocity.to_array().map(f32::to_bits);
+                        [s.count, s.seen, c[0], c[1], c[2], h[0], h[1], h[2]]
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut first = Perception::new();
+    perceive(&w, sense, sense.query_radius(), &mut first);
+    let want = bits(&first);
+    // Again with the hints the first walk left (a different start), and with other cells.
+    perceive(&w, sense, sense.query_radius(), &mut first);
+    assert!(
+        bits(&first) == want,
+        "started from last walk's reach: other bits"
+    );
+    // Other cells put the agents in another order, so the sums round differently; the
+    // neighbors are the same.
+    for cell in [1.0, 2.5, 20.0] {
+        let mut p = Perception::new();
+        perceive(&w, sense, cell, &mut p);
+        for i in 0..w.agents.len() {
+            for (a, b) in p.summaries(i).iter().zip(first.summaries(i)) {
+                assert_eq!(
+                    (a.count, a.seen),
+                    (b.count, b.seen),
+                    "cells of {cell}, agent {i}"
+                );
+                let off = (a.centroid - b.centroid).length();
+                assert!(off < 1e-4, "cells of {cell}, agent {i}: {off}");
+            }
+        }
+    }
+}
+
+#[test]
+fn without_a_bound_every_kin_in_range_is_perceived() {
+    let w = school();
+    let sense = SenseParams {
+        neighbors: None,
+        ..bounded(9)
+    };
+    let mut p = Perception::new();
+    perceive(&w, sense, sense.query_radius(), &mut p);
+    let most = (0..w.agents.len())
+        .map(|i| p.summaries(i)[Category::Kin as usize].count)
+        .max();
+    assert!(most > Some(9), "{most:?}");
+}
