@@ -10,8 +10,9 @@
 //! perceived within the whole range: they are walked in a grid of their own, which holds only
 //! the agents a bounded species perceives as something other than kin.
 //!
-//! Which `n` kin: the nearest, ties broken by the grid's order; they are then folded in the
-//! grid's order, so the result is the same whatever box sequence found them.
+//! Which `n` kin: the nearest, ties broken by the grid's order; they are then folded nearest
+//! first (the same ties broken the same way), so the result is the same whatever box sequence
+//! found them.
 
 use super::gather::Tag;
 use super::{Category, Relations, SenseParams};
@@ -170,7 +171,7 @@ pub(super) struct KinQuery {
 }
 
 /// Calls `visit(slot, position, squared distance)` for the nearest `q.n` kin (`is_kin(slot)`)
-/// of the query in `agents`, in the grid's order; `hint` is where the agent's last walk found
+/// of the query in `agents`, nearest first (ties in the grid's order); `hint` is where the agent's last walk found
 /// its `n` (read as the start, then written).
 #[inline]
 pub(super) fn nearest_kin(
@@ -230,14 +231,16 @@ pub(super) fn nearest_kin(
             if hits.len() > n {
                 // Ties at the `n`-th distance (rare): the first in the grid's order.
                 hits.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                hits.truncate(n);
             }
+            hits.truncate(n);
             reach = t.sqrt();
         }
         if let Some(h) = hint {
             h.store(reach.to_bits(), Ordering::Relaxed);
         }
-        hits.sort_unstable_by_key(|h| h.1);
+        // Nearest first: the kept percepts fill with the nearest at once, and the rest are
+        // turned away by one compare each.
+        hits.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for &(d2, k, p) in hits.iter() {
             visit(k as usize, p, d2);
         }
