@@ -46,10 +46,12 @@ cargo build --release -q -p shoal
 old="${CARGO_TARGET_DIR:-$root/target}/compare-ref/release/shoal"
 new="${CARGO_TARGET_DIR:-$root/target}/release/shoal"
 
-# The ticks/s of the row a `shoal bench` run prints for its workload.
+# The ticks/s of the row a `shoal bench` run prints for its workload. Each revision runs with
+# its own `behaviors/` (the shipped species are part of what it is: a species file may use a
+# key the older engine lacks).
 speed() {
-    local bin="$1"; shift
-    "$bin" bench "$@" --behaviors "$root/behaviors" | awk -v w="$1" '$1 == w { print $4; exit }'
+    local bin="$1" species="$2"; shift 2
+    "$bin" bench "$@" --behaviors "$species" | awk -v w="$1" '$1 == w { print $4; exit }'
 }
 median() { sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
 
@@ -60,8 +62,8 @@ for r in "${rows[@]}"; do
     read -r -a args <<< "${r#*|}"
     a=(); b=()
     for _ in $(seq "$rounds"); do
-        a+=("$(speed "$old" "${args[@]}")")
-        b+=("$(speed "$new" "${args[@]}")")
+        a+=("$(speed "$old" "$work/tree/behaviors" "${args[@]}")")
+        b+=("$(speed "$new" "$root/behaviors" "${args[@]}")")
     done
     ma=$(printf '%s\n' "${a[@]}" | median)
     mb=$(printf '%s\n' "${b[@]}" | median)

@@ -133,6 +133,9 @@ struct Outs<'a> {
 struct SummaryRow {
     by: [Summary; Category::COUNT],
     only_kin: bool,
+    /// How far a bounded kin neighborhood reached this tick (0 without a bound): where the
+    /// agent's next walk starts.
+    reach: f32,
 }
 
 /// Agents per task of the parallel walk.
@@ -354,6 +357,20 @@ impl Perception {
         outs.for_each(&self.slot_starts, &self.sum_starts, &|r, out| {
             view.perceive_row(r, out)
         });
+        // Each agent's reach, by agent, for its next walk (rows are in the grid's order, which
+        // changes every tick).
+        if self.others.any() {
+            let n = self.counts.len();
+            let rows = &self.summaries;
+            let row = |i: usize| {
+                if self.by_grid {
+                    self.slot_of[i] as usize
+                } else {
+                    i
+                }
+            };
+            self.others.keep_hints(n, |i| rows[row(i)].reach);
+        }
     }
 
     /// Replaces what agent `i` (at `pos`) perceived this tick by `percepts` (the nearest

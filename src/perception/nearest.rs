@@ -20,17 +20,18 @@ use crate::index::Grid;
 use crate::world::Aabb;
 use glam::{Vec3, Vec3A};
 use std::cell::RefCell;
-use std::sync::atomic::{AtomicU32, Ordering};
 
 /// The agents each bounded species perceives as something other than kin, in a grid of
 /// their own (by species; empty for a species without a bound).
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub(super) struct Others {
     by_species: Vec<OtherGrid>,
     /// Where each agent's (by index) last walk found its nearest `n`: the next walk starts
     /// there. Only the cost depends on it (the nearest `n` are the same from any start), so a
     /// stale or missing hint after agents come and go changes no result.
-    hints: Vec<AtomicU32>,
+    hints: Vec<f32>,
+    /// Whether some species has a bound.
+    any: bool,
 }
 
 /// One bounded species' others: a grid of them, and the agent grid slot of each entry.
@@ -39,20 +40,6 @@ pub(super) struct OtherGrid {
     grid: Grid,
     slots: Vec<u32>,
     points: Vec<Vec3>,
-}
-
-impl Clone for Others {
-    /// The grids, and the hints as they stand.
-    fn clone(&self) -> Self {
-        Others {
-            by_species: self.by_species.clone(),
-            hints: self
-                .hints
-                .iter()
-                .map(|h| AtomicU32::new(h.load(Ordering::Relaxed)))
-                .collect(),
-        }
-    }
 }
 
 impl Others {
@@ -68,11 +55,7 @@ impl Others {
     ) {
         self.by_species
             .resize_with(senses.len(), OtherGrid::default);
-        let n = tags.len();
-        if self.hints.len() != n {
-            self.hints
-                .resize_with(n, || AtomicU32::new(f32::NAN.to_bits()));
-        }
+        self.any = senses.iter().any(|s| s.neighbors.is_some());
         let positions = agents.positions();
         for (s, (sense, others)) in senses.iter().zip(&mut self.by_species).enumerate() {
             others.slots.clear();
@@ -99,9 +82,20 @@ impl Others {
         self.by_species.get(s)
     }
 
-    /// Agent `i`'s hint slot.
-    pub(super) fn hint(&self, i: usize) -> Option<&AtomicU32> {
-        self.hints.get(i)
+    /// Whether some species has a bound.
+    pub(super) fn any(&self) -> bool {
+        self.any
+    }
+
+    /// Where agent `i`'s last walk found its nearest `n` (0 when unknown).
+    pub(super) fn hint(&self, i: usize) -> f32 {
+        self.hints.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// Keeps this tick's reach of each of the `n` agents (`reach(i)`) for their next walks.
+    pub(super) fn keep_hints(&mut self, n: usize, reach: impl Fn(usize) -> f32) {
+        self.hints.clear();
+        self.hints.extend((0..n).map(reach));
     }
 }
 
@@ -171,16 +165,17 @@ pub(super) struct KinQuery {
 }
 
 /// Calls `visit(slot, position, squared distance)` for the nearest `q.n` kin (`is_kin(slot)`)
-/// of the query in `agents`, nearest first (ties in the grid's order); `hint` is where the agent's last walk found
-/// its `n` (read as the start, then written).
+/// of the query in `agents`, nearest first (ties in the grid's order), starting a little beyond
+/// `hint` (where the agent's last walk found its `n`; 0 when unknown); returns where this walk
+/// found them (the range when fewer are within it).
 #[inline]
 pub(super) fn nearest_kin(
     agents: &Grid,
     q: KinQuery,
-    hint: Option<&AtomicU32>,
+    hint: f32,
     is_kin: impl Fn(usize) -> bool,
     mut visit: impl FnMut(usize, Vec3A, f32),
-) {
+) -> f32 {
     let KinQuery {
         here,
         radius,
@@ -188,11 +183,11 @@ pub(super) fn nearest_kin(
         n,
     } = q;
     if n == 0 || radius.is_nan() || radius < 0.0 {
-        return;
+        return 0.0;
     }
     with_scratch(|hits| {
         let mut inner = None;
-        let last = hint.map_or(f32::NAN, |h| f32::from_bits(h.load(Ordering::Relaxed)));
+        let last = hint;
         // Neighbors move little in a tick: a little beyond last tick's reach mostly suffices.
         let start = if last > 0.0 {
             last * 1.1
@@ -235,14 +230,12 @@ pub(super) fn nearest_kin(
             hits.truncate(n);
             reach = t.sqrt();
         }
-        if let Some(h) = hint {
-            h.store(reach.to_bits(), Ordering::Relaxed);
-        }
         // Nearest first: the kept percepts fill with the nearest at once, and the rest are
         // turned away by one compare each.
         hits.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for &(d2, k, p) in hits.iter() {
             visit(k as usize, p, d2);
         }
-    });
+        reach
+    })
 }

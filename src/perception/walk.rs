@@ -122,7 +122,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
     let occ = &occluders[..n_occ];
     // Agents and food are kept as percepts only where the species reads them.
     let agent_percepts = KEEP && reads.agent_percepts;
-    p.agents(occ, agent_percepts, &mut fold, sums);
+    summary.reach = p.agents(occ, agent_percepts, &mut fold, sums);
     if view.relations.eats_items(p.s) {
         p.food(occ, agent_percepts, &mut fold);
     }
@@ -231,6 +231,7 @@ impl Perceiver<'_, '_> {
 
     /// Folds the agents within range into `fold` and the group sums, by the kin kernel, the
     /// plain walk or the general one. `agent_percepts`: whether agents are kept as percepts.
+    /// Returns how far a bounded kin neighborhood reached (0 without a bound).
     #[inline(always)]
     fn agents<const KEEP: bool>(
         &self,
@@ -238,7 +239,7 @@ impl Perceiver<'_, '_> {
         agent_percepts: bool,
         fold: &mut Fold<'_, KEEP>,
         sums: &mut [GroupSum],
-    ) {
+    ) -> f32 {
         let (view, sense, radius) = (self.view, self.sense, self.radius);
         let groups = &self.reads.groups;
         let mates = view.relations.mates(self.s);
@@ -264,10 +265,12 @@ impl Perceiver<'_, '_> {
         if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(self.i)) {
             let probe = probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
             fold.set_kin(kernel(view, lanes, probe, radius, groups, sums));
+            0.0
         } else if plain {
             fold.set_kin(self.plain_walk(occ, row, agent_radius, sums));
+            0.0
         } else {
-            self.general_walk(occ, row, mates, agent_radius, agent_percepts, fold, sums);
+            self.general_walk(occ, row, mates, agent_radius, agent_percepts, fold, sums)
         }
     }
 
@@ -319,7 +322,8 @@ impl Perceiver<'_, '_> {
 
     /// Every agent within `agent_radius` classified by `row` (kin of the other sex are mates
     /// when `mates`), sensed, and folded: offered as a percept when `agent_percepts`, else
-    /// summed; kin and mates also go into the group sums.
+    /// summed; kin and mates also go into the group sums. Returns how far a bounded kin
+    /// neighborhood reached (0 without a bound).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn general_walk<const KEEP: bool>(
@@ -331,7 +335,7 @@ impl Perceiver<'_, '_> {
         agent_percepts: bool,
         fold: &mut Fold<'_, KEEP>,
         sums: &mut [GroupSum],
-    ) {
+    ) -> f32 {
         let (view, eye, sense) = (self.view, &self.eye, self.sense);
         let groups = &self.reads.groups;
         let (here, my_sex) = (self.me.pos, self.me.tag.sex);
@@ -399,9 +403,12 @@ impl Perceiver<'_, '_> {
                     n: n as usize,
                 };
                 let hint = view.others.hint(self.i);
-                nearest::nearest_kin(view.agents, q, hint, is_kin, visit);
+                nearest::nearest_kin(view.agents, q, hint, is_kin, visit)
             }
-            _ => view.agents.for_each_slot_within(here, agent_radius, visit),
+            _ => {
+                view.agents.for_each_slot_within(here, agent_radius, visit);
+                0.0
+            }
         }
     }
 
