@@ -50,6 +50,12 @@ pub(super) struct View<'a> {
 }
 
 impl View<'_> {
+    /// Whether the agent in grid slot `k` is kin to a perceiver whose relations are `row`.
+    #[inline(always)]
+    pub(super) fn is_kin(&self, row: &[Option<super::Category>], k: usize) -> bool {
+        row.get(self.tags[k].species as usize) == Some(&Some(super::Category::Kin))
+    }
+
     /// Perceives for the agent of row `r` into its share of the outputs.
     #[inline(always)]
     pub(super) fn perceive_row(&self, r: usize, out: AgentOut) {

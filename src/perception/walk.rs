@@ -301,9 +301,7 @@ impl Perceiver<'_, '_> {
         let mut kin = ACC;
         view.agents
             .for_each_slot_within(here, agent_radius, |k, pos, d2| {
-                if k == me_slot
-                    || row.get(view.tags[k].species as usize) != Some(&Some(Category::Kin))
-                {
+                if k == me_slot || !view.is_kin(row, k) {
                     return;
                 }
                 let offset = pos - here_a;
@@ -394,8 +392,7 @@ impl Perceiver<'_, '_> {
             (Some(n), Some(others)) => {
                 // A bounded kin neighborhood: the others within range, then the nearest `n` kin.
                 others.for_each_within(here, agent_radius, &mut visit);
-                let is_kin =
-                    |k: usize| row.get(view.tags[k].species as usize) == Some(&Some(Category::Kin));
+                let is_kin = |k: usize| view.is_kin(row, k);
                 let q = nearest::KinQuery {
                     here,
                     radius: agent_radius,
