@@ -133,8 +133,19 @@ thread_local! {
     /// Candidates of the perceiver being walked on this thread (reused: no allocation once
     /// warmed up).
     static SCRATCH: RefCell<Vec<Hit>> = const { RefCell::new(Vec::new()) };
-    /// Their distances, for the selection of the `n`-th.
-    static DISTANCES: RefCell<Vec<f32>> = const { RefCell::new(Vec::new()) };
+    /// The kin candidates of the bounded walk on this thread, as [`key`]s.
+    static KEYS: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with this thread's key buffer, emptied.
+fn with_keys<R>(f: impl FnOnce(&mut Vec<u64>) -> R) -> R {
+    KEYS.with(|s| match s.try_borrow_mut() {
+        Ok(mut v) => {
+            v.clear();
+            f(&mut v)
+        }
+        Err(_) => f(&mut Vec::new()),
+    })
 }
 
 /// Runs `f` with this thread's candidate buffer, emptied.
@@ -185,7 +196,7 @@ pub(super) fn nearest_kin(
     if n == 0 || radius.is_nan() || radius < 0.0 {
         return 0.0;
     }
-    with_scratch(|hits| {
+    with_keys(|keys| {
         let mut inner = None;
         let last = hint;
         // Neighbors move little in a tick: a little beyond last tick's reach mostly suffices.
@@ -196,16 +207,16 @@ pub(super) fn nearest_kin(
         };
         let mut h = start.min(radius);
         loop {
-            agents.for_each_slot_in_shell(here, radius, inner, h, |k, p, d2| {
+            agents.for_each_slot_in_shell(here, radius, inner, h, |k, _, d2| {
                 if k != me && is_kin(k) {
-                    hits.push((d2, k as u32, p));
+                    keys.push(key(d2, k));
                 }
             });
             // Every kin within `h` is in: once `n` of them are, they are the nearest `n` (a hair
             // inside `h`, so that rounding of the squared distances cannot count one the box
             // missed).
-            let h2 = (h * 0.99999) * (h * 0.99999);
-            let within = hits.iter().filter(|c| c.0 <= h2).count();
+            let h2 = key((h * 0.99999) * (h * 0.99999), u32::MAX as usize);
+            let within = keys.iter().filter(|&&c| c <= h2).count();
             if within >= n || h >= radius {
                 break;
             }
@@ -213,29 +224,28 @@ pub(super) fn nearest_kin(
             h = (h * GROWTH).min(radius);
         }
         let mut reach = radius;
-        if hits.len() > n {
-            // The `n`-th distance, selected among the distances alone (a quarter of the bytes
-            // of a candidate to move), then the candidates within it.
-            let t = DISTANCES.with(|d| {
-                let mut d = d.borrow_mut();
-                d.clear();
-                d.extend(hits.iter().map(|h| h.0));
-                *d.select_nth_unstable_by(n - 1, f32::total_cmp).1
-            });
-            hits.retain(|h| h.0 <= t);
-            if hits.len() > n {
-                // Ties at the `n`-th distance (rare): the first in the grid's order.
-                hits.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            }
-            hits.truncate(n);
-            reach = t.sqrt();
+        if keys.len() > n {
+            // Distance first, then slot: the `n` nearest with ties in the grid's order.
+            keys.select_nth_unstable(n - 1);
+            keys.truncate(n);
+            reach = f32::from_bits((keys[n - 1] >> 32) as u32).sqrt();
         }
         // Nearest first: the kept percepts fill with the nearest at once, and the rest are
         // turned away by one compare each.
-        hits.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for &(d2, k, p) in hits.iter() {
-            visit(k as usize, p, d2);
+        keys.sort_unstable();
+        let positions = agents.positions();
+        for &c in keys.iter() {
+            let k = c as u32 as usize;
+            visit(k, positions[k], f32::from_bits((c >> 32) as u32));
         }
         reach
     })
+}
+
+/// A candidate as one integer that orders by squared distance, then by grid slot: a
+/// non-negative float's bits order as the float does, so the selection and the sort compare
+/// plain integers.
+#[inline(always)]
+fn key(d2: f32, slot: usize) -> u64 {
+    ((d2.to_bits() as u64) << 32) | slot as u64
 }
