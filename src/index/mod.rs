@@ -211,58 +211,6 @@ impl Grid {
         }
     }
 
-    /// Calls `visit(slot, position, squared distance)` for every entry within `radius` of
-    /// `center` that lies in the cells of the query box of `outer` but not in those of the
-    /// box of `inner` (every cell of the latter when `inner` is `None` is visited): the shell
-    /// a nearest-first walk adds when it grows its box from `inner` to `outer`. Visiting the
-    /// boxes of `r₀ < r₁ < …` in turn visits each entry once, and once the box of `h` is
-    /// visited, every entry within `h` of `center` has been.
-    #[inline]
-    pub fn for_each_slot_in_shell(
-        &self,
-        center: Vec3,
-        radius: f32,
-        inner: Option<f32>,
-        outer: f32,
-        mut visit: impl FnMut(usize, Vec3A, f32),
-    ) {
-        if self.entries.is_empty() || outer.is_nan() || outer < 0.0 {
-            return;
-        }
-        let (lo, hi) = (
-            self.cell_coord(center - Vec3::splat(outer)),
-            self.cell_coord(center + Vec3::splat(outer)),
-        );
-        let hole = inner.filter(|r| *r >= 0.0).map(|r| {
-            (
-                self.cell_coord(center - Vec3::splat(r)),
-                self.cell_coord(center + Vec3::splat(r)),
-            )
-        });
-        let c = Vec3A::from(center);
-        let r2 = radius * radius;
-        let mut hits = [(0u32, 0.0f32); CHUNK];
-        let mut run = |x0: i32, x1: i32, y: i32, z: i32| {
-            if x0 > x1 {
-                return;
-            }
-            let s = self.starts[self.cell_index(IVec3::new(x0, y, z))] as usize;
-            let e = self.starts[self.cell_index(IVec3::new(x1, y, z)) + 1] as usize;
-            self.visit_run(s..e, c, r2, &mut hits, &mut visit);
-        };
-        for z in lo.z..=hi.z {
-            for y in lo.y..=hi.y {
-                match hole {
-                    Some((il, ih)) if (il.z..=ih.z).contains(&z) && (il.y..=ih.y).contains(&y) => {
-                        run(lo.x, il.x - 1, y, z);
-                        run(ih.x + 1, hi.x, y, z);
-                    }
-                    _ => run(lo.x, hi.x, y, z),
-                }
-            }
-        }
-    }
-
     /// Calls `visit(start, end)` for each run of slots (see [`Grid::entries`]) that may hold
     /// entries within `radius` of `center`: the cells of one row of the query box, whose
     /// entries are contiguous. Runs come in the order of [`Grid::for_each_within`].
@@ -460,49 +408,6 @@ mod tests {
             let q = Vec3::new(x, x * 0.5, -x);
             let expect = q.floor().as_ivec3().clamp(IVec3::ZERO, dims - IVec3::ONE);
             assert_eq!(floor_clamped(q, dims), expect, "{q}");
-        }
-    }
-
-    #[test]
-    fn growing_shells_visit_each_point_in_range_once_and_every_one_within_the_box() {
-        let bounds = Aabb::new(Vec3::ZERO, Vec3::splat(60.0));
-        let pts = random_points(
-            3,
-            3000,
-            Vec3::new(-5.0, 0.0, 0.0),
-            Vec3::new(65.0, 60.0, 60.0),
-        );
-        for cell in [2.0, 6.0, 25.0] {
-            let mut g = Grid::new();
-            g.rebuild(bounds, cell, pts.iter().copied());
-            for c in [
-                Vec3::splat(30.0),
-                Vec3::new(1.0, 59.0, 30.0),
-                Vec3::new(70.0, 5.0, 5.0),
-            ] {
-                let radius = 15.0;
-                let mut seen = vec![0u32; pts.len()];
-                let mut inner = None;
-                for h in [2.0, 5.0, 9.0, 15.0] {
-                    g.for_each_slot_in_shell(c, radius, inner, h, |k, p, d2| {
-                        let i = g.entries()[k] as usize;
-                        assert_eq!(p, Vec3A::from(pts[i]));
-                        assert!((d2 - pts[i].distance_squared(c)).abs() <= 1e-3);
-                        seen[i] += 1;
-                    });
-                    // After the box of `h`, every point within `h` has been visited.
-                    for (i, p) in pts.iter().enumerate() {
-                        if p.distance(c) <= h {
-                            assert_eq!(seen[i], 1, "cell {cell}, centre {c}, box {h}: point {i}");
-                        }
-                    }
-                    inner = Some(h);
-                }
-                for (i, p) in pts.iter().enumerate() {
-                    let want = u32::from(p.distance_squared(c) <= radius * radius);
-                    assert_eq!(seen[i], want, "cell {cell}, centre {c}: point {i}");
-                }
-            }
         }
     }
 

@@ -5,14 +5,15 @@
 //! Why the runtime adds it: a school packs tighter as a run goes on (reef fish perceive about
 //! 29 kin each at the start of a 10,000-fish run and over 100 by tick 1,500), and with the
 //! paper's metric neighborhood the cost of perception grows with it. With a bound, the walk
-//! grows its box outward from the perceiver and stops once the box holds the nearest `n`, so the
-//! cost stays bounded however dense the school. Predators, food and other species are still
+//! takes the kin within a distance a little beyond where the perceiver's last walk found its
+//! `n`, widens it (walking the wider box whole, which is rare) until it holds `n`, and selects
+//! the nearest `n`, so the cost stays bounded however dense the school. Predators, food and other species are still
 //! perceived within the whole range: they are walked in a grid of their own, which holds only
 //! the agents a bounded species perceives as something other than kin.
 //!
 //! Which `n` kin: the nearest, ties broken by the grid's order; they are then folded nearest
-//! first (the same ties broken the same way), so the result is the same whatever box sequence
-//! found them.
+//! first (the same ties broken the same way), so the result is the same whatever distance the walk
+//! started from.
 
 use super::gather::Tag;
 use super::{Category, Relations, SenseParams};
@@ -197,42 +198,52 @@ pub(super) fn nearest_kin(
         return 0.0;
     }
     with_keys(|keys| {
-        let mut inner = None;
-        let last = hint;
+        let mut found = false;
         // Neighbors move little in a tick: a little beyond last tick's reach mostly suffices.
-        let start = if last > 0.0 {
-            last * 1.1
+        let start = if hint > 0.0 {
+            hint * 1.1
         } else {
             radius * FIRST_BOX
         };
         let mut h = start.min(radius);
         loop {
-            agents.for_each_slot_in_shell(here, radius, inner, h, |k, _, d2| {
-                if k != me && is_kin(k) {
+            // Only the kin within `h` are candidates (about half of what the box's cells hold):
+            // a hair inside `h` below the range, so that rounding of the squared distances
+            // cannot take one the box missed.
+            let cut = if h >= radius {
+                radius * radius
+            } else {
+                (h * 0.99999) * (h * 0.99999)
+            };
+            keys.clear();
+            agents.for_each_slot_within(here, h, |k, _, d2| {
+                if d2 <= cut && k != me && is_kin(k) {
                     keys.push(key(d2, k));
                 }
             });
-            // Every kin within `h` is in: once `n` of them are, they are the nearest `n` (a hair
-            // inside `h`, so that rounding of the squared distances cannot count one the box
-            // missed).
-            let h2 = key((h * 0.99999) * (h * 0.99999), u32::MAX as usize);
-            let within = keys.iter().filter(|&&c| c <= h2).count();
-            if within >= n || h >= radius {
+            // Every kin within the cut is in: once `n` of them are, they are the nearest `n`.
+            if keys.len() >= n {
+                found = true;
                 break;
             }
-            inner = Some(h);
+            if h >= radius {
+                break;
+            }
+            // Too few: a wider box, walked whole (rare once the hint is known).
             h = (h * GROWTH).min(radius);
         }
-        let mut reach = radius;
         if keys.len() > n {
             // Distance first, then slot: the `n` nearest with ties in the grid's order.
             keys.select_nth_unstable(n - 1);
             keys.truncate(n);
-            reach = f32::from_bits((keys[n - 1] >> 32) as u32).sqrt();
         }
         // Nearest first: the kept percepts fill with the nearest at once, and the rest are
         // turned away by one compare each.
         keys.sort_unstable();
+        let reach = match keys.last() {
+            Some(&c) if found => f32::from_bits((c >> 32) as u32).sqrt(),
+            _ => radius,
+        };
         let positions = agents.positions();
         for &c in keys.iter() {
             let k = c as u32 as usize;
