@@ -205,9 +205,21 @@ fn run_slots_of(
         if !all && slot.kind == SlotKind::Steer {
             continue;
         }
-        let r: Dynamic = script
-            .call(scope, this, &slot.name)
-            .map_err(|e| *e.diagnostic)?;
+        // A condition or value of one expression is evaluated natively (the same result);
+        // an integer overflow in it goes back to the interpreter, which raises the error.
+        let native = match script.native(&slot.name) {
+            Some(f) if slot.kind != SlotKind::Steer => this
+                .read_lock::<AgentView>()
+                .and_then(|v| f.eval(&v).ok())
+                .map(|x| x.to_dynamic()),
+            _ => None,
+        };
+        let r: Dynamic = match native {
+            Some(r) => r,
+            None => script
+                .call(scope, this, &slot.name)
+                .map_err(|e| *e.diagnostic)?,
+        };
         // Located only when something is wrong: finding the line costs a text search.
         let bad = |what: String| {
             let (line, col) = script.fn_position(&slot.name);

@@ -25,6 +25,7 @@ pub mod events;
 mod imports;
 pub mod memory;
 pub mod names;
+pub mod native;
 pub mod squad;
 mod view;
 
@@ -80,6 +81,8 @@ pub struct Script {
     pub imports: Vec<PathBuf>,
     /// Functions it defines, with their parameter count.
     pub functions: Vec<(String, usize)>,
+    /// Its functions that are evaluated natively ([`native`]), by name.
+    natives: Vec<(String, native::Native)>,
 }
 
 impl std::fmt::Debug for Script {
@@ -215,6 +218,7 @@ impl Script {
             .iter_functions()
             .map(|f| (f.name.to_string(), f.params.len()))
             .collect();
+        let natives = native::compile_all(&ast);
         Ok(Script {
             engine,
             ast,
@@ -222,6 +226,7 @@ impl Script {
             text: text.into(),
             imports,
             functions,
+            natives,
         })
     }
 
@@ -234,6 +239,12 @@ impl Script {
     /// declare, and writes of another type, become script errors ([`memory::register`]).
     pub fn declare_memory(&mut self, spec: Arc<memory::MemorySpec>) {
         memory::register(&mut self.engine, spec);
+    }
+
+    /// The function `name` (without parameters) compiled for native evaluation, when its body
+    /// is one expression of the forms [`native`] evaluates.
+    pub fn native(&self, name: &str) -> Option<&native::Native> {
+        self.natives.iter().find(|(n, _)| n == name).map(|(_, f)| f)
     }
 
     /// Whether the script defines `name` taking `params` parameters.

@@ -102,31 +102,34 @@ fn transitions(v: &AgentView) -> Array {
     })
 }
 
+/// `this.is_leader`.
+pub(crate) fn is_leader(v: &AgentView) -> bool {
+    v.squad.as_ref().is_some_and(|s| s.is_leader())
+}
+
+/// `this.at_goal`.
+pub(crate) fn at_goal(v: &AgentView) -> bool {
+    v.squad.as_ref().is_some_and(|s| s.at_goal)
+}
+
+/// `this.slot_dist`: the horizontal distance to the slot (0 outside a squad).
+pub(crate) fn slot_dist(v: &AgentView) -> FLOAT {
+    v.squad.as_ref().map_or(0.0, |s| {
+        Vec2::new(s.slot.x - v.pos.x, s.slot.z - v.pos.z).length()
+    })
+}
+
 /// Registers the squad functions on `e`.
 pub fn register(e: &mut Engine) {
     read_only(e, "in_squad", |v| v.squad.is_some(), eq);
-    read_only(
-        e,
-        "is_leader",
-        |v| v.squad.as_ref().is_some_and(|s| s.is_leader()),
-        eq,
-    );
+    read_only(e, "is_leader", is_leader, eq);
     read_only(
         e,
         "slot",
         |v| v.squad.as_ref().map_or(v.pos, |s| s.slot),
         eq,
     );
-    read_only(
-        e,
-        "slot_dist",
-        |v| -> FLOAT {
-            v.squad.as_ref().map_or(0.0, |s| {
-                Vec2::new(s.slot.x - v.pos.x, s.slot.z - v.pos.z).length()
-            })
-        },
-        eq,
-    );
+    read_only(e, "slot_dist", slot_dist, eq);
     read_only(
         e,
         "leader_pos",
@@ -139,12 +142,7 @@ pub fn register(e: &mut Engine) {
         |v| v.squad.as_ref().map_or(v.pos, |s| s.shared.goal),
         eq,
     );
-    read_only(
-        e,
-        "at_goal",
-        |v| v.squad.as_ref().is_some_and(|s| s.at_goal),
-        eq,
-    );
+    read_only(e, "at_goal", at_goal, eq);
     read_only(
         e,
         "formation",

@@ -242,11 +242,7 @@ fn register_category(e: &mut Engine) {
             c.nearest_elevation
         })
         .register_get("nearest_strength", |c: &mut CategoryView| {
-            if c.count > 0 {
-                c.strength.at(c.nearest_dist)
-            } else {
-                0.0
-            }
+            nearest_strength(c)
         })
         .register_get("nearest_sector", |c: &mut CategoryView| {
             ImmutableString::from(c.nearest_sector.map_or("", Sector::name))
@@ -257,6 +253,15 @@ fn register_category(e: &mut Engine) {
         .register_get("centroid", |c: &mut CategoryView| c.centroid)
         .register_get("mean_heading", |c: &mut CategoryView| c.mean_heading)
         .register_get("mean_velocity", |c: &mut CategoryView| c.mean_velocity);
+}
+
+/// `nearest_strength` of a category (0 when none is perceived).
+pub(crate) fn nearest_strength(c: &CategoryView) -> FLOAT {
+    if c.count > 0 {
+        c.strength.at(c.nearest_dist)
+    } else {
+        0.0
+    }
 }
 
 fn register_steer(e: &mut Engine) {

@@ -1,0 +1,704 @@
+//! Part of stage 4 (decision): script functions simple enough to be evaluated natively.
+//!
+//! Most condition slots are one expression over the agent's scalars, such as
+//! `this.kin.seen > 8 && this.kin.nearest_dist < 0.5 && this.hunger < 0.5`. Through the
+//! interpreter such a call costs about 1.4 µs (a fresh function-resolution cache per call, a
+//! getter call per property, one operator call per comparison); evaluated here it costs a few
+//! nanoseconds. At load, each function without parameters whose body is one expression of the
+//! forms below is compiled to an [`Native`]; every other function is called through Rhai as
+//! before.
+//!
+//! The forms: bool, integer and float literals; `this.p` and `this.<category>.p` for the
+//! scalar properties in [`Prop`]; `!`, unary `-`; `+ - * /`; `== != < <= > >=`; `&&` and `||`.
+//! Each is typed at load (bool, int or float, as the getters return them), and a function
+//! whose operands would not fit (`true > 1`, a property that is not a scalar) stays with the
+//! interpreter, which reports the error as it always did.
+//!
+//! Results are the interpreter's, bit for bit: the same getters are read from the same view,
+//! integer operands are converted `as f32` where Rhai converts them, float comparisons use
+//! Rhai's relative-epsilon forms (its checked build compares `x < y` as
+//! `(y − x) / max(|x|, |y|) > ε`), and integer arithmetic is checked: an overflow or a
+//! division by zero hands the call back to the interpreter, which raises the error. A test
+//! draws thousands of views and compares every form against the interpreter's result.
+
+use super::view::{nearest_strength, AgentView, CategoryView};
+use crate::perception::Category;
+use rhai::{ASTFlags, Dynamic, Expr, Stmt, AST, FLOAT, INT};
+
+/// A value of a natively evaluated expression.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Val {
+    /// A bool.
+    Bool(bool),
+    /// An integer (Rhai's `INT`).
+    Int(INT),
+    /// A float (Rhai's `FLOAT`).
+    Float(FLOAT),
+}
+
+impl Val {
+    /// As the interpreter would return it.
+    pub fn to_dynamic(self) -> Dynamic {
+        match self {
+            Val::Bool(b) => Dynamic::from_bool(b),
+            Val::Int(i) => Dynamic::from_int(i),
+            Val::Float(f) => Dynamic::from_float(f),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Ty {
+    Bool,
+    Int,
+    Float,
+}
+
+/// A scalar property of the agent view, read as its registered getter reads it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Prop {
+    /// `this.id`
+    Id,
+    /// `this.tick`
+    Tick,
+    /// `this.time`
+    Time,
+    /// `this.dt`
+    Dt,
+    /// `this.speed`
+    Speed,
+    /// `this.max_speed`
+    MaxSpeed,
+    /// `this.state`
+    State,
+    /// `this.time_in_behavior`
+    TimeInBehavior,
+    /// `this.stack_depth`
+    StackDepth,
+    /// `this.age`
+    Age,
+    /// `this.mass`
+    Mass,
+    /// `this.kind`
+    Kind,
+    /// `this.hunger`
+    Hunger,
+    /// `this.libido`
+    Libido,
+    /// `this.fear`
+    Fear,
+    /// `this.fatigue`
+    Fatigue,
+    /// `this.in_squad`
+    InSquad,
+    /// `this.is_leader`
+    IsLeader,
+    /// `this.at_goal`
+    AtGoal,
+    /// `this.slot_dist`
+    SlotDist,
+    /// `this.<category>.count`
+    Count(u8),
+    /// `this.<category>.seen`
+    Seen(u8),
+    /// `this.<category>.exists`
+    Exists(u8),
+    /// `this.<category>.nearest_dist`
+    NearestDist(u8),
+    /// `this.<category>.nearest_bearing`
+    NearestBearing(u8),
+    /// `this.<category>.nearest_elevation`
+    NearestElevation(u8),
+    /// `this.<category>.nearest_strength`
+    NearestStrength(u8),
+}
+
+impl Prop {
+    /// The property a chain of names after `this` reads, when it is a scalar one.
+    fn of(chain: &[&str]) -> Option<Prop> {
+        use Prop::*;
+        match chain {
+            [name] => Some(match *name {
+                "id" => Id,
+                "tick" => Tick,
+                "time" => Time,
+                "dt" => Dt,
+                "speed" => Speed,
+                "max_speed" => MaxSpeed,
+                "state" => State,
+                "time_in_behavior" => TimeInBehavior,
+                "stack_depth" => StackDepth,
+                "age" => Age,
+                "mass" => Mass,
+                "kind" => Kind,
+                "hunger" => Hunger,
+                "libido" => Libido,
+                "fear" => Fear,
+                "fatigue" => Fatigue,
+                "in_squad" => InSquad,
+                "is_leader" => IsLeader,
+                "at_goal" => AtGoal,
+                "slot_dist" => SlotDist,
+                _ => return None,
+            }),
+            [cat, field] => {
+                let c = Category::ALL.iter().find(|c| c.name() == *cat)? as &Category;
+                let c = *c as u8;
+                Some(match *field {
+                    "count" => Count(c),
+                    "seen" => Seen(c),
+                    "exists" => Exists(c),
+                    "nearest_dist" => NearestDist(c),
+                    "nearest_bearing" => NearestBearing(c),
+                    "nearest_elevation" => NearestElevation(c),
+                    "nearest_strength" => NearestStrength(c),
+                    _ => return None,
+                })
+            }
+            _ => None,
+        }
+    }
+
+    fn ty(self) -> Ty {
+        use Prop::*;
+        match self {
+            Id | Tick | StackDepth | Kind | Count(_) | Seen(_) => Ty::Int,
+            InSquad | IsLeader | AtGoal | Exists(_) => Ty::Bool,
+            Time | Dt | Speed | MaxSpeed | State | TimeInBehavior | Age | Mass | Hunger
+            | Libido | Fear | Fatigue | SlotDist | NearestDist(_) | NearestBearing(_)
+            | NearestElevation(_) | NearestStrength(_) => Ty::Float,
+        }
+    }
+
+    #[inline]
+    fn read(self, v: &AgentView) -> Val {
+        use Prop::*;
+        let cat = |c: u8| -> &CategoryView { &v.cats[c as usize] };
+        match self {
+            Id => Val::Int(v.id),
+            Tick => Val::Int(v.tick),
+            Time => Val::Float(v.time),
+            Dt => Val::Float(v.dt),
+            Speed => Val::Float(v.speed),
+            MaxSpeed => Val::Float(v.max_speed),
+            State => Val::Float(v.state),
+            TimeInBehavior => Val::Float(v.time_in_behavior),
+            StackDepth => Val::Int(v.stack_depth),
+            Age => Val::Float(v.age),
+            Mass => Val::Float(v.mass),
+            Kind => Val::Int(v.kind),
+            Hunger => Val::Float(v.hunger),
+            Libido => Val::Float(v.libido),
+            Fear => Val::Float(v.fear),
+            Fatigue => Val::Float(v.fatigue),
+            InSquad => Val::Bool(v.squad.is_some()),
+            IsLeader => Val::Bool(super::squad::is_leader(v)),
+            AtGoal => Val::Bool(super::squad::at_goal(v)),
+            SlotDist => Val::Float(super::squad::slot_dist(v)),
+            Count(c) => Val::Int(cat(c).count),
+            Seen(c) => Val::Int(cat(c).seen),
+            Exists(c) => Val::Bool(cat(c).count > 0),
+            NearestDist(c) => Val::Float(cat(c).nearest_dist),
+            NearestBearing(c) => Val::Float(cat(c).nearest_bearing),
+            NearestElevation(c) => Val::Float(cat(c).nearest_elevation),
+            NearestStrength(c) => Val::Float(nearest_strength(cat(c))),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Arith {
+    Add,
+    Sub,
+    Mul,
+    Div,
+}
+
+/// A typed expression tree.
+#[derive(Debug, Clone, PartialEq)]
+enum Node {
+    Lit(Val),
+    Prop(Prop),
+    Not(Box<Node>),
+    Neg(Box<Node>),
+    Cmp(Cmp, Box<[Node; 2]>),
+    Arith(Arith, Box<[Node; 2]>),
+    And(Vec<Node>),
+    Or(Vec<Node>),
+}
+
+/// A script function compiled for native evaluation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Native {
+    root: Node,
+}
+
+/// Integer arithmetic overflowed or divided by zero: the interpreter raises that error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Overflow;
+
+impl Native {
+    /// Evaluates the function for the agent `v`.
+    #[inline]
+    pub fn eval(&self, v: &AgentView) -> Result<Val, Overflow> {
+        eval(&self.root, v)
+    }
+}
+
+/// The functions of `ast` that can be evaluated natively, by name.
+pub fn compile_all(ast: &AST) -> Vec<(String, Native)> {
+    // Rhai names a body's type only inside the crate: each function's top-level statements are
+    // found by a walk of the whole AST, by where they lie.
+    let mut top: Vec<Stmt> = Vec::new();
+    ast.walk(&mut |path| {
+        if let [rhai::ASTNode::Stmt(s)] = path {
+            top.push((*s).clone());
+        }
+        true
+    });
+    ast.iter_fn_def()
+        .filter(|f| f.params.is_empty())
+        .filter_map(|f| {
+            let (start, end) = (f.body.start_position(), f.body.end_position());
+            let inside = |p: rhai::Position| !p.is_none() && start <= p && p <= end;
+            let body: Vec<&Stmt> = top.iter().filter(|s| inside(s.position())).collect();
+            let root = match body.as_slice() {
+                [Stmt::Expr(e)] => compile(e)?.0,
+                [Stmt::Return(Some(e), flags, _)] if *flags == ASTFlags::NONE => compile(e)?.0,
+                [Stmt::FnCall(call, _)] => compile_call(call)?.0,
+                _ => return None,
+            };
+            Some((f.name.to_string(), Native { root }))
+        })
+        .collect()
+}
+
+fn compile(e: &Expr) -> Option<(Node, Ty)> {
+    match e {
+        Expr::BoolConstant(b, _) => Some((Node::Lit(Val::Bool(*b)), Ty::Bool)),
+        Expr::IntegerConstant(i, _) => Some((Node::Lit(Val::Int(*i)), Ty::Int)),
+        Expr::FloatConstant(f, _) => Some((Node::Lit(Val::Float(**f)), Ty::Float)),
+        Expr::Dot(..) => {
+            let mut chain = Vec::new();
+            property_chain(e, &mut chain, true)?;
+            let p = Prop::of(&chain)?;
+            Some((Node::Prop(p), p.ty()))
+        }
+        Expr::And(v, _) | Expr::Or(v, _) => {
+            let mut nodes = Vec::with_capacity(v.len());
+            for x in v.iter() {
+                let (n, t) = compile(x)?;
+                if t != Ty::Bool {
+                    return None;
+                }
+                nodes.push(n);
+            }
+            let node = if matches!(e, Expr::And(..)) {
+                Node::And(nodes)
+            } else {
+                Node::Or(nodes)
+            };
+            Some((node, Ty::Bool))
+        }
+        Expr::FnCall(call, _) => compile_call(call),
+        _ => None,
+    }
+}
+
+/// `this.a.b`: the names after `this`, in order (`head`: whether `e` is the chain's start).
+fn property_chain<'a>(e: &'a Expr, out: &mut Vec<&'a str>, head: bool) -> Option<()> {
+    match e {
+        Expr::Dot(x, _, _) => {
+            match (&x.lhs, head) {
+                (Expr::ThisPtr(_), true) => {}
+                (Expr::Property(p, _), false) => out.push(p.2.as_str()),
+                _ => return None,
+            }
+            property_chain(&x.rhs, out, false)
+        }
+        Expr::Property(p, _) if !head => {
+            out.push(p.2.as_str());
+            Some(())
+        }
+        _ => None,
+    }
+}
+
+fn compile_call(call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {
+    if !call.namespace.is_empty() || call.capture_parent_scope {
+        return None;
+    }
+    let name = call.name.as_str();
+    match call.args.as_slice() {
+        [a] => {
+            let (n, t) = compile(a)?;
+            match (name, t) {
+                ("!", Ty::Bool) => Some((Node::Not(Box::new(n)), Ty::Bool)),
+                ("-", Ty::Int | Ty::Float) => Some((Node::Neg(Box::new(n)), t)),
+                _ => None,
+            }
+        }
+        [a, b] => {
+            // Operators only: a function of that name would be looked up, not computed.
+            call.op_token.as_ref()?;
+            let ((x, tx), (y, ty)) = (compile(a)?, compile(b)?);
+            let numeric = |t: Ty| t != Ty::Bool;
+            let cmp = match name {
+                "==" => Some(Cmp::Eq),
+                "!=" => Some(Cmp::Ne),
+                "<" => Some(Cmp::Lt),
+                "<=" => Some(Cmp::Le),
+                ">" => Some(Cmp::Gt),
+                ">=" => Some(Cmp::Ge),
+                _ => None,
+            };
+            if let Some(c) = cmp {
+                let bools = tx == Ty::Bool && ty == Ty::Bool && matches!(c, Cmp::Eq | Cmp::Ne);
+                if !(bools || numeric(tx) && numeric(ty)) {
+                    return None;
+                }
+                return Some((Node::Cmp(c, Box::new([x, y])), Ty::Bool));
+            }
+            let op = match name {
+                "+" => Arith::Add,
+                "-" => Arith::Sub,
+                "*" => Arith::Mul,
+                "/" => Arith::Div,
+                _ => return None,
+            };
+            if !(numeric(tx) && numeric(ty)) {
+                return None;
+            }
+            let t = if tx == Ty::Int && ty == Ty::Int {
+                Ty::Int
+            } else {
+                Ty::Float
+            };
+            Some((Node::Arith(op, Box::new([x, y])), t))
+        }
+        _ => None,
+    }
+}
+
+fn eval(n: &Node, v: &AgentView) -> Result<Val, Overflow> {
+    Ok(match n {
+        Node::Lit(x) => *x,
+        Node::Prop(p) => p.read(v),
+        Node::Not(x) => match eval(x, v)? {
+            Val::Bool(b) => Val::Bool(!b),
+            _ => unreachable!("typed at load"),
+        },
+        Node::Neg(x) => match eval(x, v)? {
+            Val::Int(i) => Val::Int(i.checked_neg().ok_or(Overflow)?),
+            Val::Float(f) => Val::Float(-f),
+            Val::Bool(_) => unreachable!("typed at load"),
+        },
+        Node::And(xs) => {
+            for x in xs {
+                if eval(x, v)? == Val::Bool(false) {
+                    return Ok(Val::Bool(false));
+                }
+            }
+            Val::Bool(true)
+        }
+        Node::Or(xs) => {
+            for x in xs {
+                if eval(x, v)? == Val::Bool(true) {
+                    return Ok(Val::Bool(true));
+                }
+            }
+            Val::Bool(false)
+        }
+        Node::Cmp(c, xy) => Val::Bool(compare(*c, eval(&xy[0], v)?, eval(&xy[1], v)?)),
+        Node::Arith(op, xy) => arith(*op, eval(&xy[0], v)?, eval(&xy[1], v)?)?,
+    })
+}
+
+fn as_float(x: Val) -> FLOAT {
+    match x {
+        Val::Int(i) => i as FLOAT,
+        Val::Float(f) => f,
+        Val::Bool(_) => unreachable!("typed at load"),
+    }
+}
+
+/// Rhai's built-in comparison: exact for integers and bools; for floats (and an integer
+/// against a float) the relative-epsilon forms of its checked build.
+fn compare(c: Cmp, a: Val, b: Val) -> bool {
+    match (a, b) {
+        (Val::Int(x), Val::Int(y)) => match c {
+            Cmp::Eq => x == y,
+            Cmp::Ne => x != y,
+            Cmp::Lt => x < y,
+            Cmp::Le => x <= y,
+            Cmp::Gt => x > y,
+            Cmp::Ge => x >= y,
+        },
+        (Val::Bool(x), Val::Bool(y)) => match c {
+            Cmp::Eq => x == y,
+            _ => x != y,
+        },
+        _ => {
+            let (x, y) = (as_float(a), as_float(b));
+            let max = if x * y == 0.0 {
+                1.0
+            } else {
+                x.abs().max(y.abs())
+            };
+            if max == 0.0 {
+                return matches!(c, Cmp::Eq | Cmp::Le | Cmp::Ge);
+            }
+            match c {
+                Cmp::Eq => (x - y).abs() / max <= FLOAT::EPSILON,
+                Cmp::Ne => (x - y).abs() / max > FLOAT::EPSILON,
+                Cmp::Gt => (x - y) / max > FLOAT::EPSILON,
+                Cmp::Ge => (x - y) / max > -FLOAT::EPSILON,
+                Cmp::Lt => (y - x) / max > FLOAT::EPSILON,
+                Cmp::Le => (y - x) / max > -FLOAT::EPSILON,
+            }
+        }
+    }
+}
+
+/// Rhai's built-in arithmetic: checked for integers, IEEE for floats (an integer operand
+/// converted `as f32`).
+fn arith(op: Arith, a: Val, b: Val) -> Result<Val, Overflow> {
+    if let (Val::Int(x), Val::Int(y)) = (a, b) {
+        let r = match op {
+            Arith::Add => x.checked_add(y),
+            Arith::Sub => x.checked_sub(y),
+            Arith::Mul => x.checked_mul(y),
+            Arith::Div => x.checked_div(y),
+        };
+        return r.map(Val::Int).ok_or(Overflow);
+    }
+    let (x, y) = (as_float(a), as_float(b));
+    Ok(Val::Float(match op {
+        Arith::Add => x + y,
+        Arith::Sub => x - y,
+        Arith::Mul => x * y,
+        Arith::Div => x / y,
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::script::{SandboxLimits, Script};
+    use rhai::Scope;
+    use std::path::Path;
+
+    /// Every form, each in a function the compiler must take.
+    const NATIVE: &str = r#"
+fn and3() { this.kin.seen > 8 && this.kin.nearest_dist < 0.5 && this.hunger < 0.5 }
+fn or3() { this.fear >= 0.25 || !(this.predator.exists) || this.food.count == 0 }
+fn eq_ff() { this.hunger == this.libido }
+fn ne_ff() { this.hunger != this.fear }
+fn le_ff() { this.fatigue <= this.hunger }
+fn gt_ff() { this.speed > this.max_speed }
+fn ge_ff() { this.age >= this.mass }
+fn lt_if() { this.kin.count < this.hunger }
+fn gt_fi() { this.time > this.tick }
+fn eq_if() { this.kin.seen == this.state }
+fn ne_ii() { this.kin.count != this.kin.seen }
+fn le_ii() { this.id <= this.tick }
+fn ge_ii() { this.kind >= this.stack_depth }
+fn lt_lit() { this.tick > 2.5 }
+fn arith_f() { this.hunger * 2.0 - this.fear / 3.0 + this.kin.count }
+fn div_f() { this.hunger / this.fear }
+fn arith_i() { this.kin.count * this.kin.seen + this.id - this.tick }
+fn div_i() { this.kin.count / this.kin.seen }
+fn neg_f() { -this.hunger }
+fn neg_i() { -this.id }
+fn ret() { return this.time_in_behavior > 1.5; }
+fn bools() { this.kin.exists == this.food.exists }
+fn bools_ne() { this.kin.exists != this.mate.exists }
+fn strength() { this.kin.nearest_strength }
+fn angles() { this.kin.nearest_bearing < 0.0 && this.obstacle.nearest_elevation >= -0.1 }
+fn lit() { true }
+fn squad() { this.is_leader || this.at_goal || this.slot_dist < 3.0 || this.in_squad }
+fn misc() { this.dt + this.time + this.state + this.stack_depth + this.kind + this.other.count }
+fn nested() { (this.hunger - this.fear) * (this.libido + 1) > this.fatigue == !(this.kin.seen < 3) }
+"#;
+
+    /// Functions the interpreter keeps: not one expression, parameters, non-scalar reads, or
+    /// operands whose types do not fit.
+    const INTERPRETED: &str = r#"
+fn vec_read() { this.pos.y < 2.0 }
+fn memory() { this.has("x") }
+fn param(x) { x > 1 }
+fn two() { let a = 1; a > 0 }
+fn float_and() { this.hunger && this.fear > 1.0 }
+fn bool_order() { this.kin.exists > this.food.exists }
+fn text() { this.behavior == "wander" }
+fn unknown() { this.kin.centroid }
+fn method() { this.kin.nearest_dist.abs() < 1.0 }
+"#;
+
+    fn script(text: &str) -> Script {
+        Script::compile(
+            Path::new("t.rhai"),
+            text,
+            Path::new("."),
+            &SandboxLimits::default(),
+        )
+        .unwrap()
+    }
+
+    fn names(text: &str) -> Vec<String> {
+        text.lines()
+            .filter_map(|l| l.strip_prefix("fn "))
+            .map(|l| l[..l.find('(').unwrap()].to_string())
+            .collect()
+    }
+
+    /// A small deterministic generator of test values.
+    struct Draw(u64);
+    impl Draw {
+        fn next(&mut self) -> u64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            self.0 >> 33
+        }
+        fn float(&mut self) -> FLOAT {
+            const SPECIAL: [FLOAT; 10] = [0.0, -0.0, 0.5, 1.0, 0.25, 1e-9, 3.0, 1e30, -2.0, 1.5];
+            match self.next() % 4 {
+                0 => SPECIAL[(self.next() % 10) as usize],
+                // Close pairs: the epsilon of the float comparisons decides these.
+                1 => 0.5 + (self.next() % 5) as FLOAT * 1e-8,
+                _ => (self.next() % 2001) as FLOAT / 500.0 - 2.0,
+            }
+        }
+        fn int(&mut self) -> INT {
+            match self.next() % 6 {
+                0 => INT::MAX - (self.next() % 2) as INT,
+                1 => INT::MIN + (self.next() % 2) as INT,
+                2 => 0,
+                _ => (self.next() % 21) as INT - 3,
+            }
+        }
+    }
+
+    fn view(d: &mut Draw) -> AgentView {
+        let mut v = AgentView {
+            id: d.int(),
+            tick: d.int(),
+            time: d.float(),
+            dt: d.float(),
+            speed: d.float(),
+            max_speed: d.float(),
+            hunger: d.float(),
+            libido: d.float(),
+            fear: d.float(),
+            fatigue: d.float(),
+            state: d.float(),
+            time_in_behavior: d.float(),
+            stack_depth: d.int(),
+            age: d.float(),
+            mass: d.float(),
+            kind: d.int(),
+            ..Default::default()
+        };
+        for c in v.cats.iter_mut() {
+            c.count = d.int().rem_euclid(30);
+            c.seen = d.int();
+            c.nearest_dist = d.float();
+            c.nearest_bearing = d.float();
+            c.nearest_elevation = d.float();
+        }
+        v
+    }
+
+    fn same(a: &Dynamic, b: &Dynamic) -> bool {
+        match (a.as_bool(), b.as_bool()) {
+            (Ok(x), Ok(y)) => return x == y,
+            (Err(_), Err(_)) => {}
+            _ => return false,
+        }
+        match (a.as_int(), b.as_int()) {
+            (Ok(x), Ok(y)) => return x == y,
+            (Err(_), Err(_)) => {}
+            _ => return false,
+        }
+        match (a.as_float(), b.as_float()) {
+            (Ok(x), Ok(y)) => x.to_bits() == y.to_bits() || x.is_nan() && y.is_nan(),
+            _ => false,
+        }
+    }
+
+    #[test]
+    fn every_form_compiles_and_the_rest_stays_with_the_interpreter() {
+        let s = script(&format!("{NATIVE}{INTERPRETED}"));
+        for f in names(NATIVE) {
+            assert!(s.native(&f).is_some(), "`{f}` should be evaluated natively");
+        }
+        for f in names(INTERPRETED) {
+            assert!(
+                s.native(&f).is_none(),
+                "`{f}` should stay with the interpreter"
+            );
+        }
+    }
+
+    #[test]
+    fn native_results_are_the_interpreters_bit_for_bit() {
+        let s = script(NATIVE);
+        let mut d = Draw(7);
+        let mut scope = Scope::new();
+        let (mut compared, mut overflows) = (0, 0);
+        for _ in 0..3000 {
+            let v = view(&mut d);
+            let mut this = Dynamic::from(v.clone());
+            for f in names(NATIVE) {
+                let native = s.native(&f).unwrap().eval(&v);
+                let interpreted = s.call::<Dynamic>(&mut scope, &mut this, &f);
+                match (native, interpreted) {
+                    (Ok(n), Ok(i)) => {
+                        let n = n.to_dynamic();
+                        assert!(
+                            same(&n, &i),
+                            "`{f}`: native {n:?}, interpreter {i:?}, {v:?}"
+                        );
+                        compared += 1;
+                    }
+                    // Integer overflow: the call goes back to the interpreter, which fails.
+                    (Err(Overflow), Err(_)) => overflows += 1,
+                    (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
+                }
+            }
+        }
+        assert!(
+            compared > 50_000 && overflows > 100,
+            "{compared} {overflows}"
+        );
+    }
+
+    #[test]
+    fn the_shipped_conditions_are_evaluated_natively() {
+        for (file, fns) in [
+            ("reef_fish.rhai", &["crowded"][..]),
+            (
+                "squad_member.rhai",
+                &["is_leader", "arrived", "far_from_slot", "near_slot"],
+            ),
+        ] {
+            let path = Path::new("behaviors").join(file);
+            let s = Script::load(&path, Path::new("behaviors"), &SandboxLimits::default()).unwrap();
+            for f in fns {
+                assert!(s.native(f).is_some(), "{file}: `{f}`");
+            }
+        }
+    }
+}
