@@ -611,13 +611,13 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
                     if !sp.slots.is_empty() || sp.has_on_tick {
                         let (sname, bnames) = &names[a.species.0 as usize];
                         if let Some(mut v) = this.write_lock::<crate::script::AgentView>() {
-                            scripts::fill_view(
-                                &mut v,
-                                &ctx,
-                                mind,
-                                sname,
-                                &bnames[mind.current as usize],
-                            );
+                            let behavior = &bnames[mind.current as usize];
+                            // As the agent pass fills it (see `tick::agent_pass`).
+                            if sp.scripts_native {
+                                scripts::fill_scalars(&mut v, &ctx, mind, sname, behavior);
+                            } else {
+                                scripts::fill_view(&mut v, &ctx, mind, sname, behavior);
+                            }
                         }
                         let _ = scripts::run_slots(sp, script, mind, this, scope);
                     }

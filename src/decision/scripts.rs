@@ -40,6 +40,51 @@ pub fn fill_view(
     species_name: &ImmutableString,
     behavior: &ImmutableString,
 ) {
+    fill_scalars(v, ctx, mind, species_name, behavior);
+    let a: &Agent = ctx.agent;
+    match a.heard_event {
+        // A declared event: its name (shared by the species) and its payload.
+        Some(h) => {
+            let name = ctx
+                .species
+                .signal_name(crate::world::Signal::Event(h.event));
+            if v.heard.as_str() != name {
+                v.heard = ImmutableString::from(name);
+            }
+            v.heard_payload = ctx.world.event_payloads.get(h.payload as usize).cloned();
+        }
+        None => {
+            let heard = a.inbox.map_or("", |k| k.name());
+            if v.heard.as_str() != heard {
+                v.heard = shared_name(heard);
+            }
+            v.heard_payload = None;
+        }
+    }
+    v.memory.clone_from(&a.memory);
+    v.rng = a.rng;
+    v.outbox.clear();
+    if !Arc::ptr_eq(&v.recipes, &ctx.species.recipe_names) {
+        v.recipes = ctx.species.recipe_names.clone();
+    }
+    if !Arc::ptr_eq(&v.events, &ctx.species.events) {
+        v.events = ctx.species.events.clone();
+    }
+    v.drives_written = false;
+    v.terrain = ctx.world.terrain.clone();
+}
+
+/// Fills what a natively evaluated function may read ([`crate::script::native`]): the agent's
+/// scalars, its percept summaries and its squad, not its blackboard, messages or random stream
+/// (for a species whose every slot is native, [`Species::scripts_native`], nothing else is
+/// read and nothing is written back).
+pub fn fill_scalars(
+    v: &mut AgentView,
+    ctx: &Ctx,
+    mind: &Mind,
+    species_name: &ImmutableString,
+    behavior: &ImmutableString,
+) {
     let a: &Agent = ctx.agent;
     let senses = &ctx.species.senses;
     for (cv, s) in v.cats.iter_mut().zip(ctx.summaries.iter()) {
@@ -99,36 +144,6 @@ pub fn fill_view(
     v.age = a.attrs.age;
     v.mass = a.attrs.mass;
     v.kind = a.attrs.kind as i64;
-    match a.heard_event {
-        // A declared event: its name (shared by the species) and its payload.
-        Some(h) => {
-            let name = ctx
-                .species
-                .signal_name(crate::world::Signal::Event(h.event));
-            if v.heard.as_str() != name {
-                v.heard = ImmutableString::from(name);
-            }
-            v.heard_payload = ctx.world.event_payloads.get(h.payload as usize).cloned();
-        }
-        None => {
-            let heard = a.inbox.map_or("", |k| k.name());
-            if v.heard.as_str() != heard {
-                v.heard = shared_name(heard);
-            }
-            v.heard_payload = None;
-        }
-    }
-    v.memory.clone_from(&a.memory);
-    v.rng = a.rng;
-    v.outbox.clear();
-    if !Arc::ptr_eq(&v.recipes, &ctx.species.recipe_names) {
-        v.recipes = ctx.species.recipe_names.clone();
-    }
-    if !Arc::ptr_eq(&v.events, &ctx.species.events) {
-        v.events = ctx.species.events.clone();
-    }
-    v.drives_written = false;
-    v.terrain = ctx.world.terrain.clone();
     v.eye_height = ctx.species.body.size.y;
     v.squad = ctx.world.squads.as_ref().and_then(|b| b.view(a.id));
 }

@@ -284,6 +284,10 @@ pub struct Species {
     pub steer_slots: usize,
     /// Whether the script defines `on_tick()`.
     pub has_on_tick: bool,
+    /// Whether every slot is a condition or value evaluated natively
+    /// ([`crate::script::native`]) and there is no `on_tick()`: its calls read only the
+    /// agent's scalars and summaries, and write nothing back.
+    pub scripts_native: bool,
     /// Whether the script defines `on_event(kind)`.
     pub has_on_event: bool,
     /// The declared blackboard: keys, types, and what a new agent remembers.

@@ -423,6 +423,13 @@ impl Builder<'_> {
             None => (false, false),
         };
         let has_on_event_payload = script.as_ref().is_some_and(|s| s.has_fn("on_event", 2));
+        let scripts_native = script.as_ref().is_some_and(|s| {
+            !has_on_tick
+                && self
+                    .slots
+                    .iter()
+                    .all(|x| x.kind != SlotKind::Steer && s.native(&x.name).is_some())
+        });
         Ok(Species {
             name: def.name.clone(),
             file: self.file.to_path_buf(),
@@ -452,6 +459,7 @@ impl Builder<'_> {
             slots: self.slots,
             steer_slots,
             has_on_tick,
+            scripts_native,
             has_on_event,
             events: events.into(),
             has_on_event_payload,

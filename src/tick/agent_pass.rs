@@ -346,15 +346,25 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             }
             if let Some(mut v) = view.write_lock::<AgentView>() {
                 let behavior = &behavior_names[s][mind.current as usize];
-                scripts::fill_view(&mut v, &ctx, mind, &species_names[s], behavior);
-                v.rng = *rng;
+                if sp.scripts_native {
+                    scripts::fill_scalars(&mut v, &ctx, mind, &species_names[s], behavior);
+                } else {
+                    scripts::fill_view(&mut v, &ctx, mind, &species_names[s], behavior);
+                    v.rng = *rng;
+                }
             }
             let r = if due {
                 scripts::run_slots(sp, script, mind, view, scope)
             } else {
                 scripts::run_conditions(sp, script, mind, view, scope)
             };
-            if let Some(mut v) = view.write_lock::<AgentView>() {
+            // Natively evaluated slots write nothing: there is nothing to copy back.
+            let back = if sp.scripts_native {
+                None
+            } else {
+                view.write_lock::<AgentView>()
+            };
+            if let Some(mut v) = back {
                 scripts::write_back(&v, me);
                 *rng = v.rng;
                 for (k, (m, r, p)) in v.outbox.drain(..).take(2).enumerate() {
