@@ -573,9 +573,25 @@ fn method() { this.kin.nearest_dist.abs() < 1.0 }
             self.0 >> 33
         }
         fn float(&mut self) -> FLOAT {
-            const SPECIAL: [FLOAT; 10] = [0.0, -0.0, 0.5, 1.0, 0.25, 1e-9, 3.0, 1e30, -2.0, 1.5];
+            // 2 − 2ε against 2 sits exactly on the epsilon of Rhai's float equality; NaN
+            // against 0 reaches its `max == 0` branch.
+            const SPECIAL: [FLOAT; 13] = [
+                0.0,
+                -0.0,
+                0.5,
+                1.0,
+                0.25,
+                1e-9,
+                3.0,
+                1e30,
+                -2.0,
+                1.5,
+                2.0,
+                2.0 - 2.0 * FLOAT::EPSILON,
+                FLOAT::NAN,
+            ];
             match self.next() % 4 {
-                0 => SPECIAL[(self.next() % 10) as usize],
+                0 => SPECIAL[(self.next() % SPECIAL.len() as u64) as usize],
                 // Close pairs: the epsilon of the float comparisons decides these.
                 1 => 0.5 + (self.next() % 5) as FLOAT * 1e-8,
                 _ => (self.next() % 2001) as FLOAT / 500.0 - 2.0,
