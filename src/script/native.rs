@@ -19,7 +19,8 @@
 //! Rhai's relative-epsilon forms (its checked build compares `x < y` as
 //! `(y − x) / max(|x|, |y|) > ε`), and integer arithmetic is checked: an overflow or a
 //! division by zero hands the call back to the interpreter, which raises the error. A test
-//! draws thousands of views and compares every form against the interpreter's result.
+//! draws thousands of views and compares every form against the interpreter's result. A build
+//! whose Rhai compares floats exactly (its `unchecked` feature) evaluates nothing natively.
 
 use super::view::{nearest_strength, AgentView, CategoryView};
 use crate::perception::Category;
@@ -255,23 +256,16 @@ impl Native {
     }
 }
 
-/// The functions of `ast` that can be evaluated natively, by name.
+/// The functions of `ast` that can be evaluated natively, by name (none when this build's
+/// Rhai compares floats exactly: see [`checked_floats`]).
 pub fn compile_all(ast: &AST) -> Vec<(String, Native)> {
-    // Rhai names a body's type only inside the crate: each function's top-level statements are
-    // found by a walk of the whole AST, by where they lie.
-    let mut top: Vec<Stmt> = Vec::new();
-    ast.walk(&mut |path| {
-        if let [rhai::ASTNode::Stmt(s)] = path {
-            top.push((*s).clone());
-        }
-        true
-    });
-    ast.iter_fn_def()
+    if !checked_floats() {
+        return Vec::new();
+    }
+    ast.iter_functions()
         .filter(|f| f.params.is_empty())
         .filter_map(|f| {
-            let (start, end) = (f.body.start_position(), f.body.end_position());
-            let inside = |p: rhai::Position| !p.is_none() && start <= p && p <= end;
-            let body: Vec<&Stmt> = top.iter().filter(|s| inside(s.position())).collect();
+            let body = body_of(ast, f.name);
             let root = match body.as_slice() {
                 [Stmt::Expr(e)] => compile(e)?.0,
                 [Stmt::Return(Some(e), flags, _)] if *flags == ASTFlags::NONE => compile(e)?.0,
@@ -281,6 +275,34 @@ pub fn compile_all(ast: &AST) -> Vec<(String, Native)> {
             Some((f.name.to_string(), Native { root }))
         })
         .collect()
+}
+
+/// The top-level statements of the function `name` without parameters. Rhai names a body's
+/// type only inside its crate: a walk of an AST that holds that one function reaches them.
+fn body_of(ast: &AST, name: &str) -> Vec<Stmt> {
+    let mut one = ast.clone_functions_only();
+    one.retain_functions(|_, _, n, params| n == name && params == 0);
+    let mut out = Vec::new();
+    one.walk(&mut |path| {
+        if let [rhai::ASTNode::Stmt(s)] = path {
+            out.push((*s).clone());
+        }
+        true
+    });
+    out
+}
+
+/// Whether this build's Rhai compares floats with its checked build's relative epsilon, the
+/// rule [`compare`] follows. A program that links Rhai with `unchecked` (features are merged
+/// across a build) compares them exactly; then nothing is evaluated natively.
+fn checked_floats() -> bool {
+    static CHECKED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *CHECKED.get_or_init(|| {
+        // 0.49999997 is one unit below 0.5: less than it exactly, not by the epsilon rule.
+        rhai::Engine::new_raw()
+            .eval_expression::<bool>("0.49999997 < 0.5")
+            .is_ok_and(|lt| !lt)
+    })
 }
 
 fn compile(e: &Expr) -> Option<(Node, Ty)> {
@@ -529,6 +551,11 @@ fn lit() { true }
 fn squad() { this.is_leader || this.at_goal || this.slot_dist < 3.0 || this.in_squad }
 fn misc() { this.dt + this.time + this.state + this.stack_depth + this.kind + this.other.count }
 fn nested() { (this.hunger - this.fear) * (this.libido + 1) > this.fatigue == !(this.kin.seen < 3) }
+fn lines() {
+    this.kin.count > 2
+        || this.fear < 0.5
+}
+fn one_a() { this.hunger > 0.5 } fn one_b() { this.fear }
 "#;
 
     /// Functions the interpreter keeps: not one expression, parameters, non-scalar reads, or
@@ -543,6 +570,12 @@ fn bool_order() { this.kin.exists > this.food.exists }
 fn text() { this.behavior == "wander" }
 fn unknown() { this.kin.centroid }
 fn method() { this.kin.nearest_dist.abs() < 1.0 }
+fn empty() { }
+fn effect_first() { this.hunger = 0.0; this.fear > 0.5 }
+fn two_lines() {
+    this.fear = 1.0;
+    this.fear > 0.5
+}
 "#;
 
     fn script(text: &str) -> Script {
@@ -555,9 +588,10 @@ fn method() { this.kin.nearest_dist.abs() < 1.0 }
         .unwrap()
     }
 
+    /// The names of the functions `text` defines (several may share a line).
     fn names(text: &str) -> Vec<String> {
-        text.lines()
-            .filter_map(|l| l.strip_prefix("fn "))
+        text.split("fn ")
+            .skip(1)
             .map(|l| l[..l.find('(').unwrap()].to_string())
             .collect()
     }
@@ -656,7 +690,8 @@ fn method() { this.kin.nearest_dist.abs() < 1.0 }
 
     #[test]
     fn every_form_compiles_and_the_rest_stays_with_the_interpreter() {
-        let s = script(&format!("{NATIVE}{INTERPRETED}"));
+        let mixed = "fn side_a() { this.hunger = 0.0; } fn side_b() { this.fear }";
+        let s = script(&format!("{NATIVE}{INTERPRETED}{mixed}"));
         for f in names(NATIVE) {
             assert!(s.native(&f).is_some(), "`{f}` should be evaluated natively");
         }
@@ -666,6 +701,10 @@ fn method() { this.kin.nearest_dist.abs() < 1.0 }
                 "`{f}` should stay with the interpreter"
             );
         }
+        // Two functions on one line keep their own bodies.
+        let one_b = s.native("one_b").unwrap().eval(&AgentView::default());
+        assert_eq!(one_b, Ok(Val::Float(0.0)));
+        assert!(s.native("side_a").is_none() && s.native("side_b").is_some());
     }
 
     #[test]
@@ -690,7 +729,11 @@ fn method() { this.kin.nearest_dist.abs() < 1.0 }
                         compared += 1;
                     }
                     // Integer overflow: the call goes back to the interpreter, which fails.
-                    (Err(Overflow), Err(_)) => overflows += 1,
+                    (Err(Overflow), Err(e)) => {
+                        let m = &e.diagnostic.message;
+                        assert!(m.contains("overflow") || m.contains("zero"), "`{f}`: {m}");
+                        overflows += 1;
+                    }
                     (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
                 }
             }
@@ -716,5 +759,11 @@ fn method() { this.kin.nearest_dist.abs() < 1.0 }
                 assert!(s.native(f).is_some(), "{file}: `{f}`");
             }
         }
+        // The reef fish's only slot is native and it has no `on_tick`: its calls fill only the
+        // view's scalars.
+        let fish = crate::species::Species::load("behaviors/reef_fish.ron").unwrap();
+        assert!(fish.scripts_native);
+        let squad = crate::species::Species::load("behaviors/squad_member.ron").unwrap();
+        assert!(!squad.scripts_native, "it has an on_tick");
     }
 }
