@@ -7,13 +7,13 @@
 //! paper's metric neighborhood the cost of perception grows with it. With a bound, the walk
 //! takes the kin within a distance a little beyond where the perceiver's last walk found its
 //! `n`, widens it (walking the wider box whole, which is rare) until it holds `n`, and selects
-//! the nearest `n`, so the cost stays bounded however dense the school. Predators, food and other species are still
-//! perceived within the whole range: they are walked in a grid of their own, which holds only
-//! the agents a bounded species perceives as something other than kin.
+//! the nearest `n`, so the cost stays bounded however dense the school. Predators, food and
+//! other species are still perceived within the whole range: they are walked in a grid of their
+//! own, which holds only the agents a bounded species perceives as something other than kin.
 //!
 //! Which `n` kin: the nearest, ties broken by the grid's order; they are then folded nearest
-//! first (the same ties broken the same way), so the result is the same whatever distance the walk
-//! started from.
+//! first (the same ties broken the same way), so the result is the same whatever distance the
+//! walk started from.
 
 use super::gather::Tag;
 use super::{Category, Relations, SenseParams};
@@ -115,7 +115,7 @@ impl OtherGrid {
         }
         let entries = self.grid.entries();
         // The other grid's order is its cells'; the fold takes them in the agent grid's.
-        with_scratch(|hits| {
+        with_buffer(&SCRATCH, |hits| {
             self.grid.for_each_slot_within(here, radius, |k, p, d2| {
                 hits.push((d2, self.slots[entries[k] as usize], p));
             });
@@ -138,28 +138,18 @@ thread_local! {
     static KEYS: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
 }
 
-/// Runs `f` with this thread's key buffer, emptied.
-fn with_keys<R>(f: impl FnOnce(&mut Vec<u64>) -> R) -> R {
-    KEYS.with(|s| match s.try_borrow_mut() {
+/// Runs `f` with this thread's buffer `cell`, emptied (a perceiver's walk never nests
+/// another's: the buffer is free, or a fresh one serves).
+fn with_buffer<T: 'static, R>(
+    cell: &'static std::thread::LocalKey<RefCell<Vec<T>>>,
+    f: impl FnOnce(&mut Vec<T>) -> R,
+) -> R {
+    cell.with(|s| match s.try_borrow_mut() {
         Ok(mut v) => {
             v.clear();
             f(&mut v)
         }
         Err(_) => f(&mut Vec::new()),
-    })
-}
-
-/// Runs `f` with this thread's candidate buffer, emptied.
-fn with_scratch<R>(f: impl FnOnce(&mut Vec<Hit>) -> R) -> R {
-    SCRATCH.with(|s| {
-        // A perceiver's walk never nests another's: the buffer is free, or a fresh one serves.
-        match s.try_borrow_mut() {
-            Ok(mut v) => {
-                v.clear();
-                f(&mut v)
-            }
-            Err(_) => f(&mut Vec::new()),
-        }
     })
 }
 
@@ -197,7 +187,7 @@ pub(super) fn nearest_kin(
     if n == 0 || radius.is_nan() || radius < 0.0 {
         return 0.0;
     }
-    with_keys(|keys| {
+    with_buffer(&KEYS, |keys| {
         let mut found = false;
         // Neighbors move little in a tick: a little beyond last tick's reach mostly suffices.
         let start = if hint > 0.0 {
