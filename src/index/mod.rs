@@ -176,39 +176,24 @@ impl Grid {
         // Filled before it is read, row by row: initialized once per query.
         let mut hits = [(0u32, 0.0f32); CHUNK];
         let r2 = radius * radius;
-        self.for_each_row_within(center, radius, |s, e| {
-            self.visit_run(s..e, c, r2, &mut hits, &mut visit)
+        self.for_each_row_within(center, radius, |mut s, e| {
+            // Candidates in range are first gathered without a branch (about half of them are
+            // out of range, at random: a branch per candidate mispredicts often), then visited
+            // in order.
+            while s < e {
+                let end = e.min(s + CHUNK);
+                let mut m = 0;
+                for (k, &p) in self.positions[s..end].iter().enumerate() {
+                    let d2 = (p - c).length_squared();
+                    hits[m] = ((s + k) as u32, d2);
+                    m += (d2 <= r2) as usize;
+                }
+                for &(k, d2) in &hits[..m] {
+                    visit(k as usize, self.positions[k as usize], d2);
+                }
+                s = end;
+            }
         });
-    }
-
-    /// Calls `visit(slot, position, squared distance)` for the entries of slots `run` within
-    /// `√r2` of `c`, in order (`hits`: scratch).
-    #[inline(always)]
-    fn visit_run(
-        &self,
-        run: std::ops::Range<usize>,
-        c: Vec3A,
-        r2: f32,
-        hits: &mut [(u32, f32); CHUNK],
-        visit: &mut impl FnMut(usize, Vec3A, f32),
-    ) {
-        let (mut s, e) = (run.start, run.end);
-        // Candidates in range are first gathered without a branch (about half of them are out
-        // of range, at random: a branch per candidate mispredicts often), then visited in
-        // order.
-        while s < e {
-            let end = e.min(s + CHUNK);
-            let mut m = 0;
-            for (k, &p) in self.positions[s..end].iter().enumerate() {
-                let d2 = (p - c).length_squared();
-                hits[m] = ((s + k) as u32, d2);
-                m += (d2 <= r2) as usize;
-            }
-            for &(k, d2) in &hits[..m] {
-                visit(k as usize, self.positions[k as usize], d2);
-            }
-            s = end;
-        }
     }
 
     /// Calls `visit(start, end)` for each run of slots (see [`Grid::entries`]) that may hold
@@ -414,7 +399,16 @@ mod tests {
     #[test]
     fn finds_exactly_the_points_a_brute_force_finds() {
         let bounds = Aabb::new(Vec3::ZERO, Vec3::splat(100.0));
-        let pts = random_points(1, 2000, Vec3::ZERO, Vec3::splat(100.0));
+        let mut rng = Rng::new(1, 0);
+        let pts: Vec<Vec3> = (0..2000)
+            .map(|_| {
+                Vec3::new(
+                    rng.range(0.0, 100.0),
+                    rng.range(0.0, 100.0),
+                    rng.range(0.0, 100.0),
+                )
+            })
+            .collect();
         let mut g = Grid::new();
         g.rebuild(bounds, 7.0, pts.iter().copied());
         // The parallel gather builds the same grid; `slots` inverts `entries`.
@@ -448,20 +442,6 @@ mod tests {
     }
 
     /// Every point within `radius` of `c`, by brute force, sorted.
-    /// `n` points drawn uniformly in the box `lo..hi` (stream `seed`).
-    fn random_points(seed: u64, n: usize, lo: Vec3, hi: Vec3) -> Vec<Vec3> {
-        let mut rng = Rng::new(seed, 0);
-        (0..n)
-            .map(|_| {
-                Vec3::new(
-                    rng.range(lo.x, hi.x),
-                    rng.range(lo.y, hi.y),
-                    rng.range(lo.z, hi.z),
-                )
-            })
-            .collect()
-    }
-
     fn brute(pts: &[Vec3], c: Vec3, radius: f32) -> Vec<u32> {
         (0..pts.len() as u32)
             .filter(|&i| (pts[i as usize] - c).length() <= radius)
