@@ -612,12 +612,7 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
                         let (sname, bnames) = &names[a.species.0 as usize];
                         if let Some(mut v) = this.write_lock::<crate::script::AgentView>() {
                             let behavior = &bnames[mind.current as usize];
-                            // As the agent pass fills it (see `tick::agent_pass`).
-                            if sp.scripts_native {
-                                scripts::fill_scalars(&mut v, &ctx, mind, sname, behavior);
-                            } else {
-                                scripts::fill_view(&mut v, &ctx, mind, sname, behavior);
-                            }
+                            scripts::fill_for_slots(&mut v, &ctx, mind, sname, behavior);
                         }
                         let _ = scripts::run_slots(sp, script, mind, this, scope);
                     }

@@ -74,11 +74,27 @@ pub fn fill_view(
     v.terrain = ctx.world.terrain.clone();
 }
 
+/// Fills the view for a call of the species' slots: the scalars alone when every slot is
+/// native ([`Species::scripts_native`]), else everything.
+pub fn fill_for_slots(
+    v: &mut AgentView,
+    ctx: &Ctx,
+    mind: &Mind,
+    species_name: &ImmutableString,
+    behavior: &ImmutableString,
+) {
+    if ctx.species.scripts_native {
+        fill_scalars(v, ctx, mind, species_name, behavior);
+    } else {
+        fill_view(v, ctx, mind, species_name, behavior);
+    }
+}
+
 /// Fills what a natively evaluated function may read ([`crate::script::native`]): the agent's
 /// scalars, its percept summaries and its squad, not its blackboard, messages or random stream
 /// (for a species whose every slot is native, [`Species::scripts_native`], nothing else is
 /// read and nothing is written back).
-pub fn fill_scalars(
+fn fill_scalars(
     v: &mut AgentView,
     ctx: &Ctx,
     mind: &Mind,

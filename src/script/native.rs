@@ -143,8 +143,7 @@ impl Prop {
                 _ => return None,
             }),
             [cat, field] => {
-                let c = Category::ALL.iter().find(|c| c.name() == *cat)? as &Category;
-                let c = *c as u8;
+                let c = *Category::ALL.iter().find(|c| c.name() == *cat)? as u8;
                 Some(match *field {
                     "count" => Count(c),
                     "seen" => Seen(c),

@@ -346,12 +346,8 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             }
             if let Some(mut v) = view.write_lock::<AgentView>() {
                 let behavior = &behavior_names[s][mind.current as usize];
-                if sp.scripts_native {
-                    scripts::fill_scalars(&mut v, &ctx, mind, &species_names[s], behavior);
-                } else {
-                    scripts::fill_view(&mut v, &ctx, mind, &species_names[s], behavior);
-                    v.rng = *rng;
-                }
+                scripts::fill_for_slots(&mut v, &ctx, mind, &species_names[s], behavior);
+                v.rng = *rng;
             }
             let r = if due {
                 scripts::run_slots(sp, script, mind, view, scope)
