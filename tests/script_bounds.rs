@@ -308,6 +308,26 @@ fn calls_to_functions_that_exist_nowhere_are_located_at_load() {
 }
 
 #[test]
+fn undefined_calls_in_many_functions_are_reported_in_the_order_of_the_text() {
+    // Rhai keeps functions in a table whose order differs between processes; the errors (and
+    // so the first one a designer sees) must not.
+    let ron = species("many", "ok");
+    let mut rhai = String::from("fn ok() { true }\n");
+    for i in 0..24 {
+        rhai.push_str(&format!("fn f{i}() {{ missing{i}() }}\n"));
+    }
+    rhai.push_str("fn m() { this.nope() }\n");
+    let dir = folder(&[("many.ron", &ron), ("many.rhai", &rhai)]);
+    let e = errors(dir.path(), "many");
+    let lines: Vec<usize> = e
+        .iter()
+        .map(|l| l.split(':').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(lines, (2..=26).collect::<Vec<_>>(), "{e:#?}");
+    assert!(e[24].contains("undefined method `nope`"), "{e:#?}");
+}
+
+#[test]
 fn a_module_calling_a_function_that_exists_nowhere_is_located_in_the_module() {
     let ron = species("user", "ok");
     let dir = folder(&[

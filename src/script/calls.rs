@@ -189,5 +189,8 @@ pub(crate) fn check(ast: &AST, known: &Known, file: &Path, text: &str) -> Vec<Di
         );
         true
     });
+    // Functions are walked in the order of Rhai's table, which differs between processes:
+    // report in the order of the text.
+    out.sort_by_key(|d| (d.line, d.col));
     out
 }

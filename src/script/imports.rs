@@ -288,11 +288,13 @@ impl<'a> Loader<'a> {
         };
         ast.set_source(path.display().to_string());
         self.diags.extend(calls::check(&ast, &known, path, &text));
-        let functions: Vec<(String, usize)> = ast
+        // Sorted: Rhai's table is in an order that differs between processes.
+        let mut functions: Vec<(String, usize)> = ast
             .iter_functions()
             .filter(|f| f.access != rhai::FnAccess::Private)
             .map(|f| (f.name.to_string(), f.params.len()))
             .collect();
+        functions.sort();
         match Module::eval_ast_as_new(Scope::new(), &ast, &engine) {
             Ok(mut m) => {
                 m.build_index();

@@ -214,10 +214,12 @@ impl Script {
             return Err(Diagnostics(diags));
         }
         let imports = loader.files;
-        let functions = ast
+        // Rhai's table is in an order that differs between processes; messages list these.
+        let mut functions: Vec<(String, usize)> = ast
             .iter_functions()
             .map(|f| (f.name.to_string(), f.params.len()))
             .collect();
+        functions.sort();
         let natives = native::compile_all(&ast);
         Ok(Script {
             engine,

@@ -159,8 +159,13 @@ impl Builder<'_> {
             }
             true
         });
-        for (pos, msg) in found {
-            let (l, c) = crate::script::position_of(pos);
+        // Functions are walked in the order of Rhai's table, which differs between processes.
+        let mut found: Vec<_> = found
+            .into_iter()
+            .map(|(pos, msg)| (crate::script::position_of(pos), msg))
+            .collect();
+        found.sort_by_key(|f| f.0);
+        for ((l, c), msg) in found {
             self.diags
                 .push(Diagnostic::new(&script.file, l, c, msg, Some(&script.text)));
         }

@@ -305,10 +305,14 @@ fn compile(
     let text = std::fs::read_to_string(path)
         .map_err(|e| Diagnostic::file(path, format!("cannot read test file: {e}")))?;
     let ast = parse(path, &text, &limits(opts))?;
-    let fn_params = ast
+    // Sorted first: Rhai's table is in an order that differs between processes, and of two
+    // overloads the last inserted is kept.
+    let mut fns: Vec<(String, usize)> = ast
         .iter_functions()
         .map(|f| (f.name.to_string(), f.params.len()))
         .collect();
+    fns.sort();
+    let fn_params = fns.into_iter().collect();
     let root = world::behaviors_root(path);
     let library = lock(libraries)
         .entry(root.clone())
@@ -531,7 +535,7 @@ pub fn run(paths: &[PathBuf], opts: &Options) -> Report {
                             (m.name.to_string(), m.params.len(), line)
                         })
                         .collect();
-                    tests.sort_by_key(|t| t.2);
+                    tests.sort_by(|a, b| (a.2, &a.0, a.1).cmp(&(b.2, &b.0, b.1)));
                     for (name, params, line) in tests {
                         let id = format!("{}::{name}", p.display());
                         if !matches(&id) {
