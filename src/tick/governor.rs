@@ -7,9 +7,17 @@
 //! changes nothing in the results (every pass writes per-agent outputs), so the tick may run
 //! either way; the governor measures both and keeps the faster. It runs the current mode, and
 //! every so often a couple of probe ticks in the other, comparing wall time per agent; a probe
-//! that loses makes the next one come later (up to [`MAX_INTERVAL`] ticks), so a quiet machine
-//! pays well under 1 % for the watch. One-thread ticks run on a pool of one thread of their own.
-//! Not a tick stage: [`super::Pipeline::step`] asks it how to run each tick.
+//! that loses makes the next one come later (up to [`MAX_INTERVAL`] ticks). A losing probe is
+//! costly exactly when it matters (a pool tick beside a busy core takes about two solo ticks),
+//! so probes are also held back until the time they lost is within [`BUDGET`] of the run's
+//! time: the watch costs about 0.5 % on any machine, however slow the other mode. When the
+//! current mode's running figure grows past the other mode's last one (the machine's load
+//! changed), the next probe comes at once, budget or not, at most every [`MIN_INTERVAL`]
+//! ticks. One timed probe tick can be lucky (the busy process was off its core for it), so a
+//! switch is on trial for [`TRIAL_TICKS`]: if the new mode's running figure is then above the
+//! old mode's, the governor goes back and counts it as a lost probe. One-thread ticks run on
+//! a pool of one thread of their own. Not a tick stage:
+//! [`super::Pipeline::step`] asks it how to run each tick.
 
 use std::time::Duration;
 
@@ -55,6 +63,10 @@ const PROBE_TICKS: u64 = 2;
 const MARGIN: f64 = 0.9;
 /// Weight of a new tick in the running figure of its mode.
 const SMOOTHING: f64 = 0.25;
+/// Ticks after a switch before its trial is judged.
+pub const TRIAL_TICKS: u64 = 4;
+/// Share of the run's wall time that losing probes may have cost before the next one.
+pub const BUDGET: f64 = 0.005;
 
 /// The governor's state: per mode, a running wall time per agent; when the next probe is due.
 #[derive(Debug)]
@@ -69,6 +81,17 @@ pub struct Governor {
     /// Probe ticks left (0: not probing).
     probing: u64,
     ticks: u64,
+    /// Wall time of every recorded tick, and what probe ticks cost beyond the current mode's
+    /// figure (seconds).
+    spent: f64,
+    lost: f64,
+    /// Ticks since the last probe ended.
+    since: u64,
+    /// After a switch: the old mode's figure, the interval before the switch and the ticks
+    /// left until the switch is judged.
+    trial: Option<(f64, u64, u64)>,
+    /// The load changed: the next probe is due whatever the budget says.
+    forced: bool,
 }
 
 impl Default for Governor {
@@ -81,6 +104,11 @@ impl Default for Governor {
             interval: MIN_INTERVAL,
             probing: 0,
             ticks: 0,
+            spent: 0.0,
+            lost: 0.0,
+            since: 0,
+            trial: None,
+            forced: false,
         }
     }
 }
@@ -105,8 +133,12 @@ impl Governor {
                 }
             }
             Schedule::Adaptive => {
-                if self.probing == 0 && self.until_probe == 0 {
+                if self.probing == 0
+                    && self.until_probe == 0
+                    && (self.forced || self.within_budget())
+                {
                     self.probing = PROBE_TICKS;
+                    self.forced = false;
                 }
                 if self.probing > 0 {
                     self.mode.other()
@@ -124,26 +156,68 @@ impl Governor {
             return;
         }
         let t = took.as_secs_f64() / agents.max(1) as f64;
+        self.spent += took.as_secs_f64();
         if self.probing > 0 {
+            let ours = self.per_agent[slot(self.mode)];
+            if let Some(ours) = ours {
+                self.lost += ((t - ours) * agents.max(1) as f64).max(0.0);
+            }
             self.probing -= 1;
             if self.probing > 0 {
                 // The warm-up tick of a probe is not timed.
                 return;
             }
-            let ours = self.per_agent[slot(self.mode)];
             self.per_agent[slot(mode)] = Some(t);
-            if ours.is_some_and(|ours| t < ours * MARGIN) {
+            if let Some(ours) = ours.filter(|&ours| t < ours * MARGIN) {
+                self.trial = Some((ours, self.interval, TRIAL_TICKS));
                 self.mode = mode;
                 self.interval = MIN_INTERVAL;
+                // The probe won: what it cost was worth it.
+                self.lost = 0.0;
             } else {
                 self.interval = (self.interval * 2).min(MAX_INTERVAL);
             }
+            self.since = 0;
             self.until_probe = self.interval;
             return;
         }
         let run = &mut self.per_agent[slot(mode)];
-        *run = Some(run.map_or(t, |r| r + SMOOTHING * (t - r)));
+        let now = run.map_or(t, |r| r + SMOOTHING * (t - r));
+        *run = Some(now);
         self.until_probe = self.until_probe.saturating_sub(1);
+        self.since += 1;
+        if let Some((old, interval, left)) = self.trial {
+            if left > 1 {
+                self.trial = Some((old, interval, left - 1));
+            } else {
+                self.trial = None;
+                if now > old {
+                    // The probe was lucky: back to the old mode, as after a losing probe.
+                    self.lost += (now - old) * agents.max(1) as f64 * TRIAL_TICKS as f64;
+                    self.mode = mode.other();
+                    self.interval = (interval * 2).min(MAX_INTERVAL);
+                    self.until_probe = self.interval;
+                    self.since = 0;
+                }
+            }
+            return;
+        }
+        let other = self.per_agent[slot(mode.other())];
+        if mode == self.mode
+            && self.since >= MIN_INTERVAL
+            && !self.forced
+            && other.is_some_and(|o| now > o)
+        {
+            // Slower now than the other mode was: the load changed, probe at once.
+            self.until_probe = 0;
+            self.interval = MIN_INTERVAL;
+            self.forced = true;
+        }
+    }
+
+    /// Whether losing probes so far cost at most [`BUDGET`] of the run's wall time.
+    fn within_budget(&self) -> bool {
+        self.lost <= BUDGET * self.spent
     }
 
     /// The mode ticks run in outside probes.
@@ -174,7 +248,8 @@ mod tests {
         let modes = drive(&mut g, 4000, |m, _| if m == Mode::Pool { 1.0 } else { 2.0 });
         assert_eq!(g.mode(), Mode::Pool);
         let solo = modes.iter().filter(|&&m| m == Mode::Solo).count();
-        // 2 ticks per probe, probes after 4 ticks, then 32, 64, … then every 512 ticks.
+        // 2 ticks per probe, probes after 4 ticks, then 32, 64, … then every 512 ticks (later
+        // when the budget says so).
         assert!(solo > 0 && solo <= 2 * 12, "{solo} solo ticks of 4000");
         assert_eq!(g.interval, MAX_INTERVAL);
     }
@@ -201,6 +276,60 @@ mod tests {
         };
         assert!(solo_share(700..1100) > 0.95, "{}", solo_share(700..1100));
         assert!(solo_share(1700..2400) < 0.05, "{}", solo_share(1700..2400));
+    }
+
+    #[test]
+    fn losing_probes_cost_about_the_budget_however_slow_the_other_mode() {
+        for slower in [1.5, 2.0, 4.0] {
+            let mut g = Governor::default();
+            let ticks = 5000;
+            let cost = |m: Mode, _| if m == Mode::Solo { 1.0 } else { slower };
+            // Ticks 0–3 run in the pool by default, before the first probe finds solo faster.
+            let modes = drive(&mut g, ticks, cost);
+            let total: f64 = modes.iter().map(|&m| cost(m, 0)).sum();
+            let overhead = total / ticks as f64 - 1.0;
+            assert!(
+                overhead <= BUDGET + 6.0 * slower / ticks as f64,
+                "{slower}: {overhead}"
+            );
+            assert_eq!(g.mode(), Mode::Solo);
+        }
+    }
+
+    #[test]
+    fn a_load_change_late_in_a_run_is_found_at_once() {
+        let mut g = Governor::default();
+        // Quiet for 3,000 ticks (probes at their longest interval), then a busy core.
+        let cost = |m: Mode, k: usize| match (m, k >= 3000) {
+            (Mode::Pool, false) => 1.0,
+            (Mode::Solo, false) => 1.8,
+            (Mode::Pool, true) => 4.0,
+            (Mode::Solo, true) => 2.0,
+        };
+        let modes = drive(&mut g, 3100, cost);
+        assert_eq!(modes[2990..3000], [Mode::Pool; 10]);
+        let first_solo = (3000..3100).find(|&k| modes[k] == Mode::Solo);
+        assert!(first_solo.is_some_and(|k| k <= 3003), "{first_solo:?}");
+        // Then solo, but for probes of the pool (16 ticks after the switch, then rarer).
+        let pool = modes[3004..].iter().filter(|&&m| m == Mode::Pool).count();
+        assert!(pool <= 4, "{pool}");
+    }
+
+    #[test]
+    fn a_switch_on_a_lucky_probe_is_undone_within_its_trial() {
+        let mut g = Governor::default();
+        // Solo is faster, but one pool tick in five is fast (the busy process was off its
+        // core): a probe that times one of those switches, and the trial switches back.
+        let cost = |m: Mode, k: usize| match m {
+            Mode::Solo => 1.0,
+            Mode::Pool if k % 5 == 4 => 0.5,
+            Mode::Pool => 2.0,
+        };
+        let ticks = 3000;
+        let modes = drive(&mut g, ticks, cost);
+        let pool = modes.iter().filter(|&&m| m == Mode::Pool).count();
+        assert!(pool < 60, "{pool} pool ticks of {ticks}");
+        assert_eq!(g.mode(), Mode::Solo);
     }
 
     #[test]
