@@ -95,6 +95,16 @@ fn negative_count_is_located() {
 }
 
 #[test]
+fn an_unknown_key_in_a_box_is_located() {
+    let t = setup();
+    let text = GOOD.replace("max: (5.0, 5.0, 5.0))", "max: (5.0, 5.0, 5.0), size: 3.0)");
+    assert_ne!(text, GOOD);
+    let (code, err) = check(&t.path().join("scenarios"), "bad.ron", &text);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.ron:6:") && err.contains("size"), "{err}");
+}
+
+#[test]
 fn region_outside_bounds_is_located() {
     let t = setup();
     let text = GOOD.replace("max: (5.0, 5.0, 5.0)", "max: (50.0, 5.0, 5.0)");

@@ -175,7 +175,26 @@ fn build(e: &Engine, raws: &[Raw], receivers: &[&str]) -> Vec<ApiFn> {
                 .iter()
                 .any(|(n, r)| *n == f.name && *r == f.receiver);
     }
-    out.sort_by(|a, b| (&a.receiver, &a.name).cmp(&(&b.receiver, &b.name)));
+    // Overloads by their parameters too: Rhai lists them in an order that differs between
+    // processes, and completion inserts the first one's form.
+    out.sort_by(|a, b| {
+        (
+            &a.receiver,
+            &a.name,
+            a.params.len(),
+            &a.params,
+            a.property,
+            &a.ret,
+        )
+            .cmp(&(
+                &b.receiver,
+                &b.name,
+                b.params.len(),
+                &b.params,
+                b.property,
+                &b.ret,
+            ))
+    });
     out
 }
 
