@@ -19,8 +19,8 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// An axis-aligned box: world bounds, obstacle boxes, spawn regions. A misspelt corner
-/// (`mx:`) is an error, not a box with a default corner.
+/// An axis-aligned box: world bounds, obstacle boxes, spawn regions. A key other than `min`
+/// and `max` (`size:`) is an error, not ignored.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Aabb {
