@@ -260,8 +260,9 @@ impl<'a> KinFold<'a> {
     /// Folds the rows gathered so far.
     fn flush(&mut self) {
         let smell = self.probe.smell2 > 0.0;
-        // A single separation query (the boids' case) has its own instance: its sums then
-        // stay in registers too. So does a perceiver that sums no headings.
+        // A single separation query (the boids' and the 3D flockers' case) has its own
+        // instances: its sums then stay in registers too. So does a perceiver that sums no
+        // headings.
         let lone_separation = self.nq == 1 && self.separation[0];
         match (
             self.probe.cone.is_some(),
@@ -274,7 +275,9 @@ impl<'a> KinFold<'a> {
             (false, false, false, false) => self.fold::<false, false, false, false>(),
             (false, false, false, true) => self.fold::<false, false, false, true>(),
             (false, true, _, _) => self.fold::<false, true, false, true>(),
-            (true, false, _, _) => self.fold::<true, false, false, true>(),
+            (true, false, true, false) => self.fold::<true, false, true, false>(),
+            (true, false, true, true) => self.fold::<true, false, true, true>(),
+            (true, false, false, _) => self.fold::<true, false, false, true>(),
             (true, true, _, _) => self.fold::<true, true, false, true>(),
         }
         self.pending = 0;
