@@ -17,15 +17,15 @@ pub const PITCH_LIMIT: f32 = FRAC_PI_2 - 1e-3;
 /// Forward unit vector for a heading. Yaw 0 faces +Z; positive yaw turns toward −X (the right).
 #[inline]
 pub fn forward(yaw: f32, pitch: f32) -> Vec3 {
-    let (sy, cy) = yaw.sin_cos();
-    let (sp, cp) = pitch.sin_cos();
+    let (sy, cy) = crate::math::sin_cos(yaw);
+    let (sp, cp) = crate::math::sin_cos(pitch);
     Vec3::new(-sy * cp, sp, cy * cp)
 }
 
 /// Left unit vector of a body with this yaw (horizontal: no roll).
 #[inline]
 pub fn left(yaw: f32) -> Vec3 {
-    let (sy, cy) = yaw.sin_cos();
+    let (sy, cy) = crate::math::sin_cos(yaw);
     Vec3::new(cy, 0.0, sy)
 }
 
@@ -66,7 +66,7 @@ pub fn heading_of(dir: Vec3) -> Option<(f32, f32)> {
     let yaw = atan2(-d.x, d.z);
     // asin(±0) = ±0: level directions (every one in a flat world) skip the call.
     let sy = d.y.clamp(-1.0, 1.0);
-    let pitch = if sy == 0.0 { sy } else { sy.asin() };
+    let pitch = if sy == 0.0 { sy } else { crate::math::asin(sy) };
     let pitch = pitch.clamp(-PITCH_LIMIT, PITCH_LIMIT);
     Some((yaw, pitch))
 }
@@ -180,6 +180,8 @@ mod tests {
     use super::*;
 
     #[test]
+    // The platform's library is what is compared against.
+    #[allow(clippy::disallowed_methods)]
     fn atan2_and_tan_match_the_math_library() {
         let mut rng = crate::world::Rng::new(3, 0);
         let mut worst = (0.0f32, 0.0f32);

@@ -41,6 +41,7 @@ pub mod load;
 pub mod locomotion;
 #[cfg(feature = "tools")]
 pub mod lsp;
+pub mod math;
 pub mod params;
 pub mod perception;
 pub mod project;

@@ -147,19 +147,34 @@ fn larger_vision_radius_makes_a_more_cohesive_school() {
 }
 
 /// Seed 001: a wide vision angle (270°, the paper's) gives a better organized school than a
-/// narrow one (±0.3 rad): higher polarization and a tighter school (measured 0.62–0.96 against
-/// 0.55–0.77).
+/// narrow one (±0.3 rad): higher polarization and a tighter school. A tendency, not a law of
+/// every run: a narrow-sighted school sometimes lines up by chance, so the claim is tested on
+/// the means over 20 seeds, and on most seeds one by one. Measured: mean polarization 0.90
+/// against 0.60, mean nearest neighbour 0.48 against 0.74; both better on 16 of the 20 seeds.
 #[test]
 fn wider_vision_angle_makes_a_better_organized_school() {
     let sc = scenario(40, 12.0, 40.0);
-    for seed in SEEDS {
+    let (mut wide_sum, mut narrow_sum) = (Shape::default(), Shape::default());
+    let mut better = 0;
+    let seeds = 1..=20u64;
+    let n = seeds.clone().count() as f32;
+    for seed in seeds {
         let narrow = school(&boid(5.0, 0.3, TURNING, FLOCK), &sc, seed);
         let wide = school(&boid(5.0, 2.36, TURNING, FLOCK), &sc, seed);
-        assert!(
-            wide.polarization > narrow.polarization && wide.nearest < narrow.nearest,
-            "seed {seed}: wide {wide:?} vs narrow {narrow:?}"
-        );
+        if wide.polarization > narrow.polarization && wide.nearest < narrow.nearest {
+            better += 1;
+        }
+        for (sum, s) in [(&mut wide_sum, &wide), (&mut narrow_sum, &narrow)] {
+            sum.polarization += s.polarization / n;
+            sum.nearest += s.nearest / n;
+        }
     }
+    assert!(
+        wide_sum.polarization > narrow_sum.polarization + 0.15
+            && wide_sum.nearest < 0.8 * narrow_sum.nearest
+            && better >= 15,
+        "means: wide {wide_sum:?} vs narrow {narrow_sum:?}; wide better on {better} of 20 seeds"
+    );
 }
 
 /// Seed 001: with a narrow vision angle fish follow the ones ahead in files: the nearest

@@ -76,7 +76,7 @@ fn a_group_is_numbered_in_the_order_of_the_agent_grids_cells() {
     // positive turns right, toward −x).
     for a in sharks {
         let to = Vec3::new(0.0, 6.0, 0.0) - a.pos;
-        let want = (-to.x).atan2(to.z);
+        let want = shoal::frame::atan2(-to.x, to.z);
         assert!((a.yaw - want).abs() < 1e-5, "yaw {} want {want}", a.yaw);
     }
 }

@@ -97,8 +97,8 @@ fn the_plan_goes_around_the_wall_and_members_walk_on_the_ramp() {
             assert!((a.pos.y - t.height_at(a.pos.x, a.pos.z)).abs() < 1e-4);
             // On the ramp, facing east, the body pitches up the slope (atan 0.2), down facing west.
             if a.pos.x > 84.0 && a.speed > 0.5 {
-                let east = -a.yaw.sin();
-                let expected = (0.2 * east).atan();
+                let east = -shoal::math::sin(a.yaw);
+                let expected = shoal::math::atan(0.2 * east);
                 assert!(
                     (a.pitch - expected).abs() < 0.02,
                     "pitch {} vs {expected}",

@@ -270,7 +270,7 @@ pub fn boids_side(n: usize) -> f32 {
 /// The `flock` world: `n` flocking fish in a cube at ~20 neighbors each, with spherical rocks.
 pub fn flock(n: usize) -> BenchWorld {
     let volume = n as f32 / FLOCK_DENSITY;
-    let side = volume.cbrt().max(10.0);
+    let side = crate::math::cbrt(volume).max(10.0);
     let bounds = Aabb::new(Vec3::ZERO, Vec3::splat(side));
     let mut def = scenario_def(bounds, vec!["flocker".into()]);
     let mut rng = Rng::new(SEED, 0xB0C5);

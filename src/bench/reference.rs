@@ -75,8 +75,8 @@ impl Flock {
             px.push(next(&mut s) * side);
             pz.push(next(&mut s) * side);
             let a = next(&mut s) * std::f32::consts::TAU;
-            vx.push(SPEED * a.cos());
-            vz.push(SPEED * a.sin());
+            vx.push(SPEED * crate::math::cos(a));
+            vz.push(SPEED * crate::math::sin(a));
         }
         Flock {
             side,

@@ -99,7 +99,10 @@ pub fn hunger(eaten: f32, since_meal: f32, stimulus: f32, p: &DriveParams) -> f3
 
 /// Hunger variant of seed 003: `H(t) = min(1 − exp(u·(1 − ρ0·Δt_H)/C) + a_h·S_h(t), 1)`.
 pub fn hunger_exponential(since_meal: f32, stimulus: f32, p: &DriveParams) -> f32 {
-    clamp01(1.0 - (p.u * (1.0 - p.rho0 * since_meal) / p.c.max(1e-6)).exp() + p.a_h * stimulus)
+    clamp01(
+        1.0 - crate::math::exp(p.u * (1.0 - p.rho0 * since_meal) / p.c.max(1e-6))
+            + p.a_h * stimulus,
+    )
 }
 
 /// Where an agent's meal clock starts so that its hunger is `hunger` (no food stimulus), as
@@ -119,7 +122,7 @@ pub fn meal_clock_for(hunger: f32, since_meal: f32, p: &DriveParams) -> (f32, f3
             } else {
                 hunger.clamp(0.0, 1.0 - 1e-6)
             };
-            let dt = (1.0 - p.c * (1.0 - h).ln() / p.u) / p.rho0;
+            let dt = (1.0 - p.c * crate::math::ln(1.0 - h) / p.u) / p.rho0;
             if p.u > 0.0 && p.rho0 > 0.0 && dt.is_finite() {
                 (0.0, dt + since_meal)
             } else {
@@ -206,7 +209,7 @@ pub fn internal_state(t: f32, s_max: f32, delta: f32) -> f32 {
     if delta == 0.0 {
         return if t == 0.0 { s_max } else { 0.0 };
     }
-    s_max * (-(t * t) / (delta * delta)).exp()
+    s_max * crate::math::exp(-(t * t) / (delta * delta))
 }
 
 fn clamp01(x: f32) -> f32 {
@@ -289,7 +292,7 @@ mod tests {
     #[test]
     fn seed_003_curves() {
         // S(t) = 1·exp(−4/4) at t = 2, δ = 2.
-        assert!((internal_state(2.0, 1.0, 2.0) - (-1.0f32).exp()).abs() < 1e-6);
+        assert!((internal_state(2.0, 1.0, 2.0) - crate::math::exp(-1.0)).abs() < 1e-6);
         // H = 1 − exp(1·(1 − 0.01·100)/1) = 1 − exp(0) = 0.
         let p = DriveParams::default();
         assert!(hunger_exponential(100.0, 0.0, &p).abs() < 1e-6);

@@ -461,7 +461,7 @@ mod tests {
         let centers: Vec<Vec3> = (0..60).map(|k| pts[k * 41]).collect();
         for (k, &c) in centers.iter().enumerate() {
             let a = k as f32 * 0.7;
-            pts.push(c + Vec3::new(a.cos(), 0.0, a.sin()) * 10.0);
+            pts.push(c + Vec3::new(crate::math::cos(a), 0.0, crate::math::sin(a)) * 10.0);
         }
         let mut g = Grid::new();
         g.rebuild(bounds, 10.0, pts.iter().copied());

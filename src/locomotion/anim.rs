@@ -62,7 +62,7 @@ pub fn advance(
         + p.accel_rate * accel.max(0.0);
     let phase = anim.phase + rate * dt;
     anim.phase = wrap_phase(phase);
-    let swing = tween((anim.phase * TAU).sin(), p.max_bend);
+    let swing = tween(crate::math::sin(anim.phase * TAU), p.max_bend);
     let turn = if max_turn > 0.0 {
         (dyaw / max_turn).clamp(-1.0, 1.0)
     } else {
@@ -108,7 +108,7 @@ mod tests {
         assert!(tween(0.0, b).abs() < 1e-6);
         assert!((tween(1.0, b) - 0.4).abs() < 1e-6);
         // Halfway from M (0) to MR (0.2): t = tan(π/8) = 0.41421 → 0.082843.
-        assert!((tween(0.25, b) - 0.2 * (std::f32::consts::PI / 8.0).tan()).abs() < 1e-6);
+        assert!((tween(0.25, b) - 0.2 * crate::math::tan(std::f32::consts::PI / 8.0)).abs() < 1e-6);
     }
 
     #[test]

@@ -95,9 +95,9 @@ pub fn step(
     match mode {
         Mode::Kinematic if limits.response > 0.0 && dt > 0.0 => {
             let tau = limits.response;
-            let k = 1.0 - (-dt / tau).exp();
+            let k = 1.0 - crate::math::exp(-dt / tau);
             let kr = if limits.smoothing > 0.0 {
-                1.0 - (-dt / limits.smoothing).exp()
+                1.0 - crate::math::exp(-dt / limits.smoothing)
             } else {
                 1.0
             };
@@ -112,7 +112,7 @@ pub fn step(
                 m.pitch_rate = 0.0;
             }
             let ks = match limits.speed_response {
-                Some(t) if t > 0.0 => 1.0 - (-dt / t).exp(),
+                Some(t) if t > 0.0 => 1.0 - crate::math::exp(-dt / t),
                 Some(_) => 1.0,
                 None => k,
             };

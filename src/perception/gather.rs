@@ -191,8 +191,11 @@ impl Perception {
         self.size_rows(n);
         self.copy_by_slot(agents, kernel);
         self.cos_mins.clear();
-        self.cos_mins
-            .extend(senses.iter().map(|s| s.vision_half_angle.cos() - 1e-6));
+        self.cos_mins.extend(
+            senses
+                .iter()
+                .map(|s| crate::math::cos(s.vision_half_angle) - 1e-6),
+        );
         unsensed
     }
 

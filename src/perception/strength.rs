@@ -38,7 +38,7 @@ impl Strength {
     /// 0 at infinity (nothing perceived).
     #[inline]
     pub fn at(&self, d: f32) -> f32 {
-        (self.near / d.max(self.near)).powf(self.power)
+        crate::math::powf(self.near / d.max(self.near), self.power)
     }
 }
 

@@ -119,11 +119,11 @@ impl Volume {
             } => {
                 let az = if dir.z >= 0.0 { ahead } else { behind };
                 let p = exponent.max(TINY);
-                let q = (dir.x.abs() / side.max(TINY)).powf(p)
-                    + (dir.y.abs() / up.max(TINY)).powf(p)
-                    + (dir.z.abs() / az.max(TINY)).powf(p);
+                let q = crate::math::powf(dir.x.abs() / side.max(TINY), p)
+                    + crate::math::powf(dir.y.abs() / up.max(TINY), p)
+                    + crate::math::powf(dir.z.abs() / az.max(TINY), p);
                 if q > 0.0 {
-                    q.powf(-1.0 / p)
+                    crate::math::powf(q, -1.0 / p)
                 } else {
                     0.0
                 }
@@ -206,7 +206,7 @@ pub fn in_cone(forward: Vec3, offset: Vec3, half_angle: f32) -> bool {
     if d == 0.0 {
         return true;
     }
-    forward.dot(offset) / d >= half_angle.cos() - 1e-6
+    forward.dot(offset) / d >= crate::math::cos(half_angle) - 1e-6
 }
 
 /// Whether any part of a sphere of radius `radius` centred at `offset` lies within `half_angle`
@@ -217,8 +217,8 @@ pub fn sphere_in_cone(forward: Vec3, offset: Vec3, radius: f32, half_angle: f32)
     if d <= radius {
         return true;
     }
-    let to_centre = (forward.dot(offset) / d).clamp(-1.0, 1.0).acos();
-    to_centre - (radius / d).asin() <= half_angle + 1e-6
+    let to_centre = crate::math::acos((forward.dot(offset) / d).clamp(-1.0, 1.0));
+    to_centre - crate::math::asin(radius / d) <= half_angle + 1e-6
 }
 
 #[cfg(test)]
@@ -388,7 +388,7 @@ mod tests {
         // Cone of half-angle 60°; a sphere at distance 10, 70° off the heading (10° outside).
         let h = 60f32.to_radians();
         let a = 70f32.to_radians();
-        let at = Vec3::new(a.sin(), 0.0, a.cos()) * 10.0;
+        let at = Vec3::new(crate::math::sin(a), 0.0, crate::math::cos(a)) * 10.0;
         assert!(!in_cone(Vec3::Z, at, h));
         // Radius 3: asin(0.3) = 17.46°, 70 − 17.46 = 52.5 ≤ 60 → seen.
         assert!(sphere_in_cone(Vec3::Z, at, 3.0, h));

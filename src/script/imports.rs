@@ -104,6 +104,9 @@ pub(crate) struct Loader<'a> {
     stack: Vec<PathBuf>,
     /// Every imported file, in the order first met.
     pub files: Vec<PathBuf>,
+    /// Whether an imported file raises to a power ([`super::exact_power`]): the engines that
+    /// run its functions need it too.
+    pub power: bool,
     pub diags: Vec<Diagnostic>,
 }
 
@@ -125,6 +128,7 @@ impl<'a> Loader<'a> {
             cache: BTreeMap::new(),
             stack: vec![own],
             files: Vec::new(),
+            power: false,
             diags: Vec::new(),
         }
     }
@@ -277,6 +281,10 @@ impl<'a> Loader<'a> {
         self.stack.push(canonical.to_path_buf());
         let known = self.register(&mut engine, path, &text);
         self.stack.pop();
+        self.power |= super::exact_power(&mut engine, &text);
+        if self.power {
+            engine.set_fast_operators(false);
+        }
         let imports = find_imports(&text);
         let source = blank_imports(&text, &imports);
         let mut ast = match engine.compile(&source) {

@@ -23,6 +23,7 @@ pub mod budget;
 pub mod calls;
 pub mod events;
 mod imports;
+pub(crate) mod math;
 pub mod memory;
 pub mod names;
 pub mod native;
@@ -168,7 +169,30 @@ pub fn new_engine(limits: &SandboxLimits) -> Engine {
     // The wall-time guard (not a deterministic bound: see the module header).
     e.on_progress(|ops| budget::check(ops).map(budget::token));
     register_api(&mut e);
+    math::register(&mut e);
     e
+}
+
+/// Readies `engine` for compiling and running `text`: where the text raises a number to a
+/// power (`**`, `**=`), Rhai's fast paths for operators are turned off. Rhai computes `**` on
+/// numbers by a built-in path with the platform's `powf` (and folds constant ones at compile
+/// time with it), which no registration reaches; without the fast paths it looks for a
+/// registered operator first, `math::register`'s, and falls back to the built-in ones for the
+/// others. That lookup makes arithmetic about twice as slow, so only scripts that use the
+/// operator pay for it. Call it before compiling, on every engine that runs the text's
+/// functions. Returns whether the text raises to a power.
+pub fn exact_power(engine: &mut Engine, text: &str) -> bool {
+    let inputs = [text];
+    // Rhai's token stream does not end: it repeats `EOF`.
+    let power = engine
+        .lex(&inputs)
+        .0
+        .take_while(|(t, _)| *t != rhai::Token::EOF)
+        .any(|(t, _)| matches!(t, rhai::Token::PowerOf | rhai::Token::PowerOfAssign));
+    if power {
+        engine.set_fast_operators(false);
+    }
+    power
 }
 
 pub(crate) fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Diagnostic {
@@ -197,6 +221,10 @@ impl Script {
         let mut engine = new_engine(limits);
         let mut loader = imports::Loader::new(file, root, limits);
         let known = loader.register(&mut engine, file, text);
+        // Imported functions run on this engine too.
+        if !exact_power(&mut engine, text) && loader.power {
+            engine.set_fast_operators(false);
+        }
         let mut diags = std::mem::take(&mut loader.diags);
         let mut ast = match engine.compile(text) {
             Ok(a) => a,

@@ -16,7 +16,7 @@ pub fn slope_pitch(terrain: &Terrain, x: f32, z: f32, yaw: f32, limit: f32) -> f
     let f = crate::frame::forward(yaw, 0.0);
     let rise = g.x * f.x + g.y * f.z;
     let limit = limit.abs().min(crate::frame::PITCH_LIMIT);
-    rise.atan().clamp(-limit, limit)
+    crate::math::atan(rise).clamp(-limit, limit)
 }
 
 /// What [`settle`] did to one agent.
@@ -112,7 +112,11 @@ mod tests {
         );
         assert_eq!(settle(&mut a, &t, None, 1.2), Settled::Free);
         assert!((a.pos.y - 0.75).abs() < 1e-6, "{}", a.pos.y);
-        assert!((a.pitch - 0.5f32.atan()).abs() < 1e-5, "{}", a.pitch);
+        assert!(
+            (a.pitch - crate::math::atan(0.5)).abs() < 1e-5,
+            "{}",
+            a.pitch
+        );
         // Facing south (+Z) the ground is level along the heading.
         let mut a = agent(Vec3::new(1.5, 0.0, 1.5), Vec3::new(2.0, 0.0, 1.5), 0.0);
         settle(&mut a, &t, None, 1.2);

@@ -59,8 +59,8 @@ pub fn pressures(sources: impl IntoIterator<Item = PressureSource>, m0: f32) -> 
     let mut p = Pressures::default();
     for s in sources {
         let denom = (s.dist.max(0.0) + m0).max(1e-6);
-        let h = s.weight * s.size * s.bearing.cos() / denom;
-        let v = s.weight * s.size * s.elevation.cos() / denom;
+        let h = s.weight * s.size * crate::math::cos(s.bearing) / denom;
+        let v = s.weight * s.size * crate::math::cos(s.elevation) / denom;
         if s.bearing < 0.0 {
             p.left += h;
         } else if s.bearing > 0.0 {
@@ -158,7 +158,7 @@ impl AvoidParams {
     /// `d cos θ` from `−half_angle` to 0; for its ±150° view that is `1 + √3/2`).
     pub fn dynamic_m_min_factor(&self, vision_half_angle: f32) -> f32 {
         self.m_min_factor
-            .unwrap_or_else(|| 1.0 - vision_half_angle.cos())
+            .unwrap_or_else(|| 1.0 - crate::math::cos(vision_half_angle))
     }
 }
 
@@ -593,7 +593,7 @@ mod tests {
     fn front_field_matches_the_paper_in_the_heading_plane() {
         // Level obstacle at θ = +π/3 (right), S = 2, d = 3, m0 = 1: R = 2·cos(π/3)/4 = 0.25, and
         // being level it counts half up, half down.
-        let (s, c) = FRAC_PI_3.sin_cos();
+        let (s, c) = crate::math::sin_cos(FRAC_PI_3);
         let p = front_pressures([front(3.0, Vec3::new(s, 0.0, c), 2.0)], 1.0);
         assert!((p.right - 0.25).abs() < 1e-6, "{p:?}");
         assert_eq!(p.left, 0.0);
@@ -1037,7 +1037,7 @@ mod tests {
         );
         // Adding a rock ahead-right (d = 3, S = 2, forward component cos(π/3)) gives only its
         // own terms: R = 2·0.5/4 = 0.25, U = D = 0.125 (level, half each).
-        let (sn, cs) = FRAC_PI_3.sin_cos();
+        let (sn, cs) = crate::math::sin_cos(FRAC_PI_3);
         let more = rocks
             .iter()
             .copied()

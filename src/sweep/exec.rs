@@ -347,7 +347,9 @@ fn engine() -> rhai::Engine {
 
 /// Checks a reduction script: it compiles and defines `reduce(run)`.
 pub fn check_reduce(file: &Path, text: &str) -> Result<(), Diagnostics> {
-    let ast = engine()
+    let mut engine = engine();
+    crate::script::exact_power(&mut engine, text);
+    let ast = engine
         .compile(text)
         .map_err(|e| Diagnostics::from(crate::script::parse_diag(file, text, &e)))?;
     if !ast
@@ -370,7 +372,8 @@ pub fn check_reduce(file: &Path, text: &str) -> Result<(), Diagnostics> {
 /// alive per species, counters) and `run.agents` (id, species, position, velocity, speed,
 /// behavior). A number is the `reduce` column; a map's numbers are `reduce.<key>` columns.
 fn reduce(file: &Path, text: &str, run: &Run) -> Result<Row, String> {
-    let engine = engine();
+    let mut engine = engine();
+    crate::script::exact_power(&mut engine, text);
     let ast = engine
         .compile(text)
         .map_err(|e| crate::script::parse_diag(file, text, &e).to_string())?;

@@ -145,7 +145,7 @@ impl Terrain {
 
     /// Slope at `(x, z)` in degrees from the horizontal.
     pub fn slope_at(&self, x: f32, z: f32) -> f32 {
-        self.gradient_at(x, z).length().atan().to_degrees()
+        crate::math::atan(self.gradient_at(x, z).length()).to_degrees()
     }
 
     /// Slope of `cell` in degrees, from central differences of its neighbours' heights
@@ -163,7 +163,7 @@ impl Terrain {
         let (rl, rh) = (r.saturating_sub(1), (r + 1).min(self.rows - 1));
         let gx = diff(self.h(cl, r), self.h(ch, r), ch - cl);
         let gz = diff(self.h(c, rl), self.h(c, rh), rh - rl);
-        (gx * gx + gz * gz).sqrt().atan().to_degrees()
+        crate::math::atan((gx * gx + gz * gz).sqrt()).to_degrees()
     }
 
     /// Whether the straight segment from `a` to `b` stays above the ground. The ground is sampled
@@ -222,7 +222,7 @@ mod tests {
         let n = t.normal_at(2.0, 2.0);
         assert!((n - Vec3::new(-0.5, 1.0, -5.0).normalize()).length() < 1e-6);
         let s = t.slope_at(2.0, 2.0);
-        assert!((s - (0.5f32.hypot(5.0)).atan().to_degrees()).abs() < 1e-4);
+        assert!((s - crate::math::atan(crate::math::hypot(0.5, 5.0)).to_degrees()).abs() < 1e-4);
         let flat = Terrain::from_heights(2, 2, 1.0, Vec2::ZERO, vec![3.0; 4]);
         assert_eq!(flat.normal_at(0.7, 1.2), Vec3::Y);
         assert_eq!(flat.cell_slope_deg(Cell::new(1, 1)), 0.0);

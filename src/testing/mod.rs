@@ -269,7 +269,8 @@ fn parse(
     text: &str,
     limits: &crate::script::SandboxLimits,
 ) -> Result<AST, Diagnostic> {
-    let engine = crate::script::new_engine(limits);
+    let mut engine = crate::script::new_engine(limits);
+    crate::script::exact_power(&mut engine, text);
     let mut ast = engine.compile(text).map_err(|e| {
         let (line, col) = crate::script::position_of(e.1);
         // Rhai points where parsing failed; the bracket left open may be far above.
@@ -343,6 +344,7 @@ fn run_script(file: &TestFile, name: &str, opts: &Options, coverage: &Arc<Covera
     });
     let lim = limits(opts);
     let mut engine = crate::script::new_engine(&lim);
+    crate::script::exact_power(&mut engine, &file.text);
     api::register(&mut engine, ctx.clone());
     let mut scope = Scope::new();
     let call = CallFnOptions::new().eval_ast(false).rewind_scope(true);

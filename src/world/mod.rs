@@ -98,7 +98,7 @@ impl Shape {
         match self {
             Shape::Sphere { radius, .. } => *radius,
             Shape::Box(b) => b.size().length() * 0.5,
-            Shape::Cylinder { radius, height, .. } => radius.hypot(height * 0.5),
+            Shape::Cylinder { radius, height, .. } => crate::math::hypot(*radius, height * 0.5),
         }
     }
     /// Size `S` of seed 000 §4.1: the bounding box diagonal.

@@ -20,7 +20,7 @@ pub(super) fn signed_distance(shape: &Shape, p: Vec3) -> f32 {
             height,
         } => {
             // Outside the side and outside the height, as a box's two axes.
-            let ring = (p.x - base.x).hypot(p.z - base.z) - radius;
+            let ring = crate::math::hypot(p.x - base.x, p.z - base.z) - radius;
             let y = (p.y - (base.y + height * 0.5)).abs() - height * 0.5;
             let q = glam::Vec2::new(ring, y);
             q.max(glam::Vec2::ZERO).length() + q.max_element().min(0.0)

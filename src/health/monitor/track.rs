@@ -62,7 +62,7 @@ pub(super) const SCAN_OBSTACLES: usize = 32;
 /// Angle (rad) between two unit vectors, accurate for small angles too.
 #[inline]
 fn angle(a: Vec3, b: Vec3) -> f32 {
-    a.cross(b).length().atan2(a.dot(b))
+    crate::frame::atan2(a.cross(b).length(), a.dot(b))
 }
 
 /// Keeps the larger of `slot` and `(len, spot)` (the earlier one on ties).

@@ -88,6 +88,10 @@ fn raw(e: &Engine) -> Vec<Raw> {
         None,
         |f| {
             let m = f.metadata;
+            // Rhai's own, replaced by the engine's with the same bits on every machine.
+            if crate::script::math::REPLACED.contains(&m.name.as_str()) {
+                return None;
+            }
             Some((
                 m.name.to_string(),
                 m.params_info.iter().map(|p| p.to_string()).collect(),

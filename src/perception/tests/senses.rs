@@ -47,7 +47,12 @@ fn any_part_in_the_field_is_enough_with_any_part() {
     // A predator 6 away, 70° to the right of the heading (right is −X), of size 4 × 4 × 4:
     // r = 2√3 = 3.464, asin(3.464/6) = 35.3°, 70 − 35.3 = 34.7 ≤ 60.
     let a = 70f32.to_radians();
-    let mut big = agent(1, 1, Vec3::new(-a.sin(), 0.0, a.cos()) * 6.0, 0.0);
+    let mut big = agent(
+        1,
+        1,
+        Vec3::new(-crate::math::sin(a), 0.0, crate::math::cos(a)) * 6.0,
+        0.0,
+    );
     big.size = Vec3::splat(4.0);
     w.agents.push(big);
     // A second one 13 straight ahead: 13 − 3.464 = 9.54 ≤ 10.
@@ -58,7 +63,7 @@ fn any_part_in_the_field_is_enough_with_any_part() {
     // but asin(3/7) = 25.4°, 80 − 25.4 = 54.6 ≤ 60.
     let b = 80f32.to_radians();
     w.add_obstacle(Shape::Sphere {
-        center: Vec3::new(b.sin(), 0.0, b.cos()) * 7.0,
+        center: Vec3::new(crate::math::sin(b), 0.0, crate::math::cos(b)) * 7.0,
         radius: 3.0,
     });
     // Food (no body) 11 ahead: out of range either way.
