@@ -2,13 +2,15 @@
 //! that every boids figure can be read against a floor. The same world (a flat square at
 //! [`BOIDS_DENSITY`], vision radius 10, constant speed 10, `dt` 0.05), the same rules as
 //! `boid.ron` (separation within 3, alignment, cohesion, containment), written as one would by
-//! hand: positions and velocities as structure of arrays, a counting-sort grid of radius-sized
-//! cells rebuilt every tick, a neighbour loop over contiguous sorted runs in lanes of four that
-//! the compiler turns into SSE (baseline x86-64, no CPU-specific code), agents split over the
+//! hand: positions and velocities as structure of arrays, a counting-sort grid rebuilt every
+//! tick (rows a radius high, cells a quarter radius wide, as the engine's grid), a neighbour
+//! loop over the three rows' contiguous sorted runs in explicit 4-lane vectors (glam's `Vec4`,
+//! SSE on baseline x86-64, no CPU-specific code), agents split over the
 //! rayon pool in fixed chunks. No decision, no drives, no recording: what it leaves out is what
 //! the engine's generality costs. Not a tick stage; reads nothing of the engine.
 
 use super::{Sample, BOIDS_DENSITY, DT, SEED};
+use glam::Vec4;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -25,18 +27,24 @@ const SPEED: f32 = 10.0;
 const MARGIN: f32 = 1.0;
 /// Agents per parallel work item: small enough for either thread to take the rest.
 const CHUNK: usize = 256;
+/// Cells per radius along x: a row's run then ends within a narrow cell of the radius.
+const SPLIT: usize = 4;
 /// Lanes per neighbour step.
 const LANES: usize = 4;
+/// Where the padding of a run's last, partial step lies: farther than any radius.
+const FAR: f32 = 1e30;
 
 /// A flock in structure-of-arrays form with its grid.
 pub struct Flock {
     side: f32,
+    /// Cells along z (rows) and along x: rows are a radius high, cells [`SPLIT`] times narrower.
     cells: usize,
+    cols: usize,
     px: Vec<f32>,
     pz: Vec<f32>,
     vx: Vec<f32>,
     vz: Vec<f32>,
-    /// Grid: the first sorted index of each cell (`cells² + 1` entries).
+    /// Grid: the first sorted index of each cell (`cells · cols + 1` entries), x fastest.
     start: Vec<u32>,
     /// Sorted copies (by cell) of positions and velocities.
     sx: Vec<f32>,
@@ -64,6 +72,7 @@ impl Flock {
     pub fn new(n: usize) -> Flock {
         let side = (n as f32 / BOIDS_DENSITY).sqrt().max(10.0);
         let cells = ((side / RADIUS).floor() as usize).max(1);
+        let cols = ((side * SPLIT as f32 / RADIUS).floor() as usize).max(1);
         let mut s = SEED;
         let (mut px, mut pz, mut vx, mut vz) = (
             Vec::with_capacity(n),
@@ -81,11 +90,12 @@ impl Flock {
         Flock {
             side,
             cells,
+            cols,
             px,
             pz,
             vx,
             vz,
-            start: vec![0; cells * cells + 1],
+            start: vec![0; cells * cols + 1],
             sx: vec![0.0; n],
             sz: vec![0.0; n],
             svx: vec![0.0; n],
@@ -112,9 +122,8 @@ impl Flock {
     }
 
     fn cell(&self, x: f32, z: f32) -> (usize, usize) {
-        let f = self.cells as f32 / self.side;
-        let c = ((x * f) as usize).min(self.cells - 1);
-        let r = ((z * f) as usize).min(self.cells - 1);
+        let c = ((x * self.cols as f32 / self.side) as usize).min(self.cols - 1);
+        let r = ((z * self.cells as f32 / self.side) as usize).min(self.cells - 1);
         (c, r)
     }
 
@@ -124,7 +133,7 @@ impl Flock {
         self.start.iter_mut().for_each(|s| *s = 0);
         for i in 0..n {
             let (c, r) = self.cell(self.px[i], self.pz[i]);
-            let k = (r * self.cells + c) as u32;
+            let k = (r * self.cols + c) as u32;
             self.cell_of[i] = k;
             self.start[k as usize + 1] += 1;
         }
@@ -166,11 +175,11 @@ impl Flock {
     fn update(&self, i: usize) -> (f32, f32, f32, f32, u32) {
         let (x, z) = (self.px[i], self.pz[i]);
         let (c, r) = self.cell(x, z);
-        let mut acc = [[0.0f32; LANES]; 7];
+        let mut acc = ACC_ZERO;
         for rr in r.saturating_sub(1)..=(r + 1).min(self.cells - 1) {
-            let row = rr * self.cells;
-            let lo = self.start[row + c.saturating_sub(1)] as usize;
-            let hi = self.start[row + (c + 1).min(self.cells - 1) + 1] as usize;
+            let row = rr * self.cols;
+            let lo = self.start[row + c.saturating_sub(SPLIT)] as usize;
+            let hi = self.start[row + (c + SPLIT).min(self.cols - 1) + 1] as usize;
             sums(
                 &mut acc,
                 x,
@@ -181,15 +190,18 @@ impl Flock {
                 &self.svz[lo..hi],
             );
         }
-        let total = |k: usize| acc[k].iter().sum::<f32>();
+        let total = |v: Vec4| v.element_sum();
         // The agent itself is in the sums (distance 0): take it out.
-        let count = total(0) - 1.0;
-        let (mut ax, mut az) = (SEP_K * total(5), SEP_K * total(6));
+        let count = total(acc.n) - 1.0;
+        let (mut ax, mut az) = (SEP_K * total(acc.sx), SEP_K * total(acc.sz));
         if count > 0.0 {
-            let (cx, cz) = ((total(1) - x) / count - x, (total(2) - z) / count - z);
+            let (cx, cz) = (
+                (total(acc.px) - x) / count - x,
+                (total(acc.pz) - z) / count - z,
+            );
             let (avx, avz) = (
-                (total(3) - self.vx[i]) / count,
-                (total(4) - self.vz[i]) / count,
+                (total(acc.vx) - self.vx[i]) / count,
+                (total(acc.vz) - self.vz[i]) / count,
             );
             ax += ALIGN_K * (avx - self.vx[i]) + COHESION_K * cx;
             az += ALIGN_K * (avz - self.vz[i]) + COHESION_K * cz;
@@ -216,71 +228,69 @@ impl Flock {
     }
 }
 
-/// Adds the neighbours among one sorted run to `acc` (count, Σx, Σz, Σvx, Σvz, separation x, z),
-/// four at a time; the agent itself adds to the first five only (separation skips distance 0).
-#[inline]
-fn sums(
-    acc: &mut [[f32; LANES]; 7],
-    x: f32,
-    z: f32,
-    sx: &[f32],
-    sz: &[f32],
-    svx: &[f32],
-    svz: &[f32],
-) {
-    let r2 = RADIUS * RADIUS;
-    let s2 = SEP_RADIUS * SEP_RADIUS;
-    let n = sx.len();
-    let whole = n - n % LANES;
-    let mut j = 0;
-    while j < whole {
-        for l in 0..LANES {
-            lane(
-                acc,
-                l,
-                x,
-                z,
-                sx[j + l],
-                sz[j + l],
-                svx[j + l],
-                svz[j + l],
-                r2,
-                s2,
-            );
-        }
-        j += LANES;
-    }
-    for k in whole..n {
-        lane(acc, 0, x, z, sx[k], sz[k], svx[k], svz[k], r2, s2);
-    }
+/// The running sums of one agent, four lanes each: count, Σx, Σz, Σvx, Σvz, separation x, z.
+#[derive(Clone, Copy)]
+struct Acc {
+    n: Vec4,
+    px: Vec4,
+    pz: Vec4,
+    vx: Vec4,
+    vz: Vec4,
+    sx: Vec4,
+    sz: Vec4,
 }
 
-/// One neighbour into lane `l`, branch-free: masks select what counts.
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn lane(
-    acc: &mut [[f32; LANES]; 7],
-    l: usize,
-    x: f32,
-    z: f32,
-    ox: f32,
-    oz: f32,
-    ovx: f32,
-    ovz: f32,
-    r2: f32,
-    s2: f32,
-) {
-    let (dx, dz) = (x - ox, z - oz);
-    let d2 = dx * dx + dz * dz;
-    let within = if d2 < r2 { 1.0 } else { 0.0 };
-    let close = if d2 < s2 && d2 > 0.0 { 1.0 / d2 } else { 0.0 };
-    acc[0][l] += within;
-    acc[1][l] += within * ox;
-    acc[2][l] += within * oz;
-    acc[3][l] += within * ovx;
-    acc[4][l] += within * ovz;
-    acc[5][l] += close * dx;
-    acc[6][l] += close * dz;
+const ACC_ZERO: Acc = Acc {
+    n: Vec4::ZERO,
+    px: Vec4::ZERO,
+    pz: Vec4::ZERO,
+    vx: Vec4::ZERO,
+    vz: Vec4::ZERO,
+    sx: Vec4::ZERO,
+    sz: Vec4::ZERO,
+};
+
+/// Adds the neighbours among one sorted run to `acc`, four at a time, branch-free (masks select
+/// what counts); the agent itself adds to the first five sums only (separation skips distance
+/// 0). The run's last, partial step reads copies padded with far-away entries.
+#[inline]
+fn sums(acc: &mut Acc, x: f32, z: f32, sx: &[f32], sz: &[f32], svx: &[f32], svz: &[f32]) {
+    let (cx, cz) = (Vec4::splat(x), Vec4::splat(z));
+    let r2 = Vec4::splat(RADIUS * RADIUS);
+    let s2 = Vec4::splat(SEP_RADIUS * SEP_RADIUS);
+    let mut a = *acc;
+    let mut step = |ox: Vec4, oz: Vec4, ovx: Vec4, ovz: Vec4| {
+        let (dx, dz) = (cx - ox, cz - oz);
+        let d2 = dx * dx + dz * dz;
+        let within = d2.cmplt(r2);
+        let close = d2.cmplt(s2) & d2.cmpgt(Vec4::ZERO);
+        let pick = |v: Vec4| Vec4::select(within, v, Vec4::ZERO);
+        a.n += pick(Vec4::ONE);
+        a.px += pick(ox);
+        a.pz += pick(oz);
+        a.vx += pick(ovx);
+        a.vz += pick(ovz);
+        let inv = Vec4::select(close, d2.recip(), Vec4::ZERO);
+        a.sx += inv * dx;
+        a.sz += inv * dz;
+    };
+    let n = sx.len();
+    let whole = n - n % LANES;
+    let v4 = |c: &[f32], k: usize| Vec4::from_slice(&c[k..k + LANES]);
+    let mut k = 0;
+    while k < whole {
+        step(v4(sx, k), v4(sz, k), v4(svx, k), v4(svz, k));
+        k += LANES;
+    }
+    if k < n {
+        let pad = |c: &[f32], far: f32| {
+            let mut t = [far; LANES];
+            t[..n - k].copy_from_slice(&c[k..]);
+            Vec4::from_array(t)
+        };
+        step(pad(sx, FAR), pad(sz, FAR), pad(svx, 0.0), pad(svz, 0.0));
+    }
+    *acc = a;
 }
 
 /// Times `ticks` ticks of a fresh `n`-boid flock on the current rayon pool, after the same
