@@ -52,6 +52,48 @@ pub fn atan(x: f32) -> f32 {
     libm::atanf(x)
 }
 
+/// `x.sinh()`.
+#[inline]
+pub fn sinh(x: f32) -> f32 {
+    libm::sinhf(x)
+}
+
+/// `x.cosh()`.
+#[inline]
+pub fn cosh(x: f32) -> f32 {
+    libm::coshf(x)
+}
+
+/// `x.tanh()`.
+#[inline]
+pub fn tanh(x: f32) -> f32 {
+    libm::tanhf(x)
+}
+
+/// `x.asinh()`.
+#[inline]
+pub fn asinh(x: f32) -> f32 {
+    libm::asinhf(x)
+}
+
+/// `x.acosh()`.
+#[inline]
+pub fn acosh(x: f32) -> f32 {
+    libm::acoshf(x)
+}
+
+/// `x.atanh()`.
+#[inline]
+pub fn atanh(x: f32) -> f32 {
+    libm::atanhf(x)
+}
+
+/// `x.log10()`.
+#[inline]
+pub fn log10(x: f32) -> f32 {
+    libm::log10f(x)
+}
+
 /// `x.exp()`.
 #[inline]
 pub fn exp(x: f32) -> f32 {
@@ -124,7 +166,19 @@ mod tests {
                 ln(x.abs()),
                 powf(x.abs(), 1.7),
             ]);
-            bits.extend([hypot(x, 1.5), cbrt(x)]);
+            bits.extend([
+                hypot(x, 1.5),
+                cbrt(x),
+                sinh(x * 0.1),
+                cosh(x * 0.1),
+                tanh(x),
+            ]);
+            bits.extend([
+                asinh(x),
+                acosh(x.abs() + 1.0),
+                atanh(x / 40.0),
+                log10(x.abs()),
+            ]);
         }
         let mut h: u64 = 0xcbf2_9ce4_8422_2325;
         for b in bits {
@@ -133,7 +187,7 @@ mod tests {
             }
         }
         assert_eq!(
-            h, 6_727_594_388_524_405_423,
+            h, 15_694_196_137_965_586_590,
             "the elementary functions' bits changed"
         );
     }

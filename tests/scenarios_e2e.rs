@@ -156,7 +156,10 @@ fn spread(rows: &[Row], tick: u64, species: &str) -> f64 {
         .map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n)
         .collect();
     pts.iter()
-        .map(|p| ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt())
+        .map(|p| {
+            let d = [p[0] - c[0], p[1] - c[1], p[2] - c[2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+        })
         .sum::<f64>()
         / n
 }

@@ -396,7 +396,8 @@ impl Health {
 }
 
 fn round(x: f64, digits: i32) -> f64 {
-    let k = 10f64.powi(digits);
+    // Exact for the few digits asked (`powi`'s precision is unspecified).
+    let k = (0..digits).fold(1.0f64, |k, _| k * 10.0);
     (x * k).round() / k
 }
 

@@ -95,9 +95,10 @@ impl Volume {
                 up,
             } => {
                 let az = if dir.z >= 0.0 { ahead } else { behind };
-                let q = (dir.x / side.max(TINY)).powi(2)
-                    + (dir.y / up.max(TINY)).powi(2)
-                    + (dir.z / az.max(TINY)).powi(2);
+                let sq = |v: f32| v * v;
+                let q = sq(dir.x / side.max(TINY))
+                    + sq(dir.y / up.max(TINY))
+                    + sq(dir.z / az.max(TINY));
                 if q > 0.0 {
                     1.0 / q.sqrt()
                 } else {

@@ -24,25 +24,26 @@ pub fn register(e: &mut Engine) {
         ("sin", math::sin),
         ("cos", math::cos),
         ("tan", math::tan),
-        ("sinh", libm::sinhf),
-        ("cosh", libm::coshf),
-        ("tanh", libm::tanhf),
+        ("sinh", math::sinh),
+        ("cosh", math::cosh),
+        ("tanh", math::tanh),
         ("asin", math::asin),
         ("acos", math::acos),
         ("atan", math::atan),
-        ("asinh", libm::asinhf),
-        ("acosh", libm::acoshf),
-        ("atanh", libm::atanhf),
+        ("asinh", math::asinh),
+        ("acosh", math::acosh),
+        ("atanh", math::atanh),
         ("exp", math::exp),
         ("ln", math::ln),
         // `log(x)`: the logarithm to base 10.
-        ("log", libm::log10f),
+        ("log", math::log10),
     ];
     for (name, f) in unary {
         e.register_fn(name, f);
     }
-    // `atan(y, x)`, as Rhai's: the angle of the point (x, y).
-    e.register_fn("atan", |y: FLOAT, x: FLOAT| libm::atan2f(y, x));
+    // `atan(y, x)`, as Rhai's: the angle of the point (x, y), by the function the engine's
+    // bearings use (a script that works one out gets the engine's bits).
+    e.register_fn("atan", |y: FLOAT, x: FLOAT| crate::frame::atan2(y, x));
     e.register_fn("hypot", math::hypot);
     // `log(x, base)`, as the standard library computes it.
     e.register_fn("log", |x: FLOAT, base: FLOAT| math::ln(x) / math::ln(base));
@@ -74,12 +75,15 @@ mod tests {
     #[test]
     fn scripts_compute_elementary_functions_with_the_engines_bits() {
         type Binary = fn(FLOAT, FLOAT) -> FLOAT;
-        let cases: [(&str, Binary); 9] = [
+        let cases: [(&str, Binary); 12] = [
             ("sin(x)", |x, _| math::sin(x)),
             ("cos(x)", |x, _| math::cos(x)),
             ("exp(x)", |x, _| math::exp(x)),
             ("ln(y)", |_, y| math::ln(y)),
-            ("atan(x, y)", |x, y| libm::atan2f(x, y)),
+            ("atan(x, y)", |x, y| crate::frame::atan2(x, y)),
+            ("tanh(x) + log(y)", |x, y| math::tanh(x) + math::log10(y)),
+            ("`${x}`; y ** 1.37", |_, y| math::powf(y, 1.37)),
+            ("2.0 ** 0.5 + y", |_, y| math::powf(2.0, 0.5) + y),
             ("y ** 1.37", |_, y| math::powf(y, 1.37)),
             ("y ** x", |x, y| math::powf(y, x)),
             ("let z = y; z **= 0.61; z", |_, y| math::powf(y, 0.61)),

@@ -183,12 +183,20 @@ pub fn new_engine(limits: &SandboxLimits) -> Engine {
 /// functions. Returns whether the text raises to a power.
 pub fn exact_power(engine: &mut Engine, text: &str) -> bool {
     let inputs = [text];
-    // Rhai's token stream does not end: it repeats `EOF`.
+    // Rhai's token stream does not end: it repeats `EOF`. After the `}` of a `${…}` in a
+    // template string only the parser knows the string goes on, so past one the tokens may be
+    // wrong: a text with one falls back to looking for `**` in its characters (a `**` in a
+    // comment or a string then slows it needlessly, never the other way round).
+    let mut template = false;
     let power = engine
         .lex(&inputs)
         .0
         .take_while(|(t, _)| *t != rhai::Token::EOF)
-        .any(|(t, _)| matches!(t, rhai::Token::PowerOf | rhai::Token::PowerOfAssign));
+        .any(|(t, _)| {
+            template |= matches!(t, rhai::Token::InterpolatedString(_));
+            matches!(t, rhai::Token::PowerOf | rhai::Token::PowerOfAssign)
+        })
+        || (template && text.contains("**"));
     if power {
         engine.set_fast_operators(false);
     }
