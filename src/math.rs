@@ -8,7 +8,11 @@
 //! arithmetic, which baseline x86-64 code performs identically on every processor. `sqrt` and
 //! the operators are exact IEEE operations already; `frame::atan2` and `frame::tan_quarter`
 //! are the engine's own. Rhai's math functions are replaced by these too (`script::math`).
-//! `clippy.toml` refuses the platform's versions in the code.
+//! `clippy.toml` refuses the platform's versions in the code. glam's rotations and angles
+//! (`angle_between`, `from_rotation_y`, …) call the platform's library: none is used. (glam's
+//! `libm` feature would route them here, but also its `sqrt`, which `libm` computes with an
+//! instruction the compiler cannot see through: the kin kernel's four-lane square roots become
+//! four scalar ones.)
 
 /// `x.sin()`.
 #[inline]
