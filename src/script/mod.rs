@@ -23,7 +23,7 @@ pub mod budget;
 pub mod calls;
 pub mod events;
 mod imports;
-pub(crate) mod math;
+pub mod math;
 pub mod memory;
 pub mod names;
 pub mod native;
