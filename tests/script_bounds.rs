@@ -552,3 +552,39 @@ fn shoal_run_fails_when_a_call_runs_past_its_time_budget() {
     let (code, _, err) = run("off", "0");
     assert_eq!(code, 0, "{err}");
 }
+
+/// A block of do-nothing statements costs Rhai's optimizer time quadratic in their number: a
+/// file past the size limit is refused at once, by name, and one just under it still loads.
+#[test]
+fn an_oversized_script_is_refused_before_it_is_compiled() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("big.rhai");
+    let body = |n: usize| format!("fn f() {{ {}1 }}\n", "();".repeat(n));
+    let big = body(shoal::script::MAX_SCRIPT_BYTES / 3 + 10);
+    std::fs::write(&file, &big).unwrap();
+    let t = Instant::now();
+    let err = Script::load(&file, dir.path(), &SandboxLimits::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        t.elapsed() < Duration::from_millis(500),
+        "{:?}",
+        t.elapsed()
+    );
+    assert!(
+        err.contains("big.rhai") && err.contains("script of 257 KiB: at most 256 KiB"),
+        "{err}"
+    );
+    // A module over the limit is refused where it is read, naming it.
+    let main = dir.path().join("main.rhai");
+    std::fs::write(&main, "import \"big\" as b;\nfn g() { b::f() }\n").unwrap();
+    let err = Script::load(&main, dir.path(), &SandboxLimits::default())
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(err.contains("module of 257 KiB"), "{err}");
+    let small = body(1000);
+    std::fs::write(&file, &small).unwrap();
+    assert!(Script::load(&file, dir.path(), &SandboxLimits::default()).is_ok());
+}

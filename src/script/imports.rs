@@ -277,6 +277,10 @@ impl<'a> Loader<'a> {
         if !self.files.iter().any(|f| f == path) {
             self.files.push(path.to_path_buf());
         }
+        if let Err(d) = super::check_size(path, &text, "module") {
+            self.diags.push(d);
+            return None;
+        }
         let mut engine = new_engine(self.limits);
         self.stack.push(canonical.to_path_buf());
         let known = self.register(&mut engine, path, &text);

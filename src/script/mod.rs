@@ -203,6 +203,27 @@ pub fn exact_power(engine: &mut Engine, text: &str) -> bool {
     power
 }
 
+/// Largest script, module, test or reduction file, in bytes. Rhai's optimizer takes a block's
+/// do-nothing statements out one at a time, so a block of many (`();();…`) costs time quadratic
+/// in their number: 190 KB of them took 0.7 s to load, a megabyte would take about 20 s.
+/// Designers' scripts are a few kilobytes; a bigger one can be split into modules.
+pub const MAX_SCRIPT_BYTES: usize = 256 * 1024;
+
+/// Refuses a `what` (script, module, …) file of more than [`MAX_SCRIPT_BYTES`].
+pub fn check_size(file: &Path, text: &str, what: &str) -> Result<(), Diagnostic> {
+    if text.len() <= MAX_SCRIPT_BYTES {
+        return Ok(());
+    }
+    Err(Diagnostic::file(
+        file,
+        format!(
+            "{what} of {} KiB: at most {} KiB (split it into modules)",
+            text.len().div_ceil(1024),
+            MAX_SCRIPT_BYTES / 1024
+        ),
+    ))
+}
+
 pub(crate) fn parse_diag(file: &Path, text: &str, err: &rhai::ParseError) -> Diagnostic {
     let (line, col) = position_of(err.1);
     let mut message = err.0.to_string();
@@ -226,6 +247,7 @@ impl Script {
         root: &Path,
         limits: &SandboxLimits,
     ) -> Result<Script, Diagnostics> {
+        check_size(file, text, "script")?;
         let mut engine = new_engine(limits);
         let mut loader = imports::Loader::new(file, root, limits);
         let known = loader.register(&mut engine, file, text);

@@ -347,6 +347,7 @@ fn engine() -> rhai::Engine {
 
 /// Checks a reduction script: it compiles and defines `reduce(run)`.
 pub fn check_reduce(file: &Path, text: &str) -> Result<(), Diagnostics> {
+    crate::script::check_size(file, text, "reduction script")?;
     let mut engine = engine();
     crate::script::exact_power(&mut engine, text);
     let ast = engine
@@ -372,6 +373,7 @@ pub fn check_reduce(file: &Path, text: &str) -> Result<(), Diagnostics> {
 /// alive per species, counters) and `run.agents` (id, species, position, velocity, speed,
 /// behavior). A number is the `reduce` column; a map's numbers are `reduce.<key>` columns.
 fn reduce(file: &Path, text: &str, run: &Run) -> Result<Row, String> {
+    crate::script::check_size(file, text, "reduction script").map_err(|d| d.to_string())?;
     let mut engine = engine();
     crate::script::exact_power(&mut engine, text);
     let ast = engine

@@ -269,6 +269,7 @@ fn parse(
     text: &str,
     limits: &crate::script::SandboxLimits,
 ) -> Result<AST, Diagnostic> {
+    crate::script::check_size(path, text, "test file")?;
     let mut engine = crate::script::new_engine(limits);
     crate::script::exact_power(&mut engine, text);
     let mut ast = engine.compile(text).map_err(|e| {
