@@ -592,13 +592,14 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
             |(scope, mind, this), i| {
                 let a = &world.agents[i];
                 let sp = &set.species[a.species.0 as usize];
+                let summaries = perception.summaries(i);
                 let ctx = Ctx {
                     world,
                     perception,
                     species: sp,
                     agent: a,
                     percepts: perception.percepts(i),
-                    summaries: perception.summaries(i),
+                    summaries: &summaries,
                     // Decisions read no group sums.
                     group_queries: &crate::perception::GroupQueries::EMPTY,
                     group_sums: &[],

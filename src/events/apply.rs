@@ -271,11 +271,10 @@ impl Pipeline {
         };
         let agent = world.agents[i].clone();
         // An agent perception has not seen (one born this tick) has perceived nothing yet.
-        const NOTHING: [Summary; Category::COUNT] = [Summary::NONE; Category::COUNT];
         let (summaries, percepts) = if i < self.perception.len() {
             (self.perception.summaries(i), self.perception.percepts(i))
         } else {
-            (&NOTHING, &[][..])
+            ([Summary::NONE; Category::COUNT], &[][..])
         };
         let ctx = Ctx {
             world,
@@ -283,7 +282,7 @@ impl Pipeline {
             species: sp,
             agent: &agent,
             percepts,
-            summaries,
+            summaries: &summaries,
             group_queries: &GroupQueries::EMPTY,
             group_sums: &[],
             tick,

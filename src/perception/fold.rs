@@ -4,7 +4,7 @@
 //! written out here too, so that every summary is divided the same way.
 
 use super::keep::{restore_nearest, Kept, EMPTY};
-use super::{Category, Percept, Sense, Summary, SummaryRow};
+use super::{Category, Percept, Sense, Summary};
 use glam::Vec3A;
 
 /// Running sums of one category, kept in 16-byte lanes while the neighbors are walked,
@@ -87,16 +87,17 @@ fn divide_means(sm: &mut Summary) {
     }
 }
 
-/// Writes the kin kernel's sums `acc` as the kin summary of a row whose other summaries are
-/// empty, clearing them first unless the row is known to hold only kin (then a boid's tick
-/// touches the kin summary alone).
+/// Writes the kin kernel's sums `acc` as the kin summary of `row`: the row's only summary
+/// (a plain flocker's compact row), or one of a full row whose others are cleared.
 #[inline(always)]
-pub(super) fn kin_only(row: &mut SummaryRow, acc: &Acc) {
-    if !row.only_kin {
-        row.by.fill(Summary::default());
-        row.only_kin = true;
-    }
-    let sm = &mut row.by[Category::Kin as usize];
+pub(super) fn kin_only(row: &mut [Summary], acc: &Acc) {
+    let sm = match row {
+        [kin] => kin,
+        full => {
+            full.fill(Summary::NONE);
+            &mut full[Category::Kin as usize]
+        }
+    };
     *sm = acc.summary();
     divide_means(sm);
 }

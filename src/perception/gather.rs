@@ -6,7 +6,7 @@
 
 use super::keep::EMPTY;
 use super::walk::kernel_species;
-use super::{GroupSum, Perception, Reads, Relations, SenseParams, SummaryRow};
+use super::{Category, GroupSum, Perception, Reads, Relations, SenseParams, Summary};
 use crate::index::Grid;
 use crate::world::World;
 use glam::Vec3;
@@ -101,16 +101,6 @@ impl Perception {
         let n = world.agents.len();
         let default = SenseParams::default();
         let everything = Reads::default();
-        // Each agent's share of the output buffers (by its species).
-        let share = |s: usize| {
-            let r = reads.get(s).unwrap_or(&everything);
-            let slots = if r.percepts {
-                senses.get(s).unwrap_or(&default).slots() as u32
-            } else {
-                0
-            };
-            (slots, r.groups.len() as u32)
-        };
         let unsensed = std::sync::atomic::AtomicBool::new(false);
         let entries = agents.entries();
         // Species that may perceive by the kin kernel.
@@ -121,6 +111,27 @@ impl Perception {
                 kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
             }));
         let kernel = self.kernel.iter().any(|&k| k);
+        // Species whose agents can perceive nothing but kin this tick: they perceive by the
+        // kernel, eat no items, and the world has no obstacle (nor are percepts fed to them,
+        // which makes their species read percepts). Their rows hold the kin summary alone.
+        let kin_rows = |s: usize| {
+            let r = reads.get(s).unwrap_or(&everything);
+            self.kernel.get(s).copied().unwrap_or(false)
+                && !(r.percepts && r.agent_percepts)
+                && !relations.eats_items(s)
+                && world.obstacles.is_empty()
+        };
+        // Each agent's share of the output buffers (by its species).
+        let share = |s: usize| {
+            let r = reads.get(s).unwrap_or(&everything);
+            let slots = if r.percepts {
+                senses.get(s).unwrap_or(&default).slots() as u32
+            } else {
+                0
+            };
+            let row = if kin_rows(s) { 1 } else { Category::COUNT };
+            (slots, r.groups.len() as u32, row as u32)
+        };
         // The walk's order: the grid's when it indexes exactly these agents (its inverse is
         // then the row of each) and perceivers take the general path, else agent order.
         // The general path reads each neighbor's scattered records, which perceivers next to
@@ -140,19 +151,21 @@ impl Perception {
         self.gathered.resize(n, UNKNOWN);
         self.slot_starts.resize(n + 1, 0);
         self.sum_starts.resize(n + 1, 0);
+        self.row_starts.resize(n + 1, 0);
         world
             .agents
             .par_iter()
             .zip(self.gathered[..n].par_iter_mut())
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
+            .zip(self.row_starts[..n].par_iter_mut())
             .with_min_len(256)
-            .for_each(|(((a, g), slots), sums)| {
+            .for_each(|((((a, g), slots), sums), rows)| {
                 if a.species.0 as usize >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
                 if !by_grid {
-                    (*slots, *sums) = share(a.species.0 as usize);
+                    (*slots, *sums, *rows) = share(a.species.0 as usize);
                 }
                 *g = Gathered {
                     body: Body {
@@ -180,12 +193,13 @@ impl Perception {
                 .par_iter_mut()
                 .zip(self.slot_starts[..n].par_iter_mut())
                 .zip(self.sum_starts[..n].par_iter_mut())
+                .zip(self.row_starts[..n].par_iter_mut())
                 .zip(entries.par_iter())
                 .with_min_len(256)
-                .for_each(|(((angles, slots), sums), &i)| {
+                .for_each(|((((angles, slots), sums), rows), &i)| {
                     let g = &gathered[i as usize];
                     *angles = [g.yaw, g.pitch];
-                    (*slots, *sums) = share(g.tag.species as usize);
+                    (*slots, *sums, *rows) = share(g.tag.species as usize);
                 });
         }
         self.size_rows(n);
@@ -212,10 +226,12 @@ impl Perception {
         };
         let slots = running(&mut self.slot_starts);
         let sums = running(&mut self.sum_starts);
+        let rows = running(&mut self.row_starts);
         self.percepts.resize(slots as usize, EMPTY);
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
-        self.summaries.resize(n, SummaryRow::default());
+        self.summaries.resize(rows as usize, Summary::NONE);
+        self.reaches.resize(n, 0.0);
     }
 
     /// Copies the gathered records into the agent grid's order (`near`, `tags`, `diagonals`,

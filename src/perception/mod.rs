@@ -67,7 +67,14 @@ pub struct Perception {
     percepts: Vec<Percept>,
     slot_starts: Vec<u32>,
     counts: Vec<u16>,
-    summaries: Vec<SummaryRow>,
+    /// Summaries of every agent by row, `row_starts[r]..row_starts[r + 1]` for row `r`: one per
+    /// [`Category`], or the kin summary alone where the species can perceive nothing else
+    /// this tick (a plain flocker in a world without obstacles: 56 bytes instead of 336).
+    summaries: Vec<Summary>,
+    row_starts: Vec<u32>,
+    /// How far a bounded kin neighborhood reached this tick, by row (0 without a bound): where
+    /// the agent's next walk starts.
+    reaches: Vec<f32>,
     /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`.
     sums: Vec<GroupSum>,
     sum_starts: Vec<u32>,
@@ -113,7 +120,9 @@ pub struct Perception {
 struct AgentOut<'a> {
     slots: &'a mut [Percept],
     count: &'a mut u16,
-    summary: &'a mut SummaryRow,
+    /// Its summaries: one per [`Category`], or the kin summary alone.
+    summary: &'a mut [Summary],
+    reach: &'a mut f32,
     sums: &'a mut [GroupSum],
 }
 
@@ -122,20 +131,31 @@ struct Outs<'a> {
     lo: usize,
     percepts: &'a mut [Percept],
     counts: &'a mut [u16],
-    summaries: &'a mut [SummaryRow],
+    summaries: &'a mut [Summary],
+    reaches: &'a mut [f32],
     sums: &'a mut [GroupSum],
 }
 
-/// One agent's summaries, by [`Category`], and whether every one but the kin summary is known
-/// to be empty (then the kin kernel rewrites that one alone: a boid's tick does not touch the
-/// five cache lines of the others).
-#[derive(Debug, Clone, Copy, Default)]
-struct SummaryRow {
-    by: [Summary; Category::COUNT],
-    only_kin: bool,
-    /// How far a bounded kin neighborhood reached this tick (0 without a bound): where the
-    /// agent's next walk starts.
-    reach: f32,
+/// Where each row's share of the output buffers starts (one more entry than rows).
+#[derive(Clone, Copy)]
+struct Starts<'a> {
+    slots: &'a [u32],
+    sums: &'a [u32],
+    rows: &'a [u32],
+}
+
+impl Starts<'_> {
+    /// Lengths of row `i`'s slots, group sums and summaries.
+    #[inline]
+    fn lens(&self, i: usize) -> [usize; 3] {
+        let len = |s: &[u32]| (s[i + 1] - s[i]) as usize;
+        [len(self.slots), len(self.sums), len(self.rows)]
+    }
+    /// Offsets of row `i`'s shares from row `lo`'s.
+    fn from(&self, lo: usize, i: usize) -> [usize; 3] {
+        let at = |s: &[u32]| (s[i] - s[lo]) as usize;
+        [at(self.slots), at(self.sums), at(self.rows)]
+    }
 }
 
 /// Agents per task of the parallel walk.
@@ -144,31 +164,29 @@ const AGENTS_PER_TASK: usize = 64;
 impl<'a> Outs<'a> {
     /// Calls `f(i, out)` for every agent, splitting the range in halves on rayon's pool (each
     /// agent writes only its own slots: the result does not depend on the split).
-    fn for_each(
-        self,
-        slot_starts: &[u32],
-        sum_starts: &[u32],
-        f: &(impl Fn(usize, AgentOut) + Sync),
-    ) {
+    fn for_each(self, starts: Starts, f: &(impl Fn(usize, AgentOut) + Sync)) {
         let n = self.counts.len();
         if n <= AGENTS_PER_TASK {
             let lo = self.lo;
             let mut percepts = self.percepts;
             let mut sums = self.sums;
-            for (k, (count, summary)) in self.counts.iter_mut().zip(self.summaries).enumerate() {
+            let mut summaries = self.summaries;
+            for (k, (count, reach)) in self.counts.iter_mut().zip(self.reaches).enumerate() {
                 let i = lo + k;
-                let ns = (slot_starts[i + 1] - slot_starts[i]) as usize;
-                let ng = (sum_starts[i + 1] - sum_starts[i]) as usize;
+                let [ns, ng, nr] = starts.lens(i);
                 let (slots, rest) = std::mem::take(&mut percepts).split_at_mut(ns);
                 percepts = rest;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
+                let (summary, rest) = std::mem::take(&mut summaries).split_at_mut(nr);
+                summaries = rest;
                 f(
                     i,
                     AgentOut {
                         slots,
                         count,
                         summary,
+                        reach,
                         sums: own_sums,
                     },
                 );
@@ -176,17 +194,18 @@ impl<'a> Outs<'a> {
             return;
         }
         let mid = n / 2;
-        let at = |starts: &[u32]| (starts[self.lo + mid] - starts[self.lo]) as usize;
-        let (slot_mid, sum_mid) = (at(slot_starts), at(sum_starts));
+        let [slot_mid, sum_mid, row_mid] = starts.from(self.lo, self.lo + mid);
         let (p0, p1) = self.percepts.split_at_mut(slot_mid);
         let (c0, c1) = self.counts.split_at_mut(mid);
-        let (s0, s1) = self.summaries.split_at_mut(mid);
+        let (s0, s1) = self.summaries.split_at_mut(row_mid);
+        let (r0, r1) = self.reaches.split_at_mut(mid);
         let (g0, g1) = self.sums.split_at_mut(sum_mid);
         let left = Outs {
             lo: self.lo,
             percepts: p0,
             counts: c0,
             summaries: s0,
+            reaches: r0,
             sums: g0,
         };
         let right = Outs {
@@ -194,12 +213,10 @@ impl<'a> Outs<'a> {
             percepts: p1,
             counts: c1,
             summaries: s1,
+            reaches: r1,
             sums: g1,
         };
-        rayon::join(
-            || left.for_each(slot_starts, sum_starts, f),
-            || right.for_each(slot_starts, sum_starts, f),
-        );
+        rayon::join(|| left.for_each(starts, f), || right.for_each(starts, f));
     }
 }
 
@@ -237,8 +254,19 @@ impl Perception {
 
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
-    pub fn summaries(&self, i: usize) -> &[Summary; Category::COUNT] {
-        &self.summaries[self.row(i)].by
+    pub fn summaries(&self, i: usize) -> [Summary; Category::COUNT] {
+        let r = self.row(i);
+        let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
+        match row {
+            [kin] => {
+                let mut by = [Summary::NONE; Category::COUNT];
+                by[Category::Kin as usize] = *kin;
+                by
+            }
+            _ => row
+                .try_into()
+                .expect("a row holds the kin summary or all of them"),
+        }
     }
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
@@ -352,16 +380,20 @@ impl Perception {
             percepts: &mut self.percepts,
             counts: &mut self.counts,
             summaries: &mut self.summaries,
+            reaches: &mut self.reaches,
             sums: &mut self.sums,
         };
-        outs.for_each(&self.slot_starts, &self.sum_starts, &|r, out| {
-            view.perceive_row(r, out)
-        });
+        let starts = Starts {
+            slots: &self.slot_starts,
+            sums: &self.sum_starts,
+            rows: &self.row_starts,
+        };
+        outs.for_each(starts, &|r, out| view.perceive_row(r, out));
         // Each agent's reach, by agent, for its next walk (rows are in the grid's order, which
         // changes every tick).
         if self.others.any() {
             let n = self.counts.len();
-            let rows = &self.summaries;
+            let reaches = &self.reaches;
             let row = |i: usize| {
                 if self.by_grid {
                     self.slot_of[i] as usize
@@ -369,13 +401,15 @@ impl Perception {
                     i
                 }
             };
-            self.others.keep_hints(n, |i| rows[row(i)].reach);
+            self.others.keep_hints(n, |i| reaches[row(i)]);
         }
     }
 
     /// Replaces what agent `i` (at `pos`) perceived this tick by `percepts` (the nearest
     /// [`MAX_PERCEPTS`] kept) and rebuilds its summaries from them, as the stage would have.
-    /// Agent percepts carry no heading or velocity, so their means are zero.
+    /// Agent percepts carry no heading or velocity, so their means are zero. Rows of every
+    /// category are kept for species that read percepts, which is what `Pipeline` makes the
+    /// species of the agents it feeds; a row of kin alone keeps the kin summary alone.
     pub fn inject(&mut self, i: usize, pos: Vec3, percepts: &[Percept]) {
         if i >= self.counts.len() {
             return;
@@ -403,9 +437,13 @@ impl Perception {
                 |_| *p,
             );
         }
-        let row = &mut self.summaries[i];
-        row.only_kin = false;
-        let len = fold.finish(&mut row.by).0.len();
+        let mut by = [Summary::NONE; Category::COUNT];
+        let len = fold.finish(&mut by).0.len();
         self.counts[i] = len as u16;
+        let row = self.row_starts[i] as usize..self.row_starts[i + 1] as usize;
+        match &mut self.summaries[row] {
+            [kin] => *kin = by[Category::Kin as usize],
+            full => full.copy_from_slice(&by),
+        }
     }
 }

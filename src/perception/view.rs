@@ -80,6 +80,7 @@ impl View<'_> {
                 rd,
                 out.slots,
                 out.summary,
+                out.reach,
                 out.sums,
             )
         } else {
@@ -92,6 +93,7 @@ impl View<'_> {
                 rd,
                 out.slots,
                 out.summary,
+                out.reach,
                 out.sums,
             )
         };

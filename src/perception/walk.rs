@@ -9,7 +9,7 @@ use super::eye::{sense_of, sense_point, Eye, MAX_OCCLUDERS, NO_OCCLUDER};
 use super::fold::{kin_only, Acc, Fold, ACC};
 use super::gather::Me;
 use super::view::View;
-use super::{kin, nearest, volume, SummaryRow};
+use super::{kin, nearest, volume, Summary};
 use super::{Category, Extent, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams};
 use super::{Sense, Source};
 use crate::frame;
@@ -98,7 +98,8 @@ pub(super) fn perceive_one<const KEEP: bool>(
     cos_min: f32,
     reads: &Reads,
     slots: &mut [Percept],
-    summary: &mut SummaryRow,
+    summary: &mut [Summary],
+    reach: &mut f32,
     sums: &mut [GroupSum],
 ) -> u16 {
     let p = Perceiver {
@@ -122,13 +123,26 @@ pub(super) fn perceive_one<const KEEP: bool>(
     let occ = &occluders[..n_occ];
     // Agents and food are kept as percepts only where the species reads them.
     let agent_percepts = KEEP && reads.agent_percepts;
-    summary.reach = p.agents(occ, agent_percepts, &mut fold, sums);
+    *reach = p.agents(occ, agent_percepts, &mut fold, sums);
     if view.relations.eats_items(p.s) {
         p.food(occ, agent_percepts, &mut fold);
     }
-    summary.only_kin = false;
-    let (slots, nearest) = fold.finish(&mut summary.by);
+    // A row of kin alone is given only to an agent that perceives nothing else (see
+    // `Perception::gather`); it takes the kernel, so this is a fallback that loses nothing.
+    let mut full = [Summary::NONE; Category::COUNT];
+    let by: &mut [Summary; Category::COUNT] = match summary.len() {
+        Category::COUNT => (&mut *summary).try_into().expect("a row of every category"),
+        _ => &mut full,
+    };
+    let (slots, nearest) = fold.finish(by);
     bearings(slots, nearest, reads, me.yaw, me.pitch);
+    if let [kin] = summary {
+        debug_assert!(full
+            .iter()
+            .enumerate()
+            .all(|(c, s)| c == Category::Kin as usize || s.count == 0));
+        *kin = full[Category::Kin as usize];
+    }
     slots.len() as u16
 }
 
@@ -136,7 +150,7 @@ impl Perceiver<'_, '_> {
     /// A plain flocker with nothing but kin around (no obstacle, no food): the kin kernel
     /// alone, its sums written straight into the summaries. Returns whether it took it.
     #[inline(always)]
-    fn kernel_alone(&self, summary: &mut SummaryRow, sums: &mut [GroupSum]) -> bool {
+    fn kernel_alone(&self, summary: &mut [Summary], sums: &mut [GroupSum]) -> bool {
         let (view, me, s) = (self.view, self.me, self.s);
         if let (Some(lanes), Some(&me_slot), true) = (
             view.lanes,

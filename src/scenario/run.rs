@@ -151,6 +151,15 @@ impl Run {
                     .map(|q| (q.species.as_str(), i64::from(q.count))),
             ),
         );
+        // Room for every group and squad at once, exactly: each group's own reservation would
+        // double the buffer past the first group and keep up to one spare record per agent.
+        let total = groups
+            .iter()
+            .map(|g| g.count.max(0) as usize)
+            .chain(run.scenario.def.squads.iter().map(|q| q.count as usize))
+            .fold(0usize, usize::saturating_add);
+        run.sim.world.agents.reserve_exact(total);
+        run.sim.pipeline.events.reserve_exact(total);
         for (k, g) in groups.iter().enumerate() {
             run.spawn_group_in(g, k as u64, &layout);
         }

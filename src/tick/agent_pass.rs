@@ -276,7 +276,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
     let percepts = perception.percepts(i);
-    let summaries = perception.summaries(i);
+    let summaries = &perception.summaries(i);
     let group_sums = perception.group_sums(i);
     let dt = world.dt;
     let tick = world.tick;

@@ -213,3 +213,71 @@ fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
         assert_eq!(fed.percepts(i), by_grid.percepts(i), "agent {i}");
     }
 }
+
+#[test]
+fn a_plain_flocker_keeps_its_kin_summary_alone_with_the_same_bits() {
+    // Plain flockers in a world without obstacles: each row holds the kin summary alone. A rock
+    // far from every flocker gives them rows of every category, and the same bits.
+    let mut w = World::new(Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)), 0.1, 1);
+    let mut rng = Rng::new(11, 0);
+    for k in 0..300 {
+        let mut a = agent(k, 0, random_point(&mut rng, 12.0), rng.range(-3.0, 3.0));
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius: 2.0 });
+    let reads = Reads {
+        percepts: false,
+        agent_percepts: false,
+        bearing_range: Some(0.0),
+        groups,
+        headings: false,
+    };
+    let sense = SenseParams {
+        vision_radius: 5.0,
+        vision_half_angle: 2.0,
+        smell_radius: 0.0,
+        occlusion: false,
+        ..SenseParams::default()
+    };
+    let mut rel = Relations::new(1);
+    rel.set(0, 0, Some(Category::Kin));
+    let perceive = |w: &World| {
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
+        let mut p = Perception::new();
+        p.run_selective(w, &ag, &Grid::new(), &[sense], &rel, &[reads]);
+        p
+    };
+    let compact = perceive(&w);
+    let n = w.agents.len();
+    assert_eq!(compact.summaries.len(), n, "one summary a row");
+    w.add_obstacle(Shape::Sphere {
+        center: Vec3::splat(90.0),
+        radius: 1.0,
+    });
+    let full = perceive(&w);
+    assert_eq!(full.summaries.len(), n * Category::COUNT);
+    for i in 0..n {
+        assert_eq!(compact.summaries(i), full.summaries(i), "agent {i}");
+        assert_eq!(compact.group_sums(i), full.group_sums(i), "agent {i}");
+    }
+    let seen: u32 = (0..n)
+        .map(|i| compact.summaries(i)[Category::Kin as usize].count)
+        .sum();
+    assert!(seen > n as u32, "flockers see each other: {seen}");
+    // Fed percepts make the species read percepts: every row is full again, and keeps them.
+    let mut fed = Perception::new();
+    let mut ag = Grid::new();
+    ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
+    let everything = Reads {
+        percepts: true,
+        agent_percepts: true,
+        ..reads
+    };
+    w.obstacles.clear();
+    fed.run_selective(&w, &ag, &Grid::new(), &[sense], &rel, &[everything]);
+    assert_eq!(fed.summaries.len(), n * Category::COUNT);
+}
