@@ -9,6 +9,7 @@ use crate::load::did_you_mean;
 use crate::world::{MemValue, MEMORY_CAPACITY};
 use rhai::{Dynamic, Engine, EvalAltResult, Position};
 use std::sync::Arc;
+use thin_vec::ThinVec;
 
 /// The type of a declared blackboard key.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,7 +68,7 @@ pub struct MemorySpec {
     pub keys: Vec<(String, MemType)>,
     /// What a new agent remembers: the keys declared with a start value, in key order (keys
     /// declared without one start unset: `has` is false until a script writes them).
-    pub initial: Vec<(String, MemValue)>,
+    pub initial: ThinVec<(String, MemValue)>,
 }
 
 impl MemorySpec {
@@ -110,7 +111,7 @@ impl MemorySpec {
     /// changed, starts at its start value (or unset); keys no longer declared are dropped, as
     /// nothing could read them. Without this, a key added while the run goes on would read as
     /// `()` in every agent already swimming.
-    pub fn carry(&self, memory: &mut Vec<(String, MemValue)>) {
+    pub fn carry(&self, memory: &mut ThinVec<(String, MemValue)>) {
         memory.retain(|(k, v)| self.type_of(k) == Some(MemType::of(v)));
         for (k, v) in &self.initial {
             if let Err(i) = memory.binary_search_by(|(m, _)| m.as_str().cmp(k)) {
@@ -147,7 +148,7 @@ fn err(msg: String) -> Box<EvalAltResult> {
 
 /// Stores `value` under `key` in `memory` (kept in key order), refusing a full blackboard.
 pub fn store(
-    memory: &mut Vec<(String, MemValue)>,
+    memory: &mut ThinVec<(String, MemValue)>,
     key: &str,
     value: MemValue,
 ) -> Result<(), String> {

@@ -6,6 +6,7 @@ use crate::world::{EventSpec, MemValue, Payload, Rng, Signal, MEMORY_CAPACITY};
 use glam::Vec3;
 use rhai::{Dynamic, Engine, EvalAltResult, ImmutableString, Position, FLOAT, INT};
 use std::sync::Arc;
+use thin_vec::ThinVec;
 
 /// What a script sees of one category of percepts.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -105,7 +106,7 @@ pub struct AgentView {
     /// Highest-priority message heard last tick ("" when none).
     pub heard: ImmutableString,
     /// The blackboard.
-    pub memory: Vec<(String, MemValue)>,
+    pub memory: ThinVec<(String, MemValue)>,
     /// The agent's random stream.
     pub rng: Rng,
     /// Messages to broadcast: (kind or declared event, radius, payload of a declared event).

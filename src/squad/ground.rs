@@ -88,7 +88,7 @@ mod tests {
             mind: Mind::new(0, 1, 0),
             anim: Anim::default(),
             rng: Rng::new(1, 1),
-            memory: Vec::new(),
+            memory: Default::default(),
             inbox: None,
             heard_event: None,
             forward_cache: crate::world::ForwardCache::NONE,

@@ -71,7 +71,9 @@ pub(crate) struct Rare {
     pub(crate) messages: [Option<(Signal, f32)>; 4],
     /// Payloads of the declared events among `messages`, by slot.
     pub(crate) payloads: Vec<(usize, Payload)>,
-    pub(crate) error: Option<Diagnostic>,
+    /// Boxed: most outcomes that have a rare part have a transition, not an error (a whole
+    /// school's first transitions would otherwise hold room for a diagnostic each).
+    pub(crate) error: Option<Box<Diagnostic>>,
 }
 
 /// What every agent's pass reads of the tick besides its own record: the same for all agents.
@@ -544,7 +546,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             transitions,
             messages,
             payloads,
-            error,
+            error: error.map(Box::new),
         })
     });
     out.species = me.species.0;

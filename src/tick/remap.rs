@@ -156,7 +156,7 @@ impl Pipeline {
             for b in stack {
                 m.push(b);
             }
-            let mut cooldown = vec![0; nsp.behaviors.len()];
+            let mut cooldown = thin_vec::thin_vec![0; nsp.behaviors.len()];
             for (ob, &t) in m.cooldown_until.iter().enumerate() {
                 if let Some(nb) = bmap.get(ob).copied().flatten() {
                     cooldown[nb as usize] = t;
@@ -165,8 +165,8 @@ impl Pipeline {
             m.cooldown_until = cooldown;
             nsp.memory.carry(&mut a.memory);
             let (values, steer) = carry_script_state(osp, nsp, &m.script_values, &m.script_steer);
-            m.script_values = values;
-            m.script_steer = steer;
+            m.script_values = values.into();
+            m.script_steer = steer.into();
             // A new version gets its own first error report.
             m.script_error_reported = false;
             if bmap.get(from as usize).copied().flatten().is_none() {
@@ -275,10 +275,10 @@ mod tests {
         w.agents[0].mind.current = graze;
         w.agents[0].mind.push(wander);
         w.agents[0].mind.entered_tick = 12;
-        w.agents[0].mind.cooldown_until = vec![99, 0, 0];
+        w.agents[0].mind.cooldown_until = [99, 0, 0].into();
         w.agents[1].mind.current = wander;
         w.agents[1].mind.entered_tick = 30;
-        w.agents[1].mind.cooldown_until = vec![55, 0, 0];
+        w.agents[1].mind.cooldown_until = [55, 0, 0].into();
         w.agents[2].drives.hunger = 0.77;
         let before: Vec<_> = w.agents.iter().map(|a| (a.pos, a.drives)).collect();
         // New version: "graze" renamed to "feed" and moved last; "wander" now first.
@@ -335,7 +335,7 @@ mod tests {
         let m = &mut w.agents[0].mind;
         m.current = 1; // hide
         m.push(0); // graze, interrupted
-        m.cooldown_until = vec![10, 20, 30];
+        m.cooldown_until = [10, 20, 30].into();
         // Reverse the declaration order: graze 2, hide 1, wander 0.
         let reversed = r#"Species(
     name: "fish",

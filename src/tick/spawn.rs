@@ -64,7 +64,7 @@ impl Pipeline {
         drives.since_mating =
             drives::since_mating_for(drives.libido, drives.hunger, &d.drives.params);
         let mut mind = Mind::new(sp.initial, sp.behaviors.len(), sp.slots.len());
-        mind.script_steer = vec![Vec::new(); sp.steer_slots];
+        mind.script_steer = thin_vec::thin_vec![Vec::new(); sp.steer_slots];
         mind.entered_tick = world.tick;
         let speed = 0.5 * d.body.limits.max_speed;
         let agent = Agent {

@@ -5,6 +5,7 @@ use crate::command::{Steer, Term};
 use crate::frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
+use thin_vec::{thin_vec, ThinVec};
 
 /// Stable agent id: never reused within a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -73,7 +74,8 @@ pub struct Drives {
 pub const STACK_CAPACITY: usize = 8;
 
 /// Decision state: the current behavior, the behavior stack and anti-dithering timers
-/// (seed 000 §3).
+/// (seed 000 §3). Its lists are thin (one pointer, no allocation while empty): every agent
+/// has a mind, and a million minds of `Vec`s would hold 80 MB of lengths and capacities.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Mind {
     /// Index of the current behavior in the species' behavior list.
@@ -87,13 +89,13 @@ pub struct Mind {
     /// Hysteresis latches: bit i set while hysteresis condition i is latched on.
     pub latches: u64,
     /// Per behavior: the tick before which it may not start again (cooldown).
-    pub cooldown_until: Vec<u64>,
+    pub cooldown_until: ThinVec<u64>,
     /// Cached results of script conditions and weights, refreshed at the decision rate.
-    pub script_values: Vec<f32>,
+    pub script_values: ThinVec<f32>,
     /// Last valid steering, kept when a script fails.
     pub last_steer: Steer,
     /// Script-built steering per script recipe slot, refreshed at the decision rate.
-    pub script_steer: Vec<Vec<(f32, Term)>>,
+    pub script_steer: ThinVec<Vec<(f32, Term)>>,
     /// Whether this agent already reported a script error (reported once).
     pub script_error_reported: bool,
     /// Per message kind: the tick before which entering a behavior sends no more of it.
@@ -102,7 +104,7 @@ pub struct Mind {
     /// Per declared event of the species: the tick before which entering a behavior sends no
     /// more of it (empty until the first such send).
     #[serde(default)]
-    pub quiet_events: Vec<u64>,
+    pub quiet_events: ThinVec<u64>,
     /// Whether the current behavior's contact happened (a meal, a catch, a mating): its end
     /// is then not held back by `min_time`.
     #[serde(default)]
@@ -122,7 +124,7 @@ pub struct Mind {
     /// Per depth of composed behaviors: the tick the composite current at that depth was
     /// entered (empty for species without composites).
     #[serde(default)]
-    pub scope_entered: Vec<u64>,
+    pub scope_entered: ThinVec<u64>,
 }
 
 impl Mind {
@@ -134,18 +136,18 @@ impl Mind {
             depth: 0,
             entered_tick: 0,
             latches: 0,
-            cooldown_until: vec![0; behaviors],
-            script_values: vec![0.0; script_values],
+            cooldown_until: thin_vec![0; behaviors],
+            script_values: thin_vec![0.0; script_values],
             last_steer: Steer::NONE,
-            script_steer: Vec::new(),
+            script_steer: ThinVec::new(),
             script_error_reported: false,
             quiet_until: [0; 3],
-            quiet_events: Vec::new(),
+            quiet_events: ThinVec::new(),
             reached: false,
             best_food: None,
             school_best: None,
             station: None,
-            scope_entered: Vec::new(),
+            scope_entered: ThinVec::new(),
         }
     }
     /// The stack, bottom first.
@@ -268,7 +270,7 @@ pub struct Agent {
     /// The agent's own random stream.
     pub rng: Rng,
     /// Per-agent memory (a small blackboard that persists across ticks), in key order.
-    pub memory: Vec<(String, MemValue)>,
+    pub memory: ThinVec<(String, MemValue)>,
     /// Highest-priority message received last tick.
     pub inbox: Option<MessageKind>,
     /// Highest-priority declared event received last tick. The inbox is one slot: at most one

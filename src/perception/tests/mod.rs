@@ -23,7 +23,7 @@ pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
         mind: Mind::new(0, 1, 0),
         anim: Anim::default(),
         rng: Rng::new(0, id as u64),
-        memory: Vec::new(),
+        memory: Default::default(),
         inbox: None,
         heard_event: None,
         forward_cache: crate::world::ForwardCache::NONE,
