@@ -4,6 +4,7 @@
 //! written out here too, so that every summary is divided the same way.
 
 use super::keep::{restore_nearest, Kept, EMPTY};
+use super::rows::RowMask;
 use super::{Category, Percept, Sense, Summary};
 use glam::Vec3A;
 
@@ -87,17 +88,15 @@ fn divide_means(sm: &mut Summary) {
     }
 }
 
-/// Writes the kin kernel's sums `acc` as the kin summary of `row`: the row's only summary
-/// (a plain flocker's compact row), or one of a full row whose others are cleared.
+/// Writes the kin kernel's sums `acc` as the kin summary of `row` (of the categories in `mask`,
+/// kin among them); the row's others are cleared.
 #[inline(always)]
-pub(super) fn kin_only(row: &mut [Summary], acc: &Acc) {
-    let sm = match row {
-        [kin] => kin,
-        full => {
-            full.fill(Summary::NONE);
-            &mut full[Category::Kin as usize]
-        }
-    };
+pub(super) fn kin_only(row: &mut [Summary], mask: RowMask, acc: &Acc) {
+    if row.len() > 1 {
+        row.fill(Summary::NONE);
+    }
+    let k = mask.slot(Category::Kin).unwrap_or(0);
+    let sm = &mut row[k];
     *sm = acc.summary();
     divide_means(sm);
 }

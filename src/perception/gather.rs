@@ -5,8 +5,9 @@
 //! agent grid; writes only the stage's own buffers.
 
 use super::keep::EMPTY;
+use super::rows::RowMask;
 use super::walk::kernel_species;
-use super::{Category, GroupSum, Perception, Reads, Relations, SenseParams, Summary};
+use super::{GroupSum, Perception, Reads, Relations, SenseParams, Summary};
 use crate::index::Grid;
 use crate::world::World;
 use glam::Vec3;
@@ -111,16 +112,18 @@ impl Perception {
                 kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
             }));
         let kernel = self.kernel.iter().any(|&k| k);
-        // Species whose agents can perceive nothing but kin this tick: they perceive by the
-        // kernel, eat no items, and the world has no obstacle (nor are percepts fed to them,
-        // which makes their species read percepts). Their rows hold the kin summary alone.
-        let kin_rows = |s: usize| {
-            let r = reads.get(s).unwrap_or(&everything);
-            self.kernel.get(s).copied().unwrap_or(false)
-                && !(r.percepts && r.agent_percepts)
-                && !relations.eats_items(s)
-                && world.obstacles.is_empty()
-        };
+        // The categories each species' rows hold (a species beyond these, all of them).
+        let obstacles = !world.obstacles.is_empty();
+        self.species_masks.clear();
+        self.species_masks
+            .extend(self.kernel.iter().enumerate().map(|(s, &k)| {
+                if self.full_rows {
+                    RowMask::ALL
+                } else {
+                    RowMask::of(s, relations, obstacles, k)
+                }
+            }));
+        let masks = &self.species_masks;
         // Each agent's share of the output buffers (by its species).
         let share = |s: usize| {
             let r = reads.get(s).unwrap_or(&everything);
@@ -129,8 +132,8 @@ impl Perception {
             } else {
                 0
             };
-            let row = if kin_rows(s) { 1 } else { Category::COUNT };
-            (slots, r.groups.len() as u32, row as u32)
+            let mask = masks.get(s).copied().unwrap_or(RowMask::ALL);
+            (slots, r.groups.len() as u32, mask)
         };
         // The walk's order: the grid's when it indexes exactly these agents (its inverse is
         // then the row of each) and perceivers take the general path, else agent order.
@@ -152,6 +155,7 @@ impl Perception {
         self.slot_starts.resize(n + 1, 0);
         self.sum_starts.resize(n + 1, 0);
         self.row_starts.resize(n + 1, 0);
+        self.row_masks.resize(n, RowMask::ALL);
         world
             .agents
             .par_iter()
@@ -159,13 +163,15 @@ impl Perception {
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
             .zip(self.row_starts[..n].par_iter_mut())
+            .zip(self.row_masks[..n].par_iter_mut())
             .with_min_len(256)
-            .for_each(|((((a, g), slots), sums), rows)| {
+            .for_each(|(((((a, g), slots), sums), rows), mask)| {
                 if a.species.0 as usize >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
                 if !by_grid {
-                    (*slots, *sums, *rows) = share(a.species.0 as usize);
+                    (*slots, *sums, *mask) = share(a.species.0 as usize);
+                    *rows = mask.len() as u32;
                 }
                 *g = Gathered {
                     body: Body {
@@ -194,12 +200,14 @@ impl Perception {
                 .zip(self.slot_starts[..n].par_iter_mut())
                 .zip(self.sum_starts[..n].par_iter_mut())
                 .zip(self.row_starts[..n].par_iter_mut())
+                .zip(self.row_masks[..n].par_iter_mut())
                 .zip(entries.par_iter())
                 .with_min_len(256)
-                .for_each(|((((angles, slots), sums), rows), &i)| {
+                .for_each(|(((((angles, slots), sums), rows), mask), &i)| {
                     let g = &gathered[i as usize];
                     *angles = [g.yaw, g.pitch];
-                    (*slots, *sums, *rows) = share(g.tag.species as usize);
+                    (*slots, *sums, *mask) = share(g.tag.species as usize);
+                    *rows = mask.len() as u32;
                 });
         }
         self.size_rows(n);

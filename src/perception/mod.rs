@@ -27,6 +27,7 @@ mod keep;
 pub mod kin;
 mod nearest;
 pub mod occlusion;
+mod rows;
 mod senses;
 pub mod strength;
 #[cfg(test)]
@@ -48,6 +49,7 @@ use crate::world::World;
 use fold::Fold;
 use gather::{Body, Gathered, Tag};
 use glam::{Vec3, Vec3A};
+use rows::RowMask;
 use view::View;
 
 /// Most percepts a species may keep per agent ([`SenseParams::max_percepts`]).
@@ -67,11 +69,16 @@ pub struct Perception {
     percepts: Vec<Percept>,
     slot_starts: Vec<u32>,
     counts: Vec<u16>,
-    /// Summaries of every agent by row, `row_starts[r]..row_starts[r + 1]` for row `r`: one per
-    /// [`Category`], or the kin summary alone where the species can perceive nothing else
-    /// this tick (a plain flocker in a world without obstacles: 56 bytes instead of 336).
+    /// Summaries of every agent by row, `row_starts[r]..row_starts[r + 1]` for row `r`: those
+    /// of the categories in `row_masks[r]` (what its species can perceive this tick, see
+    /// [`rows`]).
     summaries: Vec<Summary>,
     row_starts: Vec<u32>,
+    row_masks: Vec<RowMask>,
+    /// The mask of each species this tick.
+    species_masks: Vec<RowMask>,
+    /// Whether every row holds every category (while percepts are fed to agents).
+    full_rows: bool,
     /// How far a bounded kin neighborhood reached this tick, by row (0 without a bound): where
     /// the agent's next walk starts.
     reaches: Vec<f32>,
@@ -120,8 +127,9 @@ pub struct Perception {
 struct AgentOut<'a> {
     slots: &'a mut [Percept],
     count: &'a mut u16,
-    /// Its summaries: one per [`Category`], or the kin summary alone.
+    /// Its summaries, of the categories in `mask`.
     summary: &'a mut [Summary],
+    mask: RowMask,
     reach: &'a mut f32,
     sums: &'a mut [GroupSum],
 }
@@ -132,6 +140,7 @@ struct Outs<'a> {
     percepts: &'a mut [Percept],
     counts: &'a mut [u16],
     summaries: &'a mut [Summary],
+    masks: &'a [RowMask],
     reaches: &'a mut [f32],
     sums: &'a mut [GroupSum],
 }
@@ -171,7 +180,8 @@ impl<'a> Outs<'a> {
             let mut percepts = self.percepts;
             let mut sums = self.sums;
             let mut summaries = self.summaries;
-            for (k, (count, reach)) in self.counts.iter_mut().zip(self.reaches).enumerate() {
+            let rows = self.counts.iter_mut().zip(self.reaches).zip(self.masks);
+            for (k, ((count, reach), &mask)) in rows.enumerate() {
                 let i = lo + k;
                 let [ns, ng, nr] = starts.lens(i);
                 let (slots, rest) = std::mem::take(&mut percepts).split_at_mut(ns);
@@ -186,6 +196,7 @@ impl<'a> Outs<'a> {
                         slots,
                         count,
                         summary,
+                        mask,
                         reach,
                         sums: own_sums,
                     },
@@ -199,12 +210,14 @@ impl<'a> Outs<'a> {
         let (c0, c1) = self.counts.split_at_mut(mid);
         let (s0, s1) = self.summaries.split_at_mut(row_mid);
         let (r0, r1) = self.reaches.split_at_mut(mid);
+        let (m0, m1) = self.masks.split_at(mid);
         let (g0, g1) = self.sums.split_at_mut(sum_mid);
         let left = Outs {
             lo: self.lo,
             percepts: p0,
             counts: c0,
             summaries: s0,
+            masks: m0,
             reaches: r0,
             sums: g0,
         };
@@ -213,6 +226,7 @@ impl<'a> Outs<'a> {
             percepts: p1,
             counts: c1,
             summaries: s1,
+            masks: m1,
             reaches: r1,
             sums: g1,
         };
@@ -224,6 +238,13 @@ impl Perception {
     /// Empty buffers.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Makes every row hold every category from the next run on (`Pipeline` does while it
+    /// feeds percepts, which may be of any category, to agents), or again only those each
+    /// species can perceive.
+    pub fn set_full_rows(&mut self, yes: bool) {
+        self.full_rows = yes;
     }
 
     /// Row of agent `i`'s outputs.
@@ -257,16 +278,7 @@ impl Perception {
     pub fn summaries(&self, i: usize) -> [Summary; Category::COUNT] {
         let r = self.row(i);
         let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
-        match row {
-            [kin] => {
-                let mut by = [Summary::NONE; Category::COUNT];
-                by[Category::Kin as usize] = *kin;
-                by
-            }
-            _ => row
-                .try_into()
-                .expect("a row holds the kin summary or all of them"),
-        }
+        self.row_masks[r].expand(row)
     }
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
@@ -380,6 +392,7 @@ impl Perception {
             percepts: &mut self.percepts,
             counts: &mut self.counts,
             summaries: &mut self.summaries,
+            masks: &self.row_masks,
             reaches: &mut self.reaches,
             sums: &mut self.sums,
         };
@@ -407,9 +420,8 @@ impl Perception {
 
     /// Replaces what agent `i` (at `pos`) perceived this tick by `percepts` (the nearest
     /// [`MAX_PERCEPTS`] kept) and rebuilds its summaries from them, as the stage would have.
-    /// Agent percepts carry no heading or velocity, so their means are zero. Rows of every
-    /// category are kept for species that read percepts, which is what `Pipeline` makes the
-    /// species of the agents it feeds; a row of kin alone keeps the kin summary alone.
+    /// Agent percepts carry no heading or velocity, so their means are zero. The summaries of
+    /// categories the row does not hold are not kept: see [`Perception::set_full_rows`].
     pub fn inject(&mut self, i: usize, pos: Vec3, percepts: &[Percept]) {
         if i >= self.counts.len() {
             return;
@@ -441,9 +453,6 @@ impl Perception {
         let len = fold.finish(&mut by).0.len();
         self.counts[i] = len as u16;
         let row = self.row_starts[i] as usize..self.row_starts[i + 1] as usize;
-        match &mut self.summaries[row] {
-            [kin] => *kin = by[Category::Kin as usize],
-            full => full.copy_from_slice(&by),
-        }
+        self.row_masks[i].keep(&by, &mut self.summaries[row]);
     }
 }

@@ -80,6 +80,7 @@ impl View<'_> {
                 rd,
                 out.slots,
                 out.summary,
+                out.mask,
                 out.reach,
                 out.sums,
             )
@@ -93,6 +94,7 @@ impl View<'_> {
                 rd,
                 out.slots,
                 out.summary,
+                out.mask,
                 out.reach,
                 out.sums,
             )

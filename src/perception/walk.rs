@@ -8,6 +8,7 @@
 use super::eye::{sense_of, sense_point, Eye, MAX_OCCLUDERS, NO_OCCLUDER};
 use super::fold::{kin_only, Acc, Fold, ACC};
 use super::gather::Me;
+use super::rows::RowMask;
 use super::view::View;
 use super::{kin, nearest, volume, Summary};
 use super::{Category, Extent, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams};
@@ -99,6 +100,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
     reads: &Reads,
     slots: &mut [Percept],
     summary: &mut [Summary],
+    mask: RowMask,
     reach: &mut f32,
     sums: &mut [GroupSum],
 ) -> u16 {
@@ -112,7 +114,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
         eye: Eye::new(me.heading, me.yaw, cos_min, sense),
         radius: sense.query_radius(),
     };
-    if p.kernel_alone(summary, sums) {
+    if p.kernel_alone(summary, mask, sums) {
         return 0;
     }
     let mut fold = Fold::<KEEP>::new(slots);
@@ -127,30 +129,26 @@ pub(super) fn perceive_one<const KEEP: bool>(
     if view.relations.eats_items(p.s) {
         p.food(occ, agent_percepts, &mut fold);
     }
-    // A row of kin alone is given only to an agent that perceives nothing else (see
-    // `Perception::gather`); it takes the kernel, so this is a fallback that loses nothing.
+    // A row of every category is written in place; a shorter one keeps its categories.
     let mut full = [Summary::NONE; Category::COUNT];
-    let by: &mut [Summary; Category::COUNT] = match summary.len() {
-        Category::COUNT => (&mut *summary).try_into().expect("a row of every category"),
-        _ => &mut full,
+    let by: &mut [Summary; Category::COUNT] = match (&mut *summary).try_into() {
+        Ok(row) => row,
+        Err(_) => &mut full,
     };
     let (slots, nearest) = fold.finish(by);
     bearings(slots, nearest, reads, me.yaw, me.pitch);
-    if let [kin] = summary {
-        debug_assert!(full
-            .iter()
-            .enumerate()
-            .all(|(c, s)| c == Category::Kin as usize || s.count == 0));
-        *kin = full[Category::Kin as usize];
+    let len = slots.len() as u16;
+    if summary.len() < Category::COUNT {
+        mask.keep(&full, summary);
     }
-    slots.len() as u16
+    len
 }
 
 impl Perceiver<'_, '_> {
     /// A plain flocker with nothing but kin around (no obstacle, no food): the kin kernel
     /// alone, its sums written straight into the summaries. Returns whether it took it.
     #[inline(always)]
-    fn kernel_alone(&self, summary: &mut [Summary], sums: &mut [GroupSum]) -> bool {
+    fn kernel_alone(&self, summary: &mut [Summary], mask: RowMask, sums: &mut [GroupSum]) -> bool {
         let (view, me, s) = (self.view, self.me, self.s);
         if let (Some(lanes), Some(&me_slot), true) = (
             view.lanes,
@@ -160,7 +158,7 @@ impl Perceiver<'_, '_> {
             if !view.relations.eats_items(s) && view.obstacle_grid.near(me.pos).is_empty() {
                 let probe = probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
                 let acc = kernel(view, lanes, probe, self.radius, &self.reads.groups, sums);
-                kin_only(summary, &acc);
+                kin_only(summary, mask, &acc);
                 return true;
             }
         }

@@ -279,6 +279,8 @@ impl Pipeline {
     fn run_perception(&mut self, world: &World) {
         let set = &self.species;
         // 2. Perception. Agents fed percepts need slots for them, whatever their species reads.
+        // A fed percept may be of any category: every row then holds every category.
+        self.perception.set_full_rows(!self.injected.is_empty());
         if !self.injected.is_empty() {
             for r in &mut self.reads {
                 r.percepts = true;

@@ -7,7 +7,7 @@ fn injected_percepts_replace_an_agents_and_rebuild_its_summaries() {
     let mut w = World::new(Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)), 0.1, 1);
     w.agents.push(agent(0, 0, Vec3::ZERO, 0.0));
     w.add_food(Vec3::new(0.0, 0.0, 3.0));
-    let mut p = run(&w, &rel(), SenseParams::default());
+    let mut p = run_full(&w, &rel(), SenseParams::default());
     assert_eq!(p.summaries(0)[Category::Food as usize].count, 1);
     let fed = |category, sense, offset: Vec3| Percept {
         source: Source::Injected,
@@ -193,7 +193,7 @@ fn injected_percepts_keep_the_nearest_of_each_category() {
         max_percepts: 8,
         ..SenseParams::default()
     };
-    let mut p = run(&w, &rel(), sense);
+    let mut p = run_full(&w, &rel(), sense);
     let fed = |category, offset: Vec3| Percept {
         source: Source::Injected,
         category,
@@ -231,6 +231,7 @@ fn injecting_into_an_agent_without_slots_does_not_panic() {
         ..Reads::default()
     };
     let mut p = Perception::new();
+    p.set_full_rows(true);
     let sense = SenseParams::default();
     p.run_selective(
         &w,

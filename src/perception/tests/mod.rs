@@ -31,6 +31,17 @@ pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
 }
 
 fn run(world: &World, rel: &Relations, sense: SenseParams) -> Perception {
+    run_with(world, rel, sense, Perception::new())
+}
+
+/// [`run`] with rows of every category, as the pipeline perceives while it feeds percepts.
+fn run_full(world: &World, rel: &Relations, sense: SenseParams) -> Perception {
+    let mut p = Perception::new();
+    p.set_full_rows(true);
+    run_with(world, rel, sense, p)
+}
+
+fn run_with(world: &World, rel: &Relations, sense: SenseParams, mut p: Perception) -> Perception {
     let mut ag = Grid::new();
     ag.rebuild(
         world.bounds,
@@ -43,7 +54,6 @@ fn run(world: &World, rel: &Relations, sense: SenseParams) -> Perception {
         sense.query_radius(),
         world.food.iter().map(|f| f.pos),
     );
-    let mut p = Perception::new();
     p.run(world, &ag, &fg, &[sense, sense], rel);
     p
 }

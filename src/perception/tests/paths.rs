@@ -215,9 +215,9 @@ fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
 }
 
 #[test]
-fn a_plain_flocker_keeps_its_kin_summary_alone_with_the_same_bits() {
+fn a_row_keeps_the_categories_its_species_can_perceive_with_the_same_bits() {
     // Plain flockers in a world without obstacles: each row holds the kin summary alone. A rock
-    // far from every flocker gives them rows of every category, and the same bits.
+    // far from every flocker gives them rows of kin and obstacles, and the same bits.
     let mut w = World::new(Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)), 0.1, 1);
     let mut rng = Rng::new(11, 0);
     for k in 0..300 {
@@ -259,7 +259,7 @@ fn a_plain_flocker_keeps_its_kin_summary_alone_with_the_same_bits() {
         radius: 1.0,
     });
     let full = perceive(&w);
-    assert_eq!(full.summaries.len(), n * Category::COUNT);
+    assert_eq!(full.summaries.len(), n * 2, "kin and obstacles");
     for i in 0..n {
         assert_eq!(compact.summaries(i), full.summaries(i), "agent {i}");
         assert_eq!(compact.group_sums(i), full.group_sums(i), "agent {i}");
@@ -268,8 +268,9 @@ fn a_plain_flocker_keeps_its_kin_summary_alone_with_the_same_bits() {
         .map(|i| compact.summaries(i)[Category::Kin as usize].count)
         .sum();
     assert!(seen > n as u32, "flockers see each other: {seen}");
-    // Fed percepts make the species read percepts: every row is full again, and keeps them.
+    // While percepts are fed, every row holds every category.
     let mut fed = Perception::new();
+    fed.set_full_rows(true);
     let mut ag = Grid::new();
     ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
     let everything = Reads {
@@ -280,4 +281,70 @@ fn a_plain_flocker_keeps_its_kin_summary_alone_with_the_same_bits() {
     w.obstacles.clear();
     fed.run_selective(&w, &ag, &Grid::new(), &[sense], &rel, &[everything]);
     assert_eq!(fed.summaries.len(), n * Category::COUNT);
+}
+
+#[test]
+fn rows_of_what_a_species_can_perceive_lose_nothing() {
+    // Fish (kin, mates, food, a predator, rocks) and their predator on the general path: rows
+    // of the categories each can perceive give the summaries and percepts rows of all give.
+    let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 2);
+    let mut rng = Rng::new(5, 1);
+    for k in 0..300 {
+        let species = u16::from(k % 25 == 0);
+        let mut a = agent(
+            k,
+            species,
+            random_point(&mut rng, 20.0),
+            rng.range(-3.0, 3.0),
+        );
+        a.attrs.sex = if k % 2 == 0 {
+            crate::world::Sex::Female
+        } else {
+            crate::world::Sex::Male
+        };
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+    for _ in 0..40 {
+        w.add_food(random_point(&mut rng, 20.0));
+    }
+    for _ in 0..6 {
+        w.add_obstacle(Shape::Sphere {
+            center: random_point(&mut rng, 18.0),
+            radius: 2.0,
+        });
+    }
+    let mut rel = rel();
+    rel.set_mates(0, true);
+    let sense = SenseParams {
+        vision_radius: 6.0,
+        smell_radius: 8.0,
+        ..SenseParams::default()
+    };
+    let (masked, full) = (run(&w, &rel, sense), run_full(&w, &rel, sense));
+    let n = w.agents.len();
+    let fish = (0..n).filter(|&i| w.agents[i].species.0 == 0).count();
+    // Fish: food, predator, kin, mate, obstacle (nothing is `Other` to them); predators: food
+    // and obstacles.
+    assert_eq!(masked.summaries.len(), fish * 5 + (n - fish) * 2);
+    assert_eq!(full.summaries.len(), n * Category::COUNT);
+    let mut seen = [0u32; Category::COUNT];
+    for i in 0..n {
+        assert_eq!(masked.summaries(i), full.summaries(i), "agent {i}");
+        assert_eq!(masked.percepts(i), full.percepts(i), "agent {i}");
+        assert_eq!(masked.group_sums(i), full.group_sums(i), "agent {i}");
+        for (c, s) in masked.summaries(i).iter().enumerate() {
+            seen[c] += s.count;
+        }
+    }
+    // Every category the rows keep was perceived somewhere.
+    for c in [
+        Category::Food,
+        Category::Predator,
+        Category::Kin,
+        Category::Mate,
+        Category::Obstacle,
+    ] {
+        assert!(seen[c as usize] > 0, "{c:?}: {seen:?}");
+    }
 }

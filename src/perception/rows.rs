@@ -1,0 +1,132 @@
+//! Stage 2's summary rows: each agent's row holds the summaries of the categories its species
+//! can perceive this tick, in [`Category`] order, and no others. A plain flocker in open water
+//! can perceive only kin (one summary, 56 bytes, where a row of all six is 336); a reef fish
+//! with no relation that makes anything `Other` to it has no `Other` summary. What a species
+//! can perceive follows from its relations, whether it eats items, and whether the world has
+//! obstacles; the walks fold every category as before, and a row keeps those of its mask.
+
+use super::{Category, Relations, Summary};
+
+/// The categories a row holds, one bit per [`Category`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct RowMask(u8);
+
+impl RowMask {
+    /// Every category: what a species the stage knows nothing about gets, and every species
+    /// while percepts are fed to agents (a fed percept may be of any category).
+    pub(super) const ALL: RowMask = RowMask((1 << Category::COUNT) - 1);
+
+    /// The categories species `s` can perceive: what its relations make the other species
+    /// (mates are kin too), food items if it eats them, obstacles if the world has any, and kin
+    /// if it perceives by the kin kernel.
+    pub(super) fn of(s: usize, relations: &Relations, obstacles: bool, kernel: bool) -> Self {
+        let bit = |c: Category| 1u8 << c as u8;
+        let mut m = 0;
+        for c in relations.row(s).iter().flatten() {
+            m |= bit(*c);
+        }
+        if relations.mates(s) && m & bit(Category::Kin) != 0 {
+            m |= bit(Category::Mate);
+        }
+        if relations.eats_items(s) {
+            m |= bit(Category::Food);
+        }
+        if obstacles {
+            m |= bit(Category::Obstacle);
+        }
+        if kernel {
+            m |= bit(Category::Kin);
+        }
+        // A mate is summed as kin too.
+        if m & bit(Category::Mate) != 0 {
+            m |= bit(Category::Kin);
+        }
+        RowMask(m)
+    }
+
+    /// Summaries in a row of this mask.
+    #[inline]
+    pub(super) fn len(self) -> usize {
+        self.0.count_ones() as usize
+    }
+
+    /// Whether the row holds category `c`.
+    #[inline]
+    fn has(self, c: usize) -> bool {
+        self.0 & (1 << c) != 0
+    }
+
+    /// Where category `c`'s summary is in the row, if it holds it.
+    #[inline]
+    pub(super) fn slot(self, c: Category) -> Option<usize> {
+        let c = c as usize;
+        self.has(c)
+            .then(|| (self.0 & ((1u8 << c) - 1)).count_ones() as usize)
+    }
+
+    /// The row's summaries by category, `Summary::NONE` for those it does not hold.
+    #[inline]
+    pub(super) fn expand(self, row: &[Summary]) -> [Summary; Category::COUNT] {
+        if let Ok(full) = row.try_into() {
+            return full;
+        }
+        let mut by = [Summary::NONE; Category::COUNT];
+        let mut k = 0;
+        for (c, s) in by.iter_mut().enumerate() {
+            if self.has(c) {
+                *s = row[k];
+                k += 1;
+            }
+        }
+        by
+    }
+
+    /// Keeps, of the summaries `by`, those the row holds. The others are empty: the mask
+    /// holds every category the walks can fold for the row's species.
+    #[inline]
+    pub(super) fn keep(self, by: &[Summary; Category::COUNT], row: &mut [Summary]) {
+        let mut k = 0;
+        for (c, s) in by.iter().enumerate() {
+            if self.has(c) {
+                row[k] = *s;
+                k += 1;
+            } else {
+                debug_assert_eq!(s.count, 0, "a {:?} percept", Category::ALL[c]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_mask_lays_its_categories_out_in_order() {
+        let mut rel = Relations::new(3);
+        rel.set(0, 0, Some(Category::Kin));
+        rel.set(0, 2, Some(Category::Predator));
+        let m = RowMask::of(0, &rel, true, false);
+        assert_eq!(m.len(), 3);
+        assert_eq!(m.slot(Category::Predator), Some(0));
+        assert_eq!(m.slot(Category::Kin), Some(1));
+        assert_eq!(m.slot(Category::Obstacle), Some(2));
+        assert_eq!(m.slot(Category::Food), None);
+        assert_eq!(m.slot(Category::Other), None);
+        let mut by = [Summary::NONE; Category::COUNT];
+        by[Category::Kin as usize].count = 4;
+        by[Category::Obstacle as usize].count = 1;
+        let mut row = [Summary::NONE; 3];
+        m.keep(&by, &mut row);
+        assert_eq!(row[1].count, 4);
+        assert_eq!(m.expand(&row), by);
+        // Mates are kin of the other sex, and summed as kin too; items make food.
+        rel.set_mates(0, true);
+        rel.set_eats_items(0, true);
+        let m = RowMask::of(0, &rel, false, false);
+        assert_eq!(m.len(), 4);
+        assert!(m.slot(Category::Mate).is_some() && m.slot(Category::Food).is_some());
+        assert_eq!(RowMask::of(1, &rel, false, true).len(), 1);
+        assert_eq!(RowMask::ALL.len(), Category::COUNT);
+    }
+}
