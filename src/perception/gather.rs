@@ -132,8 +132,7 @@ impl Perception {
             } else {
                 0
             };
-            let mask = masks.get(s).copied().unwrap_or(RowMask::ALL);
-            (slots, r.groups.len() as u32, mask)
+            (slots, r.groups.len() as u32)
         };
         // The walk's order: the grid's when it indexes exactly these agents (its inverse is
         // then the row of each) and perceivers take the general path, else agent order.
@@ -162,16 +161,13 @@ impl Perception {
             .zip(self.gathered[..n].par_iter_mut())
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
-            .zip(self.row_starts[..n].par_iter_mut())
-            .zip(self.row_masks[..n].par_iter_mut())
             .with_min_len(256)
-            .for_each(|(((((a, g), slots), sums), rows), mask)| {
+            .for_each(|(((a, g), slots), sums)| {
                 if a.species.0 as usize >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
                 }
                 if !by_grid {
-                    (*slots, *sums, *mask) = share(a.species.0 as usize);
-                    *rows = mask.len() as u32;
+                    (*slots, *sums) = share(a.species.0 as usize);
                 }
                 *g = Gathered {
                     body: Body {
@@ -199,17 +195,28 @@ impl Perception {
                 .par_iter_mut()
                 .zip(self.slot_starts[..n].par_iter_mut())
                 .zip(self.sum_starts[..n].par_iter_mut())
-                .zip(self.row_starts[..n].par_iter_mut())
-                .zip(self.row_masks[..n].par_iter_mut())
                 .zip(entries.par_iter())
                 .with_min_len(256)
-                .for_each(|(((((angles, slots), sums), rows), mask), &i)| {
+                .for_each(|(((angles, slots), sums), &i)| {
                     let g = &gathered[i as usize];
                     *angles = [g.yaw, g.pitch];
-                    (*slots, *sums, *mask) = share(g.tag.species as usize);
-                    *rows = mask.len() as u32;
+                    (*slots, *sums) = share(g.tag.species as usize);
                 });
         }
+        // Each row's categories, by its agent's species.
+        let species_of = |r: usize| {
+            let i = if by_grid { entries[r] as usize } else { r };
+            gathered[i].tag.species as usize
+        };
+        self.row_masks
+            .par_iter_mut()
+            .zip(self.row_starts[..n].par_iter_mut())
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(r, (mask, len))| {
+                *mask = masks.get(species_of(r)).copied().unwrap_or(RowMask::ALL);
+                *len = mask.len() as u32;
+            });
         self.size_rows(n);
         self.copy_by_slot(agents, kernel);
         self.cos_mins.clear();

@@ -145,6 +145,24 @@ struct Outs<'a> {
     sums: &'a mut [GroupSum],
 }
 
+/// Room for an agent's summaries by category (see [`Perception::summaries_in`]); a worker
+/// keeps one from agent to agent.
+#[derive(Debug, Clone)]
+pub struct SummaryBuf {
+    by: [Summary; Category::COUNT],
+    /// The categories last written; the others are `Summary::NONE`.
+    mask: RowMask,
+}
+
+impl Default for SummaryBuf {
+    fn default() -> Self {
+        SummaryBuf {
+            by: [Summary::NONE; Category::COUNT],
+            mask: RowMask::ALL,
+        }
+    }
+}
+
 /// Where each row's share of the output buffers starts (one more entry than rows).
 #[derive(Clone, Copy)]
 struct Starts<'a> {
@@ -279,6 +297,30 @@ impl Perception {
         let r = self.row(i);
         let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
         self.row_masks[r].expand(row)
+    }
+
+    /// [`Perception::summaries`] without a copy of what is already in place: a row of every
+    /// category is read where it is; a shorter one is written into `buf`, whose other
+    /// categories stay empty from the last agent of the same kind (a boid's pass copies its
+    /// kin summary alone).
+    #[inline]
+    pub fn summaries_in<'a>(
+        &'a self,
+        i: usize,
+        buf: &'a mut SummaryBuf,
+    ) -> &'a [Summary; Category::COUNT] {
+        let r = self.row(i);
+        let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
+        let mask = self.row_masks[r];
+        if let Ok(full) = row.try_into() {
+            return full;
+        }
+        if buf.mask != mask {
+            buf.by = [Summary::NONE; Category::COUNT];
+            buf.mask = mask;
+        }
+        mask.fill(row, &mut buf.by);
+        &buf.by
     }
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.

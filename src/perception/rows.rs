@@ -71,14 +71,23 @@ impl RowMask {
             return full;
         }
         let mut by = [Summary::NONE; Category::COUNT];
-        let mut k = 0;
-        for (c, s) in by.iter_mut().enumerate() {
-            if self.has(c) {
-                *s = row[k];
-                k += 1;
-            }
-        }
+        self.fill(row, &mut by);
         by
+    }
+
+    /// Writes the row's summaries into their categories' places in `by` (the others are left
+    /// as they are).
+    #[inline]
+    pub(super) fn fill(self, row: &[Summary], by: &mut [Summary; Category::COUNT]) {
+        let mut m = self.0;
+        for s in row {
+            let c = m.trailing_zeros() as usize;
+            if c >= Category::COUNT {
+                break;
+            }
+            by[c] = *s;
+            m &= m - 1;
+        }
     }
 
     /// Keeps, of the summaries `by`, those the row holds. The others are empty: the mask

@@ -13,7 +13,7 @@ use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{
-    Category, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary,
+    Category, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary, SummaryBuf,
 };
 use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
@@ -38,6 +38,8 @@ pub(super) struct Worker {
     scratch: Scratch,
     /// The script view, refilled in place for each call.
     view: Dynamic,
+    /// The agent's summaries, when its row holds some categories only.
+    summaries: SummaryBuf,
 }
 
 impl Default for Worker {
@@ -46,6 +48,7 @@ impl Default for Worker {
             scope: Scope::new(),
             scratch: Scratch::default(),
             view: Dynamic::from(AgentView::default()),
+            summaries: SummaryBuf::default(),
         }
     }
 }
@@ -264,6 +267,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         scope,
         scratch,
         view,
+        summaries: summary_buf,
     } = w;
     scratch.reset();
     scratch.set_velocity(perception.velocity(i));
@@ -278,7 +282,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
     let percepts = perception.percepts(i);
-    let summaries = &perception.summaries(i);
+    let summaries = perception.summaries_in(i, summary_buf);
     let group_sums = perception.group_sums(i);
     let dt = world.dt;
     let tick = world.tick;
@@ -563,6 +567,8 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     a.pitch_rate = motion.pitch_rate;
     a.forward_cache = ForwardCache::new(a.yaw, a.pitch, info.forward);
     a.anim = an;
-    a.mind = std::mem::take(mind);
+    // Swapped, not taken: the placeholder goes out with this pass, and no second empty mind
+    // is made.
+    std::mem::swap(&mut a.mind, mind);
     a.rng = *rng;
 }

@@ -127,6 +127,16 @@ pub struct Mind {
     pub scope_entered: ThinVec<u64>,
 }
 
+/// `n` zeros; no call at all for none (every agent's pass makes an empty mind).
+#[inline]
+fn zeros<T: Default + Clone>(n: usize) -> ThinVec<T> {
+    if n == 0 {
+        ThinVec::new()
+    } else {
+        thin_vec![T::default(); n]
+    }
+}
+
 impl Mind {
     /// A mind starting in behavior `initial`.
     pub fn new(initial: u16, behaviors: usize, script_values: usize) -> Self {
@@ -136,8 +146,8 @@ impl Mind {
             depth: 0,
             entered_tick: 0,
             latches: 0,
-            cooldown_until: thin_vec![0; behaviors],
-            script_values: thin_vec![0.0; script_values],
+            cooldown_until: zeros(behaviors),
+            script_values: zeros(script_values),
             last_steer: Steer::NONE,
             script_steer: ThinVec::new(),
             script_error_reported: false,

@@ -329,6 +329,15 @@ fn rows_of_what_a_species_can_perceive_lose_nothing() {
     assert_eq!(masked.summaries.len(), fish * 5 + (n - fish) * 2);
     assert_eq!(full.summaries.len(), n * Category::COUNT);
     let mut seen = [0u32; Category::COUNT];
+    // A worker's buffer, passed from fish to predator and back, reads what a fresh copy does.
+    let mut buf = SummaryBuf::default();
+    for i in (0..n).chain((0..n).rev()) {
+        assert_eq!(
+            *masked.summaries_in(i, &mut buf),
+            masked.summaries(i),
+            "agent {i}"
+        );
+    }
     for i in 0..n {
         assert_eq!(masked.summaries(i), full.summaries(i), "agent {i}");
         assert_eq!(masked.percepts(i), full.percepts(i), "agent {i}");
