@@ -63,6 +63,61 @@ pub struct StepInfo {
     pub forward: Vec3,
 }
 
+/// The kinematic mode's response factors `1 − exp(−dt/τ)` of a body and a step: of the turn
+/// (`response`), of its rate (`smoothing`) and of the speed. They depend on the species, the
+/// behavior's response and `dt` alone, so a pass over many agents works them out once
+/// ([`Gains::get`]) instead of three exponentials an agent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gains {
+    /// What they were worked out for: `dt`, `response`, `smoothing`, `speed_response` (bits;
+    /// `u32::MAX` for no speed response).
+    key: [u32; 4],
+    k: f32,
+    kr: f32,
+    ks: f32,
+}
+
+impl Gains {
+    /// The factors of `limits` over a step of `dt`.
+    pub fn of(limits: &BodyLimits, dt: f32) -> Self {
+        let k = 1.0 - crate::math::exp(-dt / limits.response);
+        let kr = if limits.smoothing > 0.0 {
+            1.0 - crate::math::exp(-dt / limits.smoothing)
+        } else {
+            1.0
+        };
+        let ks = match limits.speed_response {
+            Some(t) if t > 0.0 => 1.0 - crate::math::exp(-dt / t),
+            Some(_) => 1.0,
+            None => k,
+        };
+        Gains {
+            key: Self::key(limits, dt),
+            k,
+            kr,
+            ks,
+        }
+    }
+
+    fn key(limits: &BodyLimits, dt: f32) -> [u32; 4] {
+        [
+            dt.to_bits(),
+            limits.response.to_bits(),
+            limits.smoothing.to_bits(),
+            limits.speed_response.map_or(u32::MAX, f32::to_bits),
+        ]
+    }
+
+    /// The factors of `limits` over `dt`, from `memo` when it holds them (it then holds these).
+    #[inline]
+    pub fn get(memo: &mut Option<Gains>, limits: &BodyLimits, dt: f32) -> Gains {
+        match *memo {
+            Some(g) if g.key == Self::key(limits, dt) => g,
+            _ => *memo.insert(Self::of(limits, dt)),
+        }
+    }
+}
+
 /// Advances `m` by one step of `dt` under `cmd`, with the world `current` added to the motion.
 /// Non-finite commands are treated as "keep heading and speed".
 pub fn step(
@@ -72,6 +127,19 @@ pub fn step(
     mode: &Mode,
     current: Vec3,
     dt: f32,
+) -> StepInfo {
+    step_with(m, cmd, limits, mode, current, dt, &mut None)
+}
+
+/// [`step`], with the response factors from `gains` (see [`Gains::get`]).
+pub fn step_with(
+    m: &mut Motion,
+    cmd: Steer,
+    limits: &BodyLimits,
+    mode: &Mode,
+    current: Vec3,
+    dt: f32,
+    gains: &mut Option<Gains>,
 ) -> StepInfo {
     let kin = Kinematics {
         pos: m.pos,
@@ -95,12 +163,7 @@ pub fn step(
     match mode {
         Mode::Kinematic if limits.response > 0.0 && dt > 0.0 => {
             let tau = limits.response;
-            let k = 1.0 - crate::math::exp(-dt / tau);
-            let kr = if limits.smoothing > 0.0 {
-                1.0 - crate::math::exp(-dt / limits.smoothing)
-            } else {
-                1.0
-            };
+            let Gains { kr, ks, .. } = Gains::get(gains, limits, dt);
             let max_rate = turn / REFERENCE_STEP;
             let plim = limits.pitch_limit();
             m.yaw_rate += ((dyaw / tau).clamp(-max_rate, max_rate) - m.yaw_rate) * kr;
@@ -111,11 +174,6 @@ pub fn step(
             if m.pitch.abs() >= plim && m.pitch_rate * m.pitch > 0.0 {
                 m.pitch_rate = 0.0;
             }
-            let ks = match limits.speed_response {
-                Some(t) if t > 0.0 => 1.0 - crate::math::exp(-dt / t),
-                Some(_) => 1.0,
-                None => k,
-            };
             let dv = ((target - m.speed) * ks).clamp(-limits.max_accel * dt, limits.max_accel * dt);
             m.speed += dv;
         }
@@ -156,6 +214,53 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
     use std::f32::consts::FRAC_PI_4;
+
+    #[test]
+    fn remembered_gains_move_a_body_as_fresh_ones_do() {
+        // One memo across bodies, behaviors' responses and steps, as a worker keeps it: each
+        // step is the step worked out afresh, bit for bit.
+        let base = BodyLimits::default();
+        let bodies = [
+            base,
+            BodyLimits {
+                response: 0.4,
+                ..base
+            },
+            BodyLimits {
+                smoothing: 0.0,
+                ..base
+            },
+            BodyLimits {
+                speed_response: Some(0.7),
+                ..base
+            },
+            BodyLimits {
+                speed_response: Some(0.0),
+                ..base
+            },
+        ];
+        // Every body after every body, at the same step and another: a memo that missed one
+        // of the four things the factors depend on would hand one the other's.
+        let mut memo = None;
+        let (mut a, mut b) = (Motion::default(), Motion::default());
+        let mut k = 0;
+        for first in &bodies {
+            for second in &bodies {
+                for dt in [0.05, 0.025] {
+                    for (limits, dt) in [(first, 0.05), (second, dt)] {
+                        let cmd = Steer::Velocity(Vec3::new(1.0 - k as f32 * 0.01, 0.2, 1.0));
+                        let m = Mode::Kinematic;
+                        let fresh = step(&mut a, cmd, limits, &m, Vec3::ZERO, dt);
+                        let kept = step_with(&mut b, cmd, limits, &m, Vec3::ZERO, dt, &mut memo);
+                        assert_eq!(fresh, kept, "step {k}");
+                        assert_eq!(a, b, "step {k}");
+                        k += 1;
+                    }
+                }
+            }
+        }
+        assert!(a.yaw_rate != 0.0 && a.speed > 0.0);
+    }
 
     #[test]
     fn turn_is_clamped_to_45_degrees_per_step() {

@@ -40,6 +40,8 @@ pub(super) struct Worker {
     view: Dynamic,
     /// The agent's summaries, when its row holds some categories only.
     summaries: SummaryBuf,
+    /// Locomotion's response factors of the last agent's body (the next is most often alike).
+    gains: Option<locomotion::Gains>,
 }
 
 impl Default for Worker {
@@ -49,6 +51,7 @@ impl Default for Worker {
             scratch: Scratch::default(),
             view: Dynamic::from(AgentView::default()),
             summaries: SummaryBuf::default(),
+            gains: None,
         }
     }
 }
@@ -268,6 +271,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         scratch,
         view,
         summaries: summary_buf,
+        gains,
     } = w;
     scratch.reset();
     scratch.set_velocity(perception.velocity(i));
@@ -508,13 +512,14 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         Some(response) => locomotion::BodyLimits { response, ..*body },
         None => *body,
     };
-    let info = locomotion::step(
+    let info = locomotion::step_with(
         &mut motion,
         steer,
         limits,
         &sp.body.locomotion,
         world.current,
         dt,
+        gains,
     );
     locomotion::solid::keep_solid(&mut motion.pos, i, me, percepts, world, perception);
     let mut an = me.anim;
