@@ -150,8 +150,12 @@ impl Pipeline {
         let set = self.species.clone();
         self.outcomes.resize_with(n, Outcome::default);
         self.known_food.clear();
-        self.known_food
-            .extend(world.agents.iter().map(|a| a.mind.best_food));
+        // In a world where nobody knows food (boids, flocks) there is no list at all: every
+        // lookup in it is `None` either way.
+        if world.agents.iter().any(|a| a.mind.best_food.is_some()) {
+            self.known_food
+                .extend(world.agents.iter().map(|a| a.mind.best_food));
+        }
         self.explain_ids.clear();
         if self.explain.on() {
             self.explain_ids.extend(world.agents.iter().map(|a| a.id.0));
