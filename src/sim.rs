@@ -94,15 +94,7 @@ impl Sim {
     /// world and the pipeline (a scenario spawning a timed group): clears the last tick's
     /// events. Call [`Sim::advance`] after the additions.
     pub fn begin_tick(&mut self) {
-        let events = &mut self.pipeline.events;
-        let last = events.len();
-        events.clear();
-        // Spawning a large group fills the buffer with births once; that room is given back
-        // rather than kept resident for the quiet ticks after (56 bytes an agent).
-        let keep = (2 * last).max(1024);
-        if events.capacity() > 4 * keep {
-            events.shrink_to(keep);
-        }
+        self.pipeline.events.clear();
     }
 
     /// The second half of [`Sim::step_with`]: runs the tick.

@@ -61,7 +61,7 @@ pub fn fill_view(
             v.heard_payload = None;
         }
     }
-    v.memory.clone_from(&a.memory);
+    crate::script::memory::copy_blackboard(&mut v.memory, &a.memory);
     v.rng = a.rng;
     v.outbox.clear();
     if !Arc::ptr_eq(&v.recipes, &ctx.species.recipe_names) {
@@ -322,7 +322,7 @@ pub fn write_back(view: &AgentView, agent: &mut Agent) {
         agent.drives.fear = view.fear;
         agent.drives.fatigue = view.fatigue;
     }
-    agent.memory.clone_from(&view.memory);
+    crate::script::memory::copy_blackboard(&mut agent.memory, &view.memory);
     // A blackboard holds a few keys: no room kept for more (a growing Vec would reserve four).
     if agent.memory.capacity() > agent.memory.len() {
         agent.memory.shrink_to_fit();

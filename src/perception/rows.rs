@@ -21,8 +21,14 @@ impl RowMask {
     /// if it perceives by the kin kernel.
     pub(super) fn of(s: usize, relations: &Relations, obstacles: bool, kernel: bool) -> Self {
         let bit = |c: Category| 1u8 << c as u8;
+        let row = relations.row(s);
+        // A species the relations do not list (outside `Pipeline`, whose table lists every
+        // one) is "all kin" to the walks' plain paths: every category, not a guess.
+        if row.is_empty() {
+            return RowMask::ALL;
+        }
         let mut m = 0;
-        for c in relations.row(s).iter().flatten() {
+        for c in row.iter().flatten() {
             m |= bit(*c);
         }
         if relations.mates(s) && m & bit(Category::Kin) != 0 {
@@ -137,5 +143,7 @@ mod tests {
         assert!(m.slot(Category::Mate).is_some() && m.slot(Category::Food).is_some());
         assert_eq!(RowMask::of(1, &rel, false, true).len(), 1);
         assert_eq!(RowMask::ALL.len(), Category::COUNT);
+        // A species the relations do not list keeps every category.
+        assert_eq!(RowMask::of(7, &rel, false, false), RowMask::ALL);
     }
 }

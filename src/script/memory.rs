@@ -11,6 +11,19 @@ use rhai::{Dynamic, Engine, EvalAltResult, Position};
 use std::sync::Arc;
 use thin_vec::ThinVec;
 
+/// Makes `dst` a copy of the blackboard `src`, reusing its room and its keys' (a blackboard is
+/// copied into a script's view and back on every call; a thin list's own `clone_from` would
+/// allocate it and every key afresh).
+pub fn copy_blackboard(dst: &mut ThinVec<(String, MemValue)>, src: &[(String, MemValue)]) {
+    dst.truncate(src.len());
+    let n = dst.len();
+    for (d, s) in dst.iter_mut().zip(src) {
+        d.0.clone_from(&s.0);
+        d.1.clone_from(&s.1);
+    }
+    dst.extend(src[n..].iter().cloned());
+}
+
 /// The type of a declared blackboard key.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MemType {
@@ -208,4 +221,29 @@ pub fn register(engine: &mut Engine, spec: Arc<MemorySpec>) {
             Ok(())
         },
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_blackboard_is_copied_into_the_room_it_had() {
+        let board = |keys: &[(&str, f32)]| -> ThinVec<(String, MemValue)> {
+            keys.iter()
+                .map(|(k, v)| (k.to_string(), MemValue::Float(*v)))
+                .collect()
+        };
+        let mut dst = board(&[("meals", 1.0), ("mated_at", 2.0), ("spare", 3.0)]);
+        let room = dst[0].0.as_ptr();
+        let src = board(&[("hunt", 4.0), ("rest", 5.0)]);
+        copy_blackboard(&mut dst, &src);
+        assert_eq!(dst, src);
+        assert_eq!(dst[0].0.as_ptr(), room, "the key's room is reused");
+        let longer = board(&[("a", 1.0), ("b", 2.0), ("c", 3.0), ("d", 4.0)]);
+        copy_blackboard(&mut dst, &longer);
+        assert_eq!(dst, longer);
+        copy_blackboard(&mut dst, &[]);
+        assert!(dst.is_empty());
+    }
 }
