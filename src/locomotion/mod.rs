@@ -69,13 +69,14 @@ pub struct StepInfo {
 /// ([`Gains::get`]) instead of three exponentials an agent.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gains {
-    /// What they were worked out for: `dt`, `response`, `smoothing`, `speed_response` (bits;
-    /// `u32::MAX` for no speed response).
-    key: [u32; 4],
-    k: f32,
+    /// What they were worked out for: the bits of `dt`, `response`, `smoothing` and
+    /// `speed_response`.
+    key: GainsKey,
     kr: f32,
     ks: f32,
 }
+
+type GainsKey = (u32, u32, u32, Option<u32>);
 
 impl Gains {
     /// The factors of `limits` over a step of `dt`.
@@ -93,19 +94,18 @@ impl Gains {
         };
         Gains {
             key: Self::key(limits, dt),
-            k,
             kr,
             ks,
         }
     }
 
-    fn key(limits: &BodyLimits, dt: f32) -> [u32; 4] {
-        [
+    fn key(limits: &BodyLimits, dt: f32) -> GainsKey {
+        (
             dt.to_bits(),
             limits.response.to_bits(),
             limits.smoothing.to_bits(),
-            limits.speed_response.map_or(u32::MAX, f32::to_bits),
-        ]
+            limits.speed_response.map(f32::to_bits),
+        )
     }
 
     /// The factors of `limits` over `dt`, from `memo` when it holds them (it then holds these).
