@@ -156,10 +156,20 @@ impl Pipeline {
             for b in stack {
                 m.push(b);
             }
-            let mut cooldown = thin_vec::thin_vec![0; nsp.behaviors.len()];
+            // A cooldown still running is kept even where the new version declares none.
+            let running = m.cooldown_until.iter().any(|&t| t > 0);
+            let slots = if running {
+                nsp.behaviors.len()
+            } else {
+                nsp.cooldown_slots()
+            };
+            let mut cooldown = thin_vec::thin_vec![0; slots];
             for (ob, &t) in m.cooldown_until.iter().enumerate() {
-                if let Some(nb) = bmap.get(ob).copied().flatten() {
-                    cooldown[nb as usize] = t;
+                if let Some(c) = bmap.get(ob).copied().flatten() {
+                    // Always there while one runs (`slots`); a zero needs no place.
+                    if let Some(c) = cooldown.get_mut(c as usize) {
+                        *c = t;
+                    }
                 }
             }
             m.cooldown_until = cooldown;
@@ -262,6 +272,25 @@ mod tests {
             p.spawn(&mut w, 0, Vec3::new(i as f32, 0.0, 0.0), 0.0, 0.0);
         }
         w
+    }
+
+    #[test]
+    fn cooldown_lists_follow_the_version_and_a_running_one_is_kept() {
+        let mut p = Pipeline::new(set(&[FISH]));
+        let mut w = world_with(&mut p, 2);
+        // "graze" has a cooldown: one entry per behavior.
+        assert_eq!(w.agents[0].mind.cooldown_until, vec![0, 0, 0]);
+        w.agents[0].mind.cooldown_until = [0, 0, 70].into();
+        // A version without cooldowns: no list, but for the agent whose cooldown still runs.
+        let plain = FISH.replace(", cooldown: 1.0", "");
+        p.install_species(&mut w, set(&[&plain]));
+        assert_eq!(w.agents[0].mind.cooldown_until, vec![0, 0, 70]);
+        assert!(w.agents[1].mind.cooldown_until.is_empty());
+        let mut fresh = world_with(&mut p, 1);
+        assert!(fresh.agents[0].mind.cooldown_until.is_empty());
+        // Back to a version with one: every agent gets its list again.
+        p.install_species(&mut fresh, set(&[FISH]));
+        assert_eq!(fresh.agents[0].mind.cooldown_until, vec![0, 0, 0]);
     }
 
     #[test]

@@ -88,7 +88,8 @@ pub struct Mind {
     pub entered_tick: u64,
     /// Hysteresis latches: bit i set while hysteresis condition i is latched on.
     pub latches: u64,
-    /// Per behavior: the tick before which it may not start again (cooldown).
+    /// Per behavior: the tick before which it may not start again (cooldown); empty for a
+    /// species without cooldowns.
     pub cooldown_until: ThinVec<u64>,
     /// Cached results of script conditions and weights, refreshed at the decision rate.
     pub script_values: ThinVec<f32>,
@@ -138,15 +139,16 @@ fn zeros<T: Default + Clone>(n: usize) -> ThinVec<T> {
 }
 
 impl Mind {
-    /// A mind starting in behavior `initial`.
-    pub fn new(initial: u16, behaviors: usize, script_values: usize) -> Self {
+    /// A mind starting in behavior `initial`, with `cooldowns` entries in its cooldown list
+    /// (the species' [`crate::species::Species::cooldown_slots`]).
+    pub fn new(initial: u16, cooldowns: usize, script_values: usize) -> Self {
         Mind {
             current: initial,
             stack: [0; STACK_CAPACITY],
             depth: 0,
             entered_tick: 0,
             latches: 0,
-            cooldown_until: zeros(behaviors),
+            cooldown_until: zeros(cooldowns),
             script_values: zeros(script_values),
             last_steer: Steer::NONE,
             script_steer: ThinVec::new(),
