@@ -266,6 +266,7 @@ struct FrameJson {
 /// food items.
 pub fn frame_json(run: &Run) -> String {
     let w = &run.world;
+    let set = &run.scenario.species;
     let stride = w.agents.len().div_ceil(MAX_FRAME_AGENTS).max(1);
     let n = w.agents.len().div_ceil(stride);
     let mut f = FrameJson {
@@ -297,7 +298,10 @@ pub fn frame_json(run: &Run) -> String {
         f.libido.push(a.drives.libido);
         f.fear.push(a.drives.fear);
         f.swim_phase.push(a.anim.phase);
-        f.tail_bend.push(a.anim.bend);
+        let bend = set.species.get(a.species.0 as usize).map_or(0.0, |sp| {
+            crate::locomotion::anim::bend(&a.anim, &sp.body.anim)
+        });
+        f.tail_bend.push(bend);
     }
     for food in &w.food {
         f.food.extend(food.pos.to_array());

@@ -62,16 +62,26 @@ pub fn advance(
         + p.accel_rate * accel.max(0.0);
     let phase = anim.phase + rate * dt;
     anim.phase = wrap_phase(phase);
-    let swing = tween(crate::math::sin(anim.phase * TAU), p.max_bend);
-    let turn = if max_turn > 0.0 {
+    anim.turn = if max_turn > 0.0 {
         (dyaw / max_turn).clamp(-1.0, 1.0)
     } else {
         0.0
     };
-    // A turn holds the tail on its side: left turns tween M→ML→L, right turns M→MR→R.
+}
+
+/// The tail's bend (rad, negative = bent to the left) of a channel: the swim cycle's swing
+/// through the key poses, and a turn holding the tail on its side (left turns tween
+/// M→ML→L, right turns M→MR→R) in proportion to the turn.
+pub fn bend(anim: &Anim, p: &AnimParams) -> f32 {
+    let swing = tween(crate::math::sin(anim.phase * TAU), p.max_bend);
+    let turn = anim.turn;
     let turn_pose = tween(turn, p.max_bend);
     let bend = swing * (1.0 - turn.abs()) + turn_pose * turn.abs();
-    anim.bend = if bend.is_finite() { bend } else { 0.0 };
+    if bend.is_finite() {
+        bend
+    } else {
+        0.0
+    }
 }
 
 #[cfg(test)]
@@ -116,7 +126,7 @@ mod tests {
         let mut a = Anim::default();
         let p = AnimParams::default();
         advance(&mut a, &p, 1.0, 1.0, 0.0, -FRAC_PI_4, FRAC_PI_4, 0.1);
-        assert!((a.bend + p.max_bend).abs() < 1e-6);
+        assert!((bend(&a, &p) + p.max_bend).abs() < 1e-6);
         assert!(a.phase > 0.0 && a.phase < 1.0);
     }
 

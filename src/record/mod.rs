@@ -270,7 +270,7 @@ impl Recorder {
                     a.drives.libido,
                     a.drives.fear,
                     a.anim.phase,
-                    a.anim.bend,
+                    crate::locomotion::anim::bend(&a.anim, &sp.body.anim),
                 ] {
                     field(traj, buf, v)?;
                 }

@@ -195,8 +195,10 @@ impl Mind {
 pub struct Anim {
     /// Swim-cycle phase in [0, 1).
     pub phase: f32,
-    /// Tail bend (rad), negative = bent to the left.
-    pub bend: f32,
+    /// The last step's turn against the body's fastest, in [−1, 1] (right positive). With the
+    /// phase it gives the tail's bend ([`crate::locomotion::anim::bend`]), worked out only
+    /// where something reads it (a recording, the viewer), not every tick for every agent.
+    pub turn: f32,
 }
 
 /// The forward vector of a body, kept with the heading it was computed for, so that the
