@@ -1,18 +1,23 @@
 //! Stage 2 of the tick: the kin kernel, the perception of a plain flocker (seed 001's schooling
 //! fish, seed 003's boids) folded [`LANES`] candidates at a time.
 //!
-//! A perceiver that keeps no agent percepts, sees only kin (every species is kin to it), has no
-//! custom sense volume, no mates and no occluder near it needs, of its neighbors, only sums: the
+//! A perceiver that keeps no agent percepts, sees only kin (every species is kin to it), and has
+//! no custom sense volume and no mates needs, of its neighbors, only sums: the
 //! kin summary (count, seen, nearest distance, position, heading and velocity sums) and the
 //! group sums of separation and of neighborhood means. Those are accumulated here from
 //! structure-of-arrays copies of the neighbors' records, every candidate of a grid row tested
 //! and folded without a branch (a mask selects what is added), in fixed lanes that are added up
 //! in a fixed order at the end. Each perceiver's result is therefore a pure function of the
 //! world: bit-identical whatever the thread count. It is the same set of neighbors as the
-//! general path perceives; the sums differ from its one-by-one sums only by rounding.
+//! general path perceives (a neighbor an obstacle hides is left out by the walks' own test, run
+//! for the lanes in sight of a perceiver beside an obstacle); the sums differ from its
+//! one-by-one sums only by rounding.
 
+use super::eye::MAX_OCCLUDERS;
 use super::group::{GroupQueries, GroupQuery, GroupSum};
-use glam::{Vec3, Vec3A, Vec4};
+use super::occlusion;
+use crate::world::Shape;
+use glam::{BVec4A, Vec3, Vec3A, Vec4};
 use rayon::prelude::*;
 
 /// Candidates folded at a time (one 4-wide vector operation each).
@@ -184,6 +189,10 @@ pub struct KinFold<'a> {
     nq: usize,
     rows: [(u32, u32); ROWS],
     pending: usize,
+    /// Obstacles that may hide a neighbor from sight, and the neighbors' bounding-box
+    /// diagonals in the grid's order (read only for a lane whose centre is hidden).
+    occluders: &'a [Shape],
+    diagonals: &'a [f32],
 }
 
 /// Lane numbers within a step.
@@ -215,6 +224,8 @@ impl<'a> KinFold<'a> {
             nq: 0,
             rows: [(0, 0); ROWS],
             pending: 0,
+            occluders: &[],
+            diagonals: &[],
         };
         for query in queries.into_iter().take(MAX_KERNEL_QUERIES) {
             let k = f.nq;
@@ -229,6 +240,16 @@ impl<'a> KinFold<'a> {
             f.nq += 1;
         }
         f
+    }
+
+    /// Neighbors hidden by `occluders` (with their real shapes, as the general path's
+    /// [`occlusion::hidden`]; `diagonals`: every neighbor's bounding-box diagonal in the
+    /// grid's order) are not seen: only smelt where smell reaches them, else not perceived.
+    /// The same neighbors as the general path then, tested by the same function.
+    #[inline(always)]
+    pub fn occlude(&mut self, occluders: &'a [Shape], diagonals: &'a [f32]) {
+        self.occluders = occluders;
+        self.diagonals = diagonals;
     }
 
     /// Adds the candidates in grid slots `start..end` (folded a batch of rows at a time).
@@ -264,27 +285,44 @@ impl<'a> KinFold<'a> {
         // instances: its sums then stay in registers too. So does a perceiver that sums no
         // headings.
         let lone_separation = self.nq == 1 && self.separation[0];
+        // Beside an obstacle (rare): instances that test occlusion, general in the rest.
+        if !self.occluders.is_empty() {
+            match (self.probe.cone.is_some(), smell) {
+                (false, false) => self.fold::<false, false, false, true, true>(),
+                (false, true) => self.fold::<false, true, false, true, true>(),
+                (true, false) => self.fold::<true, false, false, true, true>(),
+                (true, true) => self.fold::<true, true, false, true, true>(),
+            }
+            self.pending = 0;
+            return;
+        }
         match (
             self.probe.cone.is_some(),
             smell,
             lone_separation,
             self.probe.headings,
         ) {
-            (false, false, true, false) => self.fold::<false, false, true, false>(),
-            (false, false, true, true) => self.fold::<false, false, true, true>(),
-            (false, false, false, false) => self.fold::<false, false, false, false>(),
-            (false, false, false, true) => self.fold::<false, false, false, true>(),
-            (false, true, _, _) => self.fold::<false, true, false, true>(),
-            (true, false, true, false) => self.fold::<true, false, true, false>(),
-            (true, false, true, true) => self.fold::<true, false, true, true>(),
-            (true, false, false, _) => self.fold::<true, false, false, true>(),
-            (true, true, _, _) => self.fold::<true, true, false, true>(),
+            (false, false, true, false) => self.fold::<false, false, true, false, false>(),
+            (false, false, true, true) => self.fold::<false, false, true, true, false>(),
+            (false, false, false, false) => self.fold::<false, false, false, false, false>(),
+            (false, false, false, true) => self.fold::<false, false, false, true, false>(),
+            (false, true, _, _) => self.fold::<false, true, false, true, false>(),
+            (true, false, true, false) => self.fold::<true, false, true, false, false>(),
+            (true, false, true, true) => self.fold::<true, false, true, true, false>(),
+            (true, false, false, _) => self.fold::<true, false, false, true, false>(),
+            (true, true, _, _) => self.fold::<true, true, false, true, false>(),
         }
         self.pending = 0;
     }
 
     #[inline(always)]
-    fn fold<const CONE: bool, const SMELL: bool, const SEPARATION: bool, const HEADINGS: bool>(
+    fn fold<
+        const CONE: bool,
+        const SMELL: bool,
+        const SEPARATION: bool,
+        const HEADINGS: bool,
+        const OCCLUSION: bool,
+    >(
         &mut self,
     ) {
         let lanes: &'a KinLanes = self.lanes;
@@ -310,6 +348,28 @@ impl<'a> KinFold<'a> {
         let nq = self.nq;
         let (radius2, separation) = (self.radius2, self.separation);
         let q = &mut self.q;
+        let (occluders, diagonals) = (self.occluders, self.diagonals);
+        // Each occluder's bounding sphere, centred on the eye and a little larger (rounding):
+        // a lane whose line of sight passes outside every one is not hidden, with no test.
+        let mut spheres = [[Vec4::ZERO; 4]; MAX_OCCLUDERS];
+        let n_occ = if OCCLUSION {
+            occluders.len().min(MAX_OCCLUDERS)
+        } else {
+            0
+        };
+        for (o, shape) in spheres.iter_mut().zip(&occluders[..n_occ]) {
+            let c = shape.center() - p.here;
+            let r = shape.bounding_radius();
+            let scale = p.here.abs().max_element() + shape.center().abs().max_element();
+            let r = r * 1.001 + 1e-5 * scale + 1e-4;
+            // A shape that is not finite is always tested.
+            let r2 = if r.is_finite() && c.is_finite() {
+                r * r
+            } else {
+                f32::INFINITY
+            };
+            *o = [c.x, c.y, c.z, r2].map(Vec4::splat);
+        }
         // The columns as slices, cut to one length (their pointers then stay in registers
         // and one bounds check covers them all).
         let m = lanes.pos[0].len();
@@ -344,6 +404,19 @@ impl<'a> KinFold<'a> {
                 }
                 if let Some(ok) = ok {
                     vis &= ok;
+                }
+                if OCCLUSION && vis.any() {
+                    // Lanes whose segment from the eye comes within a bounding sphere.
+                    let mut near = BVec4A::splat(false);
+                    for &[ox, oy, oz, r2] in &spheres[..n_occ] {
+                        let t = ((ox * dx + oy * dy + oz * dz) / d2).clamp(Vec4::ZERO, Vec4::ONE);
+                        let (ex, ey, ez) = (ox - t * dx, oy - t * dy, oz - t * dz);
+                        near |= (ex * ex + ey * ey + ez * ez).cmple(r2);
+                    }
+                    let test = vis & near;
+                    if test.any() {
+                        vis = unhidden(vis, test, p.here, k, [dx, dy, dz], occluders, diagonals);
+                    }
                 }
                 let hit = if SMELL {
                     let smelt = d2.cmple(smell2);
@@ -470,6 +543,34 @@ fn separate(
     s.a[1] += pick(dy * inv);
     s.a[2] += pick(dz * inv);
     s.n += pick(Vec4::ONE);
+}
+
+/// `vis` without the lanes of `test` whose neighbor (grid slot `k` + lane, at offsets `d` from
+/// the eye at `here`) `occluders` hide. Out of line: only lines of sight that pass near an
+/// obstacle come here.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn unhidden(
+    vis: BVec4A,
+    test: BVec4A,
+    here: Vec3,
+    k: usize,
+    d: [Vec4; 3],
+    occluders: &[Shape],
+    diagonals: &[f32],
+) -> BVec4A {
+    let [dx, dy, dz] = d.map(|v| v.to_array());
+    let mut keep = [false; LANES];
+    for (l, keep) in keep.iter_mut().enumerate() {
+        *keep = vis.test(l);
+        if test.test(l) {
+            // The general path's offset, `pos − here`, component by component: the same bits.
+            let offset = Vec3::new(dx[l], dy[l], dz[l]);
+            let radius = || diagonals.get(k + l).map_or(0.0, |&d| d * 0.5);
+            *keep = !occlusion::hidden(here, offset, radius, occluders);
+        }
+    }
+    BVec4A::from_array(keep)
 }
 
 /// The lanes of each component added up.

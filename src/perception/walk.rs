@@ -34,12 +34,13 @@ fn probe(here: Vec3, me_slot: u32, sense: &SenseParams, eye: &Eye, reads: &Reads
 fn kernel(
     view: &View,
     lanes: &kin::KinLanes,
-    probe: kin::Probe,
+    (probe, occluders): (kin::Probe, &[Shape]),
     radius: f32,
     groups: &GroupQueries,
     sums: &mut [GroupSum],
 ) -> Acc {
     let mut k = kin::KinFold::new(lanes, probe, groups.iter());
+    k.occlude(occluders, view.diagonals);
     view.agents
         .for_each_row_within(probe.here, radius, |s, e| k.row(s, e));
     let sums_k = k.finish(sums);
@@ -55,8 +56,8 @@ fn kernel(
     }
 }
 
-/// Whether agents of species `s` may perceive by the kin kernel (an agent with an occluder near
-/// it still takes the general path).
+/// Whether agents of species `s` may perceive by the kin kernel (an agent with an obstacle near
+/// it too: the kernel leaves out the neighbors it hides).
 pub(super) fn kernel_species(
     s: usize,
     sense: &SenseParams,
@@ -157,7 +158,14 @@ impl Perceiver<'_, '_> {
         ) {
             if !view.relations.eats_items(s) && view.obstacle_grid.near(me.pos).is_empty() {
                 let probe = probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
-                let acc = kernel(view, lanes, probe, self.radius, &self.reads.groups, sums);
+                let acc = kernel(
+                    view,
+                    lanes,
+                    (probe, &[]),
+                    self.radius,
+                    &self.reads.groups,
+                    sums,
+                );
                 kin_only(summary, mask, &acc);
                 return true;
             }
@@ -261,22 +269,21 @@ impl Perceiver<'_, '_> {
             Extent::Centre => radius,
             Extent::AnyPart => radius + view.body_reach,
         };
-        // A species that keeps no percepts and sees only kin, plainly (no occluder, no custom
-        // volume, no mates): the neighbors go straight into the kin sums, held in registers.
+        // A species that keeps no percepts and sees only kin, plainly (no custom volume, no
+        // mates): the neighbors go straight into the kin sums, held in registers.
         let plain = !agent_percepts
             && sense.neighbors.is_none()
             && sense.volume.is_none()
             && !mates
             && row.iter().all(|c| matches!(c, None | Some(Category::Kin)));
-        let lanes = view.lanes.filter(|_| {
-            plain
-                && occ.is_empty()
-                && row.iter().all(|c| *c == Some(Category::Kin))
-                && kin::supports(groups)
-        });
+        // The kin kernel, for a species it serves (which tests the centre, as `Extent::Centre`
+        // does); it tests occlusion too, with the same function as the walks.
+        let lanes = view
+            .lanes
+            .filter(|_| plain && view.kernel.get(self.s).copied().unwrap_or(false));
         if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(self.i)) {
             let probe = probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
-            fold.set_kin(kernel(view, lanes, probe, radius, groups, sums));
+            fold.set_kin(kernel(view, lanes, (probe, occ), radius, groups, sums));
             0.0
         } else if plain {
             fold.set_kin(self.plain_walk(occ, row, agent_radius, sums));

@@ -16,11 +16,20 @@ fn the_kin_kernel_perceives_what_the_general_path_does() {
         a.speed = rng.range(0.0, 2.0);
         w.agents.push(a);
     }
-    // Agents near the rock perceive it too (the kernel then runs inside the general
-    // fold); the others take the kernel alone.
+    // Agents near a rock perceive it too (the kernel then runs inside the general fold, and
+    // with occlusion the rocks hide some neighbors); the others take the kernel alone.
     w.add_obstacle(Shape::Sphere {
         center: Vec3::new(8.0, 8.0, 8.0),
         radius: 2.0,
+    });
+    w.add_obstacle(Shape::Box(Aabb::new(
+        Vec3::new(-3.0, -1.0, -6.0),
+        Vec3::new(3.0, 1.0, 6.0),
+    )));
+    w.add_obstacle(Shape::Cylinder {
+        base: Vec3::new(-9.0, -8.0, 5.0),
+        radius: 1.5,
+        height: 16.0,
     });
     let mut groups = GroupQueries::new();
     groups.insert(GroupQuery::Separation { radius: 2.0 });
@@ -45,7 +54,17 @@ fn the_kin_kernel_perceives_what_the_general_path_does() {
         smell_radius: 3.5,
         ..whole
     };
-    for sense in [whole, cone_and_smell] {
+    let occluded = |s: SenseParams| SenseParams {
+        occlusion: true,
+        ..s
+    };
+    let mut hidden = Vec::new();
+    for sense in [
+        whole,
+        cone_and_smell,
+        occluded(whole),
+        occluded(cone_and_smell),
+    ] {
         let mut ag = Grid::new();
         ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
         let perceive = |rel: &Relations| {
@@ -79,11 +98,14 @@ fn the_kin_kernel_perceives_what_the_general_path_does() {
             }
         }
         assert!(perceived > 400, "{perceived}");
+        hidden.push(perceived);
         let near_rock = (0..w.agents.len())
             .filter(|&i| a.summaries(i)[Category::Obstacle as usize].count > 0)
             .count();
         assert!(near_rock > 0 && near_rock < w.agents.len(), "{near_rock}");
     }
+    // The rocks hide neighbors: fewer are perceived with occlusion than without.
+    assert!(hidden[2] < hidden[0] && hidden[3] < hidden[1], "{hidden:?}");
 }
 
 #[test]
