@@ -815,3 +815,36 @@ Species(
     sim.step();
     assert_eq!(sim.behavior(id), "high");
 }
+
+#[test]
+fn a_lone_behavior_ends_only_by_its_own_completion() {
+    // One behavior that never completes: no change, ever.
+    let lone = |done: &str| {
+        format!(
+            r#"Species(
+    name: "probe",
+    drives: (native: false, hunger: Fixed(0.0)),
+    initial: "swim",
+    behaviors: [
+        Behavior(name: "swim", priority: 1, min_time: 0.0{done}, steer: Cruise(speed: 1.0)),
+    ],
+)"#
+        )
+    };
+    let (mut sim, id, _dir) = probe_text(&lone(""));
+    sim.run(20);
+    assert!(sim.changes(id).is_empty(), "{:?}", sim.changes(id));
+    assert_eq!(sim.behavior(id), "swim");
+    // The same behavior with a completion: it ends when that holds and starts again, the
+    // initial behavior, with the condition as its cause.
+    let (mut sim, id, _dir) = probe_text(&lone(", done: Above(Drive(Hunger), 0.5)"));
+    sim.run(3);
+    assert!(sim.changes(id).is_empty());
+    sim.agent_mut(id).drives.hunger = 0.9;
+    sim.step();
+    let c = sim.last_change(id);
+    assert_eq!(
+        (c.from.as_str(), c.to.as_str(), c.cause),
+        ("swim", "swim", Cause::Completed)
+    );
+}

@@ -208,6 +208,14 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
         return tree::arbitrate(ctx, mind, rng);
     }
     let bs = &ctx.species.behaviors;
+    // A lone behavior that never completes (a boid's "flock") has nothing to arbitrate:
+    // nothing can interrupt it and it never ends.
+    if let [only] = &bs[..] {
+        if matches!(only.done, CondNode::Never) {
+            mind.current = 0;
+            return [None, None];
+        }
+    }
     let tick = ctx.tick;
     let cur = mind.current.min(bs.len().saturating_sub(1) as u16);
     mind.current = cur;
