@@ -327,17 +327,13 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
 }
 
 /// `q.floor().as_ivec3().clamp(0, dims − 1)` for `q` without NaN (±∞ saturate), without
-/// `floorf` (a library call on baseline x86-64): truncate (saturating), then step down where
-/// truncation rounded up.
+/// `floorf` (a library call on baseline x86-64): clamped to `[0, dims − 1]` first, where
+/// truncation is the floor (and clamped again as integers: `dims − 1` above 2²⁴ rounds up as
+/// a float).
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
-    let t = q.as_ivec3();
-    let floor = IVec3::new(
-        t.x.saturating_sub((q.x < t.x as f32) as i32),
-        t.y.saturating_sub((q.y < t.y as f32) as i32),
-        t.z.saturating_sub((q.z < t.z as f32) as i32),
-    );
-    floor.clamp(IVec3::ZERO, dims - IVec3::ONE)
+    let top = (dims - IVec3::ONE).max(IVec3::ZERO);
+    q.max(Vec3::ZERO).min(top.as_vec3()).as_ivec3().min(top)
 }
 
 #[cfg(test)]
