@@ -328,8 +328,8 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
 
 /// `q.floor().as_ivec3().clamp(0, dims − 1)` for `q` without NaN (±∞ saturate), without
 /// `floorf` (a library call on baseline x86-64): clamped to `[0, dims − 1]` first, where
-/// truncation is the floor (and clamped again as integers: `dims − 1` above 2²⁴ rounds up as
-/// a float).
+/// truncation is the floor, and clamped again as integers (`dims − 1` above 2²⁴ is rounded as
+/// a float; a grid's dimensions stay far below, at most 1,024 cells an axis).
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
     let top = (dims - IVec3::ONE).max(IVec3::ZERO);

@@ -157,7 +157,7 @@ impl Pipeline {
                 m.push(b);
             }
             // A cooldown still running is kept even where the new version declares none.
-            let running = m.cooldown_until.iter().any(|&t| t > 0);
+            let running = m.cooldown_until.iter().any(|&t| t > world.tick);
             let slots = if running {
                 nsp.behaviors.len()
             } else {
@@ -166,7 +166,7 @@ impl Pipeline {
             let mut cooldown = thin_vec::thin_vec![0; slots];
             for (ob, &t) in m.cooldown_until.iter().enumerate() {
                 if let Some(c) = bmap.get(ob).copied().flatten() {
-                    // Always there while one runs (`slots`); a zero needs no place.
+                    // Always there while one runs (`slots`); one that ran out needs no place.
                     if let Some(c) = cooldown.get_mut(c as usize) {
                         *c = t;
                     }
@@ -280,8 +280,11 @@ mod tests {
         let mut w = world_with(&mut p, 2);
         // "graze" has a cooldown: one entry per behavior.
         assert_eq!(w.agents[0].mind.cooldown_until, vec![0, 0, 0]);
+        w.tick = 40;
         w.agents[0].mind.cooldown_until = [0, 0, 70].into();
-        // A version without cooldowns: no list, but for the agent whose cooldown still runs.
+        w.agents[1].mind.cooldown_until = [40, 0, 0].into();
+        // A version without cooldowns: no list, but for the agent whose cooldown still runs
+        // (the other's ran out at tick 40).
         let plain = FISH.replace(", cooldown: 1.0", "");
         p.install_species(&mut w, set(&[&plain]));
         assert_eq!(w.agents[0].mind.cooldown_until, vec![0, 0, 70]);

@@ -198,6 +198,7 @@ pub struct Anim {
     /// The last step's turn against the body's fastest, in [−1, 1] (right positive). With the
     /// phase it gives the tail's bend ([`crate::locomotion::anim::bend`]), worked out only
     /// where something reads it (a recording, the viewer), not every tick for every agent.
+    #[serde(default)]
     pub turn: f32,
 }
 

@@ -59,22 +59,31 @@ fn the_kin_kernel_perceives_what_the_general_path_does() {
         ..s
     };
     let mut hidden = Vec::new();
+    // "Any part" reaches past the centre's range: not the kernel's test, so not the kernel.
+    let any_part = SenseParams {
+        extent: Extent::AnyPart,
+        ..cone_and_smell
+    };
     for sense in [
         whole,
         cone_and_smell,
         occluded(whole),
         occluded(cone_and_smell),
+        any_part,
     ] {
         let mut ag = Grid::new();
         ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
         let perceive = |rel: &Relations| {
             let mut p = Perception::new();
-            p.run_selective(&w, &ag, &Grid::new(), &[sense; 2], rel, &[reads; 2]);
+            // The second species (no agent) perceives plainly by the kernel: its lanes are
+            // there for the first to misuse.
+            p.run_selective(&w, &ag, &Grid::new(), &[sense, whole], rel, &[reads; 2]);
             p
         };
         let mut kernel = Relations::new(2);
-        kernel.set(0, 0, Some(Category::Kin));
-        kernel.set(0, 1, Some(Category::Kin));
+        for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            kernel.set(a, b, Some(Category::Kin));
+        }
         let mut general = kernel.clone();
         general.set(0, 1, Some(Category::Other));
         let (a, b) = (perceive(&kernel), perceive(&general));
