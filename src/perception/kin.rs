@@ -677,7 +677,7 @@ mod tests {
                 .map(|k| {
                     let to = pts[1 + k].0 - here;
                     let side = to.any_orthonormal_vector();
-                    let off = 10f32.powf(-rng.range(2.0, 5.0));
+                    let off = crate::math::powf(10.0, -rng.range(2.0, 5.0));
                     let radius = if k % 2 == 0 { 0.0 } else { 0.001 };
                     Shape::Sphere {
                         center: here + to * rng.range(0.2, 0.8) + side * off,
