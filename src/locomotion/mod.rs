@@ -119,20 +119,10 @@ impl Gains {
 }
 
 /// Advances `m` by one step of `dt` under `cmd`, with the world `current` added to the motion.
-/// Non-finite commands are treated as "keep heading and speed".
+/// Non-finite commands are treated as "keep heading and speed". The response factors come from
+/// `gains` when it holds those of `limits` and `dt` (see [`Gains::get`]; `&mut None`: worked
+/// out afresh).
 pub fn step(
-    m: &mut Motion,
-    cmd: Steer,
-    limits: &BodyLimits,
-    mode: &Mode,
-    current: Vec3,
-    dt: f32,
-) -> StepInfo {
-    step_with(m, cmd, limits, mode, current, dt, &mut None)
-}
-
-/// [`step`], with the response factors from `gains` (see [`Gains::get`]).
-pub fn step_with(
     m: &mut Motion,
     cmd: Steer,
     limits: &BodyLimits,
@@ -250,8 +240,8 @@ mod tests {
                     for (limits, dt) in [(first, 0.05), (second, dt)] {
                         let cmd = Steer::Velocity(Vec3::new(1.0 - k as f32 * 0.01, 0.2, 1.0));
                         let m = Mode::Kinematic;
-                        let fresh = step(&mut a, cmd, limits, &m, Vec3::ZERO, dt);
-                        let kept = step_with(&mut b, cmd, limits, &m, Vec3::ZERO, dt, &mut memo);
+                        let fresh = step(&mut a, cmd, limits, &m, Vec3::ZERO, dt, &mut None);
+                        let kept = step(&mut b, cmd, limits, &m, Vec3::ZERO, dt, &mut memo);
                         assert_eq!(fresh, kept, "step {k}");
                         assert_eq!(a, b, "step {k}");
                         k += 1;
@@ -283,6 +273,7 @@ mod tests {
             &Mode::Kinematic,
             Vec3::ZERO,
             0.1,
+            &mut None,
         );
         assert!((m.yaw - FRAC_PI_4).abs() < 1e-6);
         assert!((m.pitch + FRAC_PI_4).abs() < 1e-6);
@@ -308,6 +299,7 @@ mod tests {
             &Mode::Kinematic,
             Vec3::ZERO,
             0.1,
+            &mut None,
         );
         assert!((m.speed - 0.4).abs() < 1e-6);
         for _ in 0..20 {
@@ -322,6 +314,7 @@ mod tests {
                 &Mode::Kinematic,
                 Vec3::ZERO,
                 0.1,
+                &mut None,
             );
         }
         assert_eq!(m.speed, 2.0);
@@ -341,7 +334,7 @@ mod tests {
                     pitch: 0.0,
                     speed: 1.0,
                 };
-                step(&mut m, c, l, &Mode::Kinematic, Vec3::ZERO, dt);
+                step(&mut m, c, l, &Mode::Kinematic, Vec3::ZERO, dt, &mut None);
                 m.yaw
             })
             .collect()
@@ -395,6 +388,7 @@ mod tests {
             &Mode::Kinematic,
             Vec3::new(1.0, 0.0, 0.0),
             0.5,
+            &mut None,
         );
         assert_eq!(m.pos, Vec3::new(0.5, 0.0, 0.0));
     }
@@ -441,7 +435,7 @@ mod tests {
             let mut m = Motion { yaw: yaw0, pitch: pitch0.clamp(-l.pitch_limit(), l.pitch_limit()), speed: speed0, ..Default::default() };
             for c in cmds {
                 let before = m;
-                let info = step(&mut m, c, &l, &mode, Vec3::ZERO, 0.05);
+                let info = step(&mut m, c, &l, &mode, Vec3::ZERO, 0.05, &mut None);
                 prop_assert!(m.pos.is_finite() && m.yaw.is_finite() && m.pitch.is_finite() && m.speed.is_finite());
                 prop_assert!(m.pitch.abs() < std::f32::consts::FRAC_PI_2, "pitch {}", m.pitch);
                 prop_assert!(m.speed >= 0.0 && m.speed <= l.max_speed);

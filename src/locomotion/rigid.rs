@@ -74,6 +74,7 @@ mod tests {
             &mode,
             Vec3::ZERO,
             0.1,
+            &mut None,
         );
         assert!((m.speed - 0.8).abs() < 1e-6, "{}", m.speed);
         for _ in 0..200 {
@@ -88,6 +89,7 @@ mod tests {
                 &mode,
                 Vec3::ZERO,
                 0.1,
+                &mut None,
             );
         }
         // Equilibrium below the target: thrust 6·(2−v) = drag 0.5·v² → v² + 12v − 24 = 0 → v ≈ 1.7460.
@@ -115,6 +117,7 @@ mod tests {
                 &mode,
                 Vec3::ZERO,
                 0.05,
+                &mut None,
             );
             ticks += 1;
         }
@@ -140,6 +143,7 @@ mod tests {
             &mode,
             Vec3::ZERO,
             0.1,
+            &mut None,
         );
         // torque = min(30·0.5, 20) = 15 → rate 1.5 rad/s → yaw 0.15 after one step.
         assert!((m.yaw - 0.15).abs() < 1e-6, "{}", m.yaw);

@@ -516,7 +516,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         Some(response) => locomotion::BodyLimits { response, ..*body },
         None => *body,
     };
-    let info = locomotion::step_with(
+    let info = locomotion::step(
         &mut motion,
         steer,
         limits,
