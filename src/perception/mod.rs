@@ -294,9 +294,16 @@ impl Perception {
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> [Summary; Category::COUNT] {
+        let (row, mask) = self.summary_row(i);
+        mask.expand(row)
+    }
+
+    /// Agent `i`'s row of summaries and the categories it holds.
+    #[inline]
+    fn summary_row(&self, i: usize) -> (&[Summary], RowMask) {
         let r = self.row(i);
         let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
-        self.row_masks[r].expand(row)
+        (row, self.row_masks[r])
     }
 
     /// [`Perception::summaries`] without a copy of what is already in place: a row of every
@@ -309,9 +316,7 @@ impl Perception {
         i: usize,
         buf: &'a mut SummaryBuf,
     ) -> &'a [Summary; Category::COUNT] {
-        let r = self.row(i);
-        let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
-        let mask = self.row_masks[r];
+        let (row, mask) = self.summary_row(i);
         if let Ok(full) = row.try_into() {
             return full;
         }
