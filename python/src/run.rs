@@ -127,17 +127,6 @@ struct Recording {
     behaviors: Vec<Vec<i32>>,
 }
 
-/// Agent `a`'s tail bend, as `trajectories.csv` writes it.
-fn tail_bend(run: &Run, a: &shoal::world::Agent) -> f32 {
-    run.scenario
-        .species
-        .species
-        .get(a.species.0 as usize)
-        .map_or(0.0, |sp| {
-            shoal::locomotion::anim::bend(&a.anim, &sp.body.anim)
-        })
-}
-
 impl Recording {
     fn new(run: &Run, interval: u32) -> Recording {
         use shoal::record::schema::TrajColumn as T;
@@ -241,7 +230,10 @@ impl Recording {
                 (T::Libido, a.drives.libido),
                 (T::Fear, a.drives.fear),
                 (T::SwimPhase, a.anim.phase),
-                (T::TailBend, tail_bend(run, a)),
+                (
+                    T::TailBend,
+                    shoal::locomotion::anim::bend_of(&run.scenario.species, a),
+                ),
             ] {
                 c[col as usize].f32(v);
             }

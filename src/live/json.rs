@@ -298,10 +298,7 @@ pub fn frame_json(run: &Run) -> String {
         f.libido.push(a.drives.libido);
         f.fear.push(a.drives.fear);
         f.swim_phase.push(a.anim.phase);
-        let bend = set.species.get(a.species.0 as usize).map_or(0.0, |sp| {
-            crate::locomotion::anim::bend(&a.anim, &sp.body.anim)
-        });
-        f.tail_bend.push(bend);
+        f.tail_bend.push(crate::locomotion::anim::bend_of(set, a));
     }
     for food in &w.food {
         f.food.extend(food.pos.to_array());

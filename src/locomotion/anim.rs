@@ -84,6 +84,14 @@ pub fn bend(anim: &Anim, p: &AnimParams) -> f32 {
     }
 }
 
+/// Agent `a`'s tail bend under its species in `set` (0 for a species `set` does not hold), as
+/// a recording writes it.
+pub fn bend_of(set: &crate::species::SpeciesSet, a: &crate::world::Agent) -> f32 {
+    set.species
+        .get(a.species.0 as usize)
+        .map_or(0.0, |sp| bend(&a.anim, &sp.body.anim))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
