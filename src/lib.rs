@@ -42,6 +42,7 @@ pub mod locomotion;
 #[cfg(feature = "tools")]
 pub mod lsp;
 pub mod math;
+pub mod par;
 pub mod params;
 pub mod perception;
 pub mod project;

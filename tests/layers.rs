@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 /// Core modules, lowest first. `events::apply` (stage 7) stands apart from the event types: it is
 /// written as a method of the tick's `Pipeline`, which calls it without importing it.
 const LAYERS: &[&str] = &[
+    // Whether a pass may split (a tick the governor runs on one thread).
+    "par",
     "frame",
     "command",
     // The loader helpers every loader uses (`crate::diag` and `crate::numbers` are short paths

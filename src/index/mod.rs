@@ -74,7 +74,7 @@ impl Grid {
         self.cell_of.par_extend(
             self.points
                 .par_iter()
-                .with_min_len(256)
+                .with_min_len(crate::par::min_len(256))
                 .map(|&p| layout.cell_of(p.into())),
         );
         self.place();
@@ -98,7 +98,7 @@ impl Grid {
             .par_iter_mut()
             .zip(self.cell_of.par_iter_mut())
             .enumerate()
-            .with_min_len(256)
+            .with_min_len(crate::par::min_len(256))
             .for_each(|(i, (q, c))| {
                 let p = point(i);
                 *q = Vec3A::from(p);

@@ -161,7 +161,7 @@ impl Perception {
             .zip(self.gathered[..n].par_iter_mut())
             .zip(self.slot_starts[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
-            .with_min_len(256)
+            .with_min_len(crate::par::min_len(256))
             .for_each(|(((a, g), slots), sums)| {
                 if a.species.0 as usize >= senses.len() {
                     unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
@@ -196,7 +196,7 @@ impl Perception {
                 .zip(self.slot_starts[..n].par_iter_mut())
                 .zip(self.sum_starts[..n].par_iter_mut())
                 .zip(entries.par_iter())
-                .with_min_len(256)
+                .with_min_len(crate::par::min_len(256))
                 .for_each(|(((angles, slots), sums), &i)| {
                     let g = &gathered[i as usize];
                     *angles = [g.yaw, g.pitch];
@@ -212,7 +212,7 @@ impl Perception {
             .par_iter_mut()
             .zip(self.row_starts[..n].par_iter_mut())
             .enumerate()
-            .with_min_len(1024)
+            .with_min_len(crate::par::min_len(1024))
             .for_each(|(r, (mask, len))| {
                 *mask = masks.get(species_of(r)).copied().unwrap_or(RowMask::ALL);
                 *len = mask.len() as u32;
@@ -271,7 +271,7 @@ impl Perception {
             self.near
                 .par_iter_mut()
                 .enumerate()
-                .with_min_len(256)
+                .with_min_len(crate::par::min_len(256))
                 .for_each(|(k, b)| *b = of_slot(k).body);
         }
         self.tags.resize(entries.len(), UNKNOWN.tag);
@@ -280,7 +280,7 @@ impl Perception {
             .par_iter_mut()
             .zip(self.diagonals.par_iter_mut())
             .enumerate()
-            .with_min_len(256)
+            .with_min_len(crate::par::min_len(256))
             .for_each(|(k, (t, d))| {
                 let g = of_slot(k);
                 (*t, *d) = (g.tag, g.diagonal);

@@ -77,6 +77,7 @@ impl KinLanes {
             .zip(chunks(vx).zip(chunks(vy)).zip(chunks(vz)))
             .zip(extra[..n].par_chunks_mut(CHUNK))
             .enumerate()
+            .with_min_len(crate::par::min_len(1))
             .for_each(
                 |(m, (((((px, py), pz), ((hx, hy), hz)), ((vx, vy), vz)), extra))| {
                     for (l, t) in extra.iter_mut().enumerate() {

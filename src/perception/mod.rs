@@ -248,7 +248,7 @@ impl<'a> Outs<'a> {
             reaches: r1,
             sums: g1,
         };
-        rayon::join(|| left.for_each(starts, f), || right.for_each(starts, f));
+        crate::par::join(|| left.for_each(starts, f), || right.for_each(starts, f));
     }
 }
 

@@ -188,7 +188,7 @@ impl Pipeline {
                 .par_iter_mut()
                 .zip(outcomes.par_iter_mut())
                 .enumerate()
-                .with_min_len(32)
+                .with_min_len(crate::par::min_len(32))
                 .for_each_init(
                     || {
                         crate::script::budget::install(clock);

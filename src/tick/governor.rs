@@ -16,8 +16,8 @@
 //! last one by the switching margin (the machine's load changed), the next probe comes at
 //! once, budget or not, at most every [`MIN_INTERVAL`] ticks. One timed probe tick can be lucky (the busy process was off its core for it), so a
 //! switch is on trial for [`TRIAL_TICKS`]: if the new mode's mean over them is above the old
-//! mode's figure, the governor goes back and counts it as a lost probe. One-thread ticks run on
-//! a pool of one thread of their own. Not a tick stage:
+//! mode's figure, the governor goes back and counts it as a lost probe. A one-thread tick runs
+//! on the calling thread, its passes unsplit ([`crate::par::alone`]). Not a tick stage:
 //! [`super::Pipeline::step`] asks it how to run each tick.
 
 use std::time::Duration;

@@ -99,8 +99,6 @@ pub struct Pipeline {
     explain_ids: Vec<u32>,
     /// Whether each tick runs on the whole pool or on one thread ([`governor`]).
     pub governor: governor::Governor,
-    /// The one-thread pool of one-thread ticks, made when first needed.
-    solo: Option<rayon::ThreadPool>,
 }
 
 /// The species with the most agents in `counts` (the first of equals): its query radius sizes
@@ -151,7 +149,6 @@ impl Pipeline {
             explained: Vec::new(),
             explain_ids: Vec::new(),
             governor: governor::Governor::default(),
-            solo: None,
         };
         p.set_species(species);
         p
@@ -329,22 +326,7 @@ impl Pipeline {
         let start = Instant::now();
         match mode {
             governor::Mode::Pool => awake::with_helper(|| self.step_on(world)),
-            governor::Mode::Solo => {
-                let solo = match self.solo.take() {
-                    Some(pool) => Some(pool),
-                    None => rayon::ThreadPoolBuilder::new()
-                        .num_threads(1)
-                        .thread_name(|_| "shoal-solo-tick".into())
-                        .build()
-                        .ok(),
-                };
-                match &solo {
-                    Some(pool) => pool.install(|| self.step_on(world)),
-                    // No thread to be had: the pool it is.
-                    None => self.step_on(world),
-                }
-                self.solo = solo;
-            }
+            governor::Mode::Solo => crate::par::alone(|| self.step_on(world)),
         }
         self.governor.record(mode, agents, start.elapsed());
     }
