@@ -194,7 +194,10 @@ impl Pipeline {
                         crate::script::budget::install(clock);
                         // This thread's buffers, kept from tick to tick; a fresh set only if they
                         // are somehow in use.
+                        // A one-thread tick called from outside any pool runs here alone: the
+                        // first set is free.
                         let own = rayon::current_thread_index()
+                            .or_else(|| crate::par::is_alone().then_some(0))
                             .and_then(|t| workers.get(t))
                             .and_then(|w| w.try_lock().ok());
                         let fresh = own.is_none().then(Worker::default);
