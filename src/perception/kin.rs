@@ -157,20 +157,20 @@ pub fn supports(queries: &GroupQueries) -> bool {
 struct QueryLanes {
     a: [Vec4; 3],
     b: [Vec4; 3],
-    n: Vec4,
+    n: u32,
 }
 
 const QUERY_ZERO: QueryLanes = QueryLanes {
     a: [Vec4::ZERO; 3],
     b: [Vec4::ZERO; 3],
-    n: Vec4::ZERO,
+    n: 0,
 };
 
 /// The running lanes of the kin sums.
 #[derive(Debug, Clone, Copy)]
 struct KinLanesSum {
-    count: Vec4,
-    seen: Vec4,
+    count: u32,
+    seen: u32,
     near2: Vec4,
     pos: [Vec4; 3],
     head: [Vec4; 3],
@@ -212,8 +212,8 @@ impl<'a> KinFold<'a> {
             lanes,
             probe,
             sum: KinLanesSum {
-                count: Vec4::ZERO,
-                seen: Vec4::ZERO,
+                count: 0,
+                seen: 0,
                 near2: Vec4::INFINITY,
                 pos: [Vec4::ZERO; 3],
                 head: [Vec4::ZERO; 3],
@@ -431,9 +431,9 @@ impl<'a> KinFold<'a> {
                     vis
                 };
                 let pick = |v: Vec4| Vec4::select(hit, v, Vec4::ZERO);
-                sum.count += pick(Vec4::ONE);
+                sum.count += lanes_set(hit);
                 if SMELL {
-                    sum.seen += Vec4::select(vis, Vec4::ONE, Vec4::ZERO);
+                    sum.seen += lanes_set(vis);
                 }
                 sum.near2 = sum.near2.min(Vec4::select(hit, d2, Vec4::INFINITY));
                 sum.pos[0] += pick(x);
@@ -464,7 +464,7 @@ impl<'a> KinFold<'a> {
                             s.b[0] += pick(ux);
                             s.b[1] += pick(uy);
                             s.b[2] += pick(uz);
-                            s.n += pick(Vec4::ONE);
+                            s.n += lanes_set(take);
                         }
                     }
                 }
@@ -503,15 +503,15 @@ impl<'a> KinFold<'a> {
                 a: vec_of(&s.a),
                 b: vec_of(&s.b),
                 c: Vec3A::ZERO,
-                n: s.n.element_sum() as u32,
+                n: s.n,
                 m: 0,
                 w: 0.0,
             };
         }
         let sum = &self.sum;
         KinSums {
-            count: sum.count.element_sum() as u32,
-            seen: sum.seen.element_sum() as u32,
+            count: sum.count,
+            seen: sum.seen,
             nearest2: sum.near2.min_element(),
             pos: vec_of(&sum.pos),
             // The instances for cones and smell sum headings whatever the probe asks.
@@ -548,7 +548,16 @@ fn separate(
     s.a[0] += pick(dx * inv);
     s.a[1] += pick(dy * inv);
     s.a[2] += pick(dz * inv);
-    s.n += pick(Vec4::ONE);
+    s.n += lanes_set(take);
+}
+
+/// How many lanes of `m` are set. Counts are kept in an integer register, not in a vector
+/// one: the kernel's sums need more vector registers than there are, and a vector count would
+/// take one more (the same totals: the lanes of a count hold integers).
+#[inline(always)]
+fn lanes_set(m: BVec4A) -> u32 {
+    const SET: [u8; 16] = [0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4];
+    SET[m.bitmask() as usize & 15] as u32
 }
 
 /// `vis` without the lanes of `test` whose neighbor (grid slot `k` + lane, at offsets `d` from
