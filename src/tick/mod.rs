@@ -326,7 +326,14 @@ impl Pipeline {
         let start = Instant::now();
         match mode {
             governor::Mode::Pool => awake::with_helper(|| self.step_on(world)),
-            governor::Mode::Solo => crate::par::alone(|| self.step_on(world)),
+            // The tick's script clock is this thread's for the tick only: a thread outside any
+            // pool keeps its own afterwards.
+            governor::Mode::Solo => {
+                let clock = self.script_clock.clone();
+                crate::script::budget::with_tick(&clock, || {
+                    crate::par::alone(|| self.step_on(world))
+                })
+            }
         }
         self.governor.record(mode, agents, start.elapsed());
     }
