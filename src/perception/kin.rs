@@ -29,6 +29,10 @@ pub const MAX_KERNEL_QUERIES: usize = 4;
 /// Rows of the grid gathered before they are folded (the sums stay in registers meanwhile).
 const ROWS: usize = 32;
 
+/// Steps a batch of rows holds at most when the lanes are tested before they are folded
+/// ([`KinFold::fold`] with a vision cone); a longer row is cut into batches.
+const STEPS: usize = 64;
+
 /// The neighbors' records in the agent grid's order, one array per component, padded with
 /// [`LANES`] far-away entries so that a step may read past a row's last candidate.
 #[derive(Debug, Clone, Default)]
@@ -190,6 +194,11 @@ pub struct KinFold<'a> {
     nq: usize,
     rows: [(u32, u32); ROWS],
     pending: usize,
+    /// Steps of the pending rows, counted (and capped at [`STEPS`]) only when `tested_first`.
+    steps: usize,
+    /// Whether every lane of a batch is tested before the perceived ones are folded: for a
+    /// vision cone, which leaves most steps without a lane perceived.
+    tested_first: bool,
     /// Obstacles that may hide a neighbor from sight, and the neighbors' bounding-box
     /// diagonals in the grid's order (read only for a lane whose centre is hidden).
     occluders: &'a [Shape],
@@ -198,6 +207,18 @@ pub struct KinFold<'a> {
 
 /// Lane numbers within a step.
 const LANE: Vec4 = Vec4::new(0.0, 1.0, 2.0, 3.0);
+
+/// For each 4-bit lane mask, its lanes as 1 (set) or 0.
+const BITS: [Vec4; 16] = {
+    let mut t = [Vec4::ZERO; 16];
+    let mut b = 0;
+    while b < 16 {
+        let (x, y, z, w) = (b & 1, (b >> 1) & 1, (b >> 2) & 1, b >> 3);
+        t[b] = Vec4::new(x as f32, y as f32, z as f32, w as f32);
+        b += 1;
+    }
+    t
+};
 
 impl<'a> KinFold<'a> {
     /// Nothing folded yet, for `probe` and `queries` (which [`supports`] must accept: others
@@ -225,6 +246,8 @@ impl<'a> KinFold<'a> {
             nq: 0,
             rows: [(0, 0); ROWS],
             pending: 0,
+            steps: 0,
+            tested_first: probe.cone.is_some(),
             occluders: &[],
             diagonals: &[],
         };
@@ -272,10 +295,33 @@ impl<'a> KinFold<'a> {
         if start >= end {
             return;
         }
+        if self.tested_first {
+            self.push_capped(start, end);
+            return;
+        }
         self.rows[self.pending] = (start as u32, end as u32);
         self.pending += 1;
         if self.pending == ROWS {
             self.flush();
+        }
+    }
+
+    /// `push` for a batch of at most [`STEPS`] steps: a row is cut a whole number of steps
+    /// from its start, so each candidate keeps its lane and the sums their bits.
+    #[inline]
+    fn push_capped(&mut self, mut start: usize, end: usize) {
+        while start < end {
+            if self.steps == STEPS {
+                self.flush();
+            }
+            let cut = end.min(start + (STEPS - self.steps) * LANES);
+            self.rows[self.pending] = (start as u32, cut as u32);
+            self.pending += 1;
+            self.steps += (cut - start).div_ceil(LANES);
+            if self.pending == ROWS {
+                self.flush();
+            }
+            start = cut;
         }
     }
 
@@ -294,7 +340,7 @@ impl<'a> KinFold<'a> {
                 (true, false) => self.fold::<true, false, false, true, true>(),
                 (true, true) => self.fold::<true, true, false, true, true>(),
             }
-            self.pending = 0;
+            (self.pending, self.steps) = (0, 0);
             return;
         }
         match (
@@ -313,7 +359,7 @@ impl<'a> KinFold<'a> {
             (true, false, false, _) => self.fold::<true, false, false, true, false>(),
             (true, true, _, _) => self.fold::<true, true, false, true, false>(),
         }
-        self.pending = 0;
+        (self.pending, self.steps) = (0, 0);
     }
 
     #[inline(always)]
@@ -392,15 +438,15 @@ impl<'a> KinFold<'a> {
             // Never read: `HEADINGS` is false.
             (px, py, pz)
         };
-        // One step: the candidates in slots `k..k + LANES`, those of lanes `ok` taken (a
-        // macro, not a closure: the sums must stay in this function's registers).
-        macro_rules! step {
+        // One step's test: of the candidates in slots `k..k + LANES` (those of lanes `ok`),
+        // the lanes perceived (`hit`) and of those the lanes seen (`vis`). Macros, not
+        // closures: the sums must stay in this function's registers.
+        macro_rules! test {
             ($k:expr, $ok:expr) => {{
                 let (k, ok): (usize, Option<glam::BVec4A>) = ($k, $ok);
                 assert!(k + LANES <= m);
                 let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
-                let (x, y, z) = (v4(px), v4(py), v4(pz));
-                let (dx, dy, dz) = (x - cx, y - cy, z - cz);
+                let (dx, dy, dz) = (v4(px) - cx, v4(py) - cy, v4(pz) - cz);
                 let d2 = dx * dx + dy * dy + dz * dz;
                 let mut vis = d2.cmple(vision2);
                 if CONE {
@@ -430,6 +476,20 @@ impl<'a> KinFold<'a> {
                 } else {
                     vis
                 };
+                (hit, vis)
+            }};
+        }
+        // Folds the lanes `hit` of slots `k..k + LANES` (`vis`: those seen). A lane left out
+        // adds nothing: a step without a lane perceived may be skipped, the sums' bits the
+        // same (a running sum is never −0, so adding +0 leaves it as it is).
+        macro_rules! add {
+            ($k:expr, $hit:expr, $vis:expr) => {{
+                let (k, hit, vis): (usize, BVec4A, BVec4A) = ($k, $hit, $vis);
+                assert!(k + LANES <= m);
+                let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
+                let (x, y, z) = (v4(px), v4(py), v4(pz));
+                let (dx, dy, dz) = (x - cx, y - cy, z - cz);
+                let d2 = dx * dx + dy * dy + dz * dz;
                 let pick = |v: Vec4| Vec4::select(hit, v, Vec4::ZERO);
                 sum.count += lanes_set(hit);
                 if SMELL {
@@ -470,19 +530,47 @@ impl<'a> KinFold<'a> {
                 }
             }};
         }
-        for &(start, end) in &self.rows[..self.pending] {
-            let (start, end) = (start as usize, end as usize);
-            // Whole steps unmasked; the last, partial one reads up to LANES − 1 entries past
-            // the row (within the padding at worst), masked off.
-            let mut k = start;
-            while k + LANES <= end {
-                step!(k, None);
-                k += LANES;
+        // Every step of the batch in order: whole steps unmasked; the last, partial one of a
+        // row reads up to LANES − 1 entries past it (within the padding at worst), masked off.
+        macro_rules! each_step {
+            (|$k:ident, $ok:ident| $body:expr) => {
+                for &(start, end) in &self.rows[..self.pending] {
+                    let (start, end) = (start as usize, end as usize);
+                    let mut $k = start;
+                    while $k + LANES <= end {
+                        let $ok = None;
+                        $body;
+                        $k += LANES;
+                    }
+                    if $k < end {
+                        let $ok = Some(LANE.cmplt(Vec4::splat((end - $k) as f32)));
+                        $body;
+                    }
+                }
+            };
+        }
+        if CONE {
+            // A cone's batch is tested whole first (a few registers), and only its steps with
+            // a lane perceived are then folded (all of them): most have none, a cone and a
+            // sphere leaving most of the grid cells' cube out. `push_capped` holds a batch to
+            // `STEPS` steps.
+            debug_assert!(self.tested_first && self.steps <= STEPS);
+            let mut hits = [0u64; STEPS];
+            let mut n = 0;
+            each_step!(|k, ok| {
+                let (hit, vis) = test!(k, ok);
+                hits[n] = k as u64 | (hit.bitmask() as u64) << 32 | (vis.bitmask() as u64) << 36;
+                n += usize::from(hit.any());
+            });
+            for &h in &hits[..n] {
+                let lanes_of = |bits: u64| BITS[(bits & 15) as usize].cmpne(Vec4::ZERO);
+                add!(h as u32 as usize, lanes_of(h >> 32), lanes_of(h >> 36));
             }
-            if k < end {
-                let ok = LANE.cmplt(Vec4::splat((end - k) as f32));
-                step!(k, Some(ok));
-            }
+        } else {
+            each_step!(|k, ok| {
+                let (hit, vis) = test!(k, ok);
+                add!(k, hit, vis);
+            });
         }
         if !SMELL {
             sum.seen = sum.count;
@@ -771,6 +859,73 @@ mod tests {
         // Rows may also stop before the end of the data: the lanes past them are masked.
         let k = fold(&l, probe, &[(0, 3)], &[], &mut []);
         assert_eq!(k.count, 3);
+    }
+
+    #[test]
+    fn a_cone_that_hides_nothing_gives_the_sums_of_no_cone_bit_for_bit() {
+        // A cone is tested a batch at a time before its perceived lanes are folded, long rows
+        // cut into batches of `STEPS` steps; with a bound every direction passes (cosine ≥ −2)
+        // it perceives what no cone does, and its sums must keep every bit: the same lanes,
+        // folded in the same order. Random points, rows of every length up to four batches.
+        let mut rng = crate::world::Rng::new(5, 0);
+        let pts: Vec<(Vec3, Vec3)> = (0..2000)
+            .map(|_| {
+                let p = Vec3::new(rng.range(-6.0, 6.0), rng.range(-6.0, 6.0), 0.0);
+                let v = Vec3::new(
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                );
+                (p, v)
+            })
+            .collect();
+        let l = lanes(&pts);
+        let queries = [
+            GroupQuery::Separation { radius: 1.5 },
+            GroupQuery::Mean { radius: 3.0 },
+        ];
+        let mut rows = Vec::new();
+        let mut start = 0;
+        for len in [1, 3, 4, 5, 17, 255, 256, 257, 1000, 0, 9, 62] {
+            rows.push((start, start + len));
+            start += len;
+        }
+        for (me, smell2) in [(700, 0.0), (3, 4.0), (1999, 0.0)] {
+            let probe = |cone| Probe {
+                here: pts[me].0,
+                me,
+                vision2: 25.0,
+                smell2,
+                cone,
+                headings: true,
+            };
+            for q in [&queries[..1], &queries[..]] {
+                let (mut a, mut b) = ([GroupSum::default(); 2], [GroupSum::default(); 2]);
+                let plain = fold(&l, probe(None), &rows, q, &mut a);
+                let coned = fold(&l, probe(Some((Vec3::X, -2.0))), &rows, q, &mut b);
+                assert!(plain.count > 100, "{}", plain.count);
+                let bits = |k: &KinSums| {
+                    let v = |v: Vec3A| v.to_array().map(f32::to_bits);
+                    (
+                        k.count,
+                        k.seen,
+                        k.nearest2.to_bits(),
+                        v(k.pos),
+                        v(k.heading),
+                        v(k.vel),
+                    )
+                };
+                assert_eq!(bits(&plain), bits(&coned), "me {me}, smell² {smell2}");
+                let sum_bits = |s: &GroupSum| {
+                    (
+                        s.n,
+                        s.a.to_array().map(f32::to_bits),
+                        s.b.to_array().map(f32::to_bits),
+                    )
+                };
+                assert_eq!(a.map(|s| sum_bits(&s)), b.map(|s| sum_bits(&s)));
+            }
+        }
     }
 
     #[test]
