@@ -315,9 +315,7 @@ impl Layout {
 /// overflows to ±∞ along the narrow x cells first, and must still reach the edge cells.
 #[inline]
 fn cell_coord(origin: Vec3, inv_cell: Vec3, dims: IVec3, p: Vec3) -> IVec3 {
-    let q = (p - origin) * inv_cell;
-    let q = Vec3::select(q.is_nan_mask(), Vec3::ZERO, q);
-    floor_clamped(q, dims)
+    floor_clamped((p - origin) * inv_cell, dims)
 }
 
 /// Index of cell `c` (x fastest, then y, then z).
@@ -326,14 +324,25 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
     ((c.z * dims.y + c.y) * dims.x + c.x) as usize
 }
 
-/// `q.floor().as_ivec3().clamp(0, dims − 1)` for `q` without NaN (±∞ saturate), without
-/// `floorf` (a library call on baseline x86-64): clamped to `[0, dims − 1]` first, where
-/// truncation is the floor, and clamped again as integers (`dims − 1` above 2²⁴ is rounded as
-/// a float; a grid's dimensions stay far below, at most 1,024 cells an axis).
+/// `q.floor().as_ivec3().clamp(0, dims − 1)` (±∞ saturate, NaN is 0), without `floorf` (a
+/// library call on baseline x86-64): clamped to `[0, dims − 1]` first, where truncation is the
+/// floor, and clamped again as integers (`dims − 1` above 2²⁴ is rounded as a float; a grid's
+/// dimensions stay far below, at most 1,024 cells an axis). Axis by axis in scalar code: one
+/// compare settles both NaN and the lower bound (glam's `max`, `min` and saturating casts
+/// each handle NaN again, three times the instructions; every cell lookup comes here).
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
-    let top = (dims - IVec3::ONE).max(IVec3::ZERO);
-    q.max(Vec3::ZERO).min(top.as_vec3()).as_ivec3().min(top)
+    #[inline(always)]
+    fn axis(v: f32, cells: i32) -> i32 {
+        let top = (cells - 1).max(0);
+        // False for NaN, −0 and below: the first cell.
+        if v > 0.0 {
+            (v.min(top as f32) as i32).min(top)
+        } else {
+            0
+        }
+    }
+    IVec3::new(axis(q.x, dims.x), axis(q.y, dims.y), axis(q.z, dims.z))
 }
 
 #[cfg(test)]
@@ -383,6 +392,7 @@ mod tests {
         let mut rng = Rng::new(9, 0);
         let mut values = vec![
             0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 6.999, 7.0, 2.5e9, -2.5e9, 1e30,
+            f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MIN_POSITIVE, 1e-45,
         ];
         values.extend((0..2000).map(|_| rng.range(-400.0, 400.0)));
         for &x in &values {

@@ -87,6 +87,8 @@ struct Perceiver<'p, 'a> {
     eye: Eye,
     /// The reach of its senses.
     radius: f32,
+    /// The obstacles that may be within it (looked up once: both walks ask).
+    obstacles_near: &'p [u32],
 }
 
 /// Perceives for agent `i`: fills its slots, summaries and group sums; returns the number of
@@ -114,6 +116,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
         reads,
         eye: Eye::new(me.heading, me.yaw, cos_min, sense),
         radius: sense.query_radius(),
+        obstacles_near: view.obstacle_grid.near(me.pos),
     };
     if p.kernel_alone(summary, mask, sums) {
         return 0;
@@ -156,7 +159,7 @@ impl Perceiver<'_, '_> {
             view.slot_of.get(self.i),
             view.kernel.get(s).copied().unwrap_or(false),
         ) {
-            if !view.relations.eats_items(s) && view.obstacle_grid.near(me.pos).is_empty() {
+            if !view.relations.eats_items(s) && self.obstacles_near.is_empty() {
                 let probe = probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
                 let acc = kernel(
                     view,
@@ -185,7 +188,7 @@ impl Perceiver<'_, '_> {
             (self.view.world, self.me, self.sense, &self.eye, self.radius);
         let mut n_occ = 0;
         // The grid lists, in index order, every active obstacle that may be within `radius`.
-        for &k in self.view.obstacle_grid.near(me.pos) {
+        for &k in self.obstacles_near {
             let o = &world.obstacles[k as usize];
             if !o.active {
                 continue;
