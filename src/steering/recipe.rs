@@ -17,6 +17,8 @@ pub struct Scratch {
     neighbors: Vec<Neighbor>,
     kin_ready: bool,
     own_velocity: Option<Vec3>,
+    /// The reach of the agent's senses (`query_radius`), worked out once per agent.
+    reach: Option<f32>,
     moving: Vec<MovingObstacle>,
     /// Position of a planned-path target, if the agent follows a plan.
     pub plan_target: Option<Vec3>,
@@ -29,6 +31,7 @@ impl Scratch {
     pub fn reset(&mut self) {
         self.kin_ready = false;
         self.own_velocity = None;
+        self.reach = None;
         self.plan_target = None;
     }
     /// Gives the agent's own velocity when it is already known (`kin.velocity()`, bit for bit).
@@ -97,10 +100,18 @@ pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
 
 /// The agent's sums of `q`: folded by perception over every kin perceived, or (for a context
 /// built without them) over the kin among its kept percepts.
-fn group_sum(ctx: &Ctx, scratch: &mut Scratch, q: &GroupQuery) -> GroupSum {
+fn group_sum<'a>(
+    ctx: &'a Ctx,
+    scratch: &mut Scratch,
+    q: &GroupQuery,
+    folded: &'a mut GroupSum,
+) -> &'a GroupSum {
     match ctx.group(q) {
-        Some(s) => *s,
-        None => group::fold(scratch.kin(ctx), q),
+        Some(s) => s,
+        None => {
+            *folded = group::fold(scratch.kin(ctx), q);
+            folded
+        }
     }
 }
 
@@ -209,7 +220,9 @@ fn leaf(
         Recipe::Separation(g) | Recipe::Alignment(g) | Recipe::Cohesion(g) => {
             let own_velocity = scratch.velocity(&kin);
             let m1 = ctx.agent.attrs.mass;
-            let reach = ctx.species.senses.query_radius();
+            let reach = *scratch
+                .reach
+                .get_or_insert_with(|| ctx.species.senses.query_radius());
             let f = match (r, group_query(r, reach)) {
                 // Over every kin perceived: the kin summary's means.
                 (Recipe::Alignment(_), None) => {
@@ -223,10 +236,11 @@ fn leaf(
                     group::cohesion_of(mean, g.k)
                 }
                 (_, Some(q)) => {
-                    let sum = group_sum(ctx, scratch, &q);
+                    let mut folded = GroupSum::default();
+                    let sum = group_sum(ctx, scratch, &q, &mut folded);
                     match r {
                         Recipe::Separation(_) => {
-                            group::separation_of(&sum, m1, g.k, ctx.agent.size.z, g.factor)
+                            group::separation_of(sum, m1, g.k, ctx.agent.size.z, g.factor)
                         }
                         Recipe::Alignment(_) => group::alignment_of(
                             group::mean(sum.b.into(), sum.n),
@@ -242,13 +256,16 @@ fn leaf(
             force(own_velocity, f)
         }
         Recipe::Zones(z) => {
-            let sum = group_sum(ctx, scratch, &z.query());
-            group::ra_zones_of(&sum, kin.speed.max(0.5 * vmax))
+            let mut folded = GroupSum::default();
+            let sum = group_sum(ctx, scratch, &z.query(), &mut folded);
+            group::ra_zones_of(sum, kin.speed.max(0.5 * vmax))
         }
         Recipe::Vicsek(v) => {
             let u = (rng.next_f32(), rng.next_f32());
-            let sum = group_sum(ctx, scratch, &GroupQuery::Headings { radius: v.radius });
-            group::vicsek_of(kin.forward(), &sum, v.speed * vmax, v.noise, u)
+            let mut folded = GroupSum::default();
+            let q = GroupQuery::Headings { radius: v.radius };
+            let sum = group_sum(ctx, scratch, &q, &mut folded);
+            group::vicsek_of(kin.forward(), sum, v.speed * vmax, v.noise, u)
         }
         Recipe::Disperse(d) => {
             // Seed 003 group escape (1): a fish slower than v_d re-draws its speed in
@@ -278,6 +295,24 @@ fn leaf(
     }
 }
 
+/// Evaluates `node`, a child of a node at `depth`: a leaf (most children) directly, without a
+/// nested [`evaluate`] (the same result: a leaf at depth 16 or less is evaluated, deeper gives
+/// none).
+#[inline(always)]
+fn child(
+    node: &RecipeNode,
+    ctx: &Ctx,
+    mind: &Mind,
+    rng: &mut Rng,
+    scratch: &mut Scratch,
+    depth: u8,
+) -> Steer {
+    match node {
+        RecipeNode::Leaf(r) if depth < 16 => leaf(r, ctx, mind.station, rng, scratch),
+        _ => evaluate(node, ctx, mind, rng, scratch, depth + 1),
+    }
+}
+
 /// Evaluates a recipe node.
 pub fn evaluate(
     node: &RecipeNode,
@@ -294,7 +329,7 @@ pub fn evaluate(
         RecipeNode::Leaf(r) => leaf(r, ctx, mind.station, rng, scratch),
         RecipeNode::Priority(v) => {
             for r in v {
-                let s = evaluate(r, ctx, mind, rng, scratch, depth + 1);
+                let s = child(r, ctx, mind, rng, scratch, depth);
                 if !s.is_none() {
                     return s;
                 }
@@ -310,7 +345,7 @@ pub fn evaluate(
                 let f = by.as_ref().map_or(1.0, |b| ctx::value(b, ctx, mind));
                 let weight = w * f;
                 if weight != 0.0 {
-                    blend.add(weight, evaluate(r, ctx, mind, rng, scratch, depth + 1));
+                    blend.add(weight, child(r, ctx, mind, rng, scratch, depth));
                 }
             }
             blend.finish()
