@@ -445,11 +445,15 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             }
         }
     }
-    if let Some(v) = pending {
-        scripts::write_back(&v, me);
-        *rng = v.rng;
-    }
-    let ctx = seen.ctx(me);
+    // The record changes only where an entered behavior's call wrote back.
+    let ctx = match pending {
+        Some(v) => {
+            scripts::write_back(&v, me);
+            *rng = v.rng;
+            seen.ctx(me)
+        }
+        None => ctx,
+    };
 
     // 5. Steering.
     let b = &sp.behaviors[mind.current as usize];
