@@ -328,8 +328,7 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
 /// library call on baseline x86-64): clamped to `[0, dims − 1]` first, where truncation is the
 /// floor, and clamped again as integers (`dims − 1` above 2²⁴ is rounded as a float; a grid's
 /// dimensions stay far below, at most 1,024 cells an axis). Axis by axis in scalar code: one
-/// compare settles both NaN and the lower bound (glam's `max`, `min` and saturating casts
-/// each handle NaN again, three times the instructions; every cell lookup comes here).
+/// compare settles both NaN and the lower bound (every cell lookup comes here).
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
     #[inline(always)]

@@ -7,7 +7,8 @@
 //! group sums of separation and of neighborhood means. Those are accumulated here from
 //! structure-of-arrays copies of the neighbors' records, every candidate of a grid row tested
 //! and folded without a branch (a mask selects what is added), in fixed lanes that are added up
-//! in a fixed order at the end. Each perceiver's result is therefore a pure function of the
+//! in a fixed order at the end. (Under a vision cone, which leaves most candidates out, a batch
+//! of rows is tested first and only its steps with a lane perceived are folded: the same sums.) Each perceiver's result is therefore a pure function of the
 //! world: bit-identical whatever the thread count. It is the same set of neighbors as the
 //! general path perceives (a neighbor an obstacle hides is left out by the walks' own test, run
 //! for the lanes in sight of a perceiver beside an obstacle); the sums differ from its
