@@ -26,47 +26,45 @@ fn run(threads: Option<usize>, ticks: u64, schedule: Schedule) -> (Vec<(u32, [u3
 }
 
 fn steps(ticks: u64, schedule: Schedule) -> (Vec<(u32, [u32; 8])>, u64) {
-    {
-        let mut w = bench::reef(1_000, &bench::default_behaviors_dir(), true)
-            .unwrap_or_else(|d| panic!("{d}"));
-        w.run.sim.pipeline.governor.schedule = schedule;
-        let mut digest = 0xcbf2_9ce4_8422_2325u64;
-        for _ in 0..ticks {
-            w.run.step();
-            for a in &w.run.world.agents {
-                for x in [
-                    a.id.0,
+    let mut w =
+        bench::reef(1_000, &bench::default_behaviors_dir(), true).unwrap_or_else(|d| panic!("{d}"));
+    w.run.sim.pipeline.governor.schedule = schedule;
+    let mut digest = 0xcbf2_9ce4_8422_2325u64;
+    for _ in 0..ticks {
+        w.run.step();
+        for a in &w.run.world.agents {
+            for x in [
+                a.id.0,
+                a.pos.x.to_bits(),
+                a.pos.y.to_bits(),
+                a.pos.z.to_bits(),
+            ] {
+                digest = (digest ^ x as u64).wrapping_mul(0x100_0000_01b3);
+            }
+        }
+    }
+    let agents = w
+        .run
+        .world
+        .agents
+        .iter()
+        .map(|a| {
+            (
+                a.id.0,
+                [
                     a.pos.x.to_bits(),
                     a.pos.y.to_bits(),
                     a.pos.z.to_bits(),
-                ] {
-                    digest = (digest ^ x as u64).wrapping_mul(0x100_0000_01b3);
-                }
-            }
-        }
-        let agents = w
-            .run
-            .world
-            .agents
-            .iter()
-            .map(|a| {
-                (
-                    a.id.0,
-                    [
-                        a.pos.x.to_bits(),
-                        a.pos.y.to_bits(),
-                        a.pos.z.to_bits(),
-                        a.yaw.to_bits(),
-                        a.pitch.to_bits(),
-                        a.speed.to_bits(),
-                        a.drives.hunger.to_bits(),
-                        a.mind.current as u32,
-                    ],
-                )
-            })
-            .collect();
-        (agents, digest)
-    }
+                    a.yaw.to_bits(),
+                    a.pitch.to_bits(),
+                    a.speed.to_bits(),
+                    a.drives.hunger.to_bits(),
+                    a.mind.current as u32,
+                ],
+            )
+        })
+        .collect();
+    (agents, digest)
 }
 
 #[test]

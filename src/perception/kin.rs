@@ -8,8 +8,9 @@
 //! structure-of-arrays copies of the neighbors' records, every candidate of a grid row tested
 //! and folded without a branch (a mask selects what is added), in fixed lanes that are added up
 //! in a fixed order at the end. (Under a vision cone, which leaves most candidates out, a batch
-//! of rows is tested first and only its steps with a lane perceived are folded: the same sums.) Each perceiver's result is therefore a pure function of the
-//! world: bit-identical whatever the thread count. It is the same set of neighbors as the
+//! of rows is tested first and only its steps with a lane perceived are folded: the same sums.)
+//! Each perceiver's result is therefore a pure function of the world: bit-identical whatever
+//! the thread count. It is the same set of neighbors as the
 //! general path perceives (a neighbor an obstacle hides is left out by the walks' own test, run
 //! for the lanes in sight of a perceiver beside an obstacle); the sums differ from its
 //! one-by-one sums only by rounding.
@@ -195,11 +196,9 @@ pub struct KinFold<'a> {
     nq: usize,
     rows: [(u32, u32); ROWS],
     pending: usize,
-    /// Steps of the pending rows, counted (and capped at [`STEPS`]) only when `tested_first`.
+    /// Steps of the pending rows, counted (and capped at [`STEPS`]) only under a vision cone,
+    /// whose batches are tested whole before the perceived steps are folded.
     steps: usize,
-    /// Whether every lane of a batch is tested before the perceived ones are folded: for a
-    /// vision cone, which leaves most steps without a lane perceived.
-    tested_first: bool,
     /// Obstacles that may hide a neighbor from sight, and the neighbors' bounding-box
     /// diagonals in the grid's order (read only for a lane whose centre is hidden).
     occluders: &'a [Shape],
@@ -248,7 +247,6 @@ impl<'a> KinFold<'a> {
             rows: [(0, 0); ROWS],
             pending: 0,
             steps: 0,
-            tested_first: probe.cone.is_some(),
             occluders: &[],
             diagonals: &[],
         };
@@ -296,7 +294,7 @@ impl<'a> KinFold<'a> {
         if start >= end {
             return;
         }
-        if self.tested_first {
+        if self.probe.cone.is_some() {
             self.push_capped(start, end);
             return;
         }
@@ -555,7 +553,7 @@ impl<'a> KinFold<'a> {
             // a lane perceived are then folded (all of them): most have none, a cone and a
             // sphere leaving most of the grid cells' cube out. `push_capped` holds a batch to
             // `STEPS` steps.
-            debug_assert!(self.tested_first && self.steps <= STEPS);
+            debug_assert!(self.steps <= STEPS);
             let mut hits = [0u64; STEPS];
             let mut n = 0;
             each_step!(|k, ok| {

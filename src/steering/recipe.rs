@@ -10,6 +10,7 @@ use crate::perception::{Category, GroupQuery, GroupSum, Percept, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
 use crate::world::{Mind, Rng};
 use glam::Vec3;
+use std::borrow::Cow;
 
 /// Scratch buffers reused across agents by one worker.
 #[derive(Debug, Default)]
@@ -100,18 +101,10 @@ pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
 
 /// The agent's sums of `q`: folded by perception over every kin perceived, or (for a context
 /// built without them) over the kin among its kept percepts.
-fn group_sum<'a>(
-    ctx: &'a Ctx,
-    scratch: &mut Scratch,
-    q: &GroupQuery,
-    folded: &'a mut GroupSum,
-) -> &'a GroupSum {
+fn group_sum<'a>(ctx: &'a Ctx, scratch: &mut Scratch, q: &GroupQuery) -> Cow<'a, GroupSum> {
     match ctx.group(q) {
-        Some(s) => s,
-        None => {
-            *folded = group::fold(scratch.kin(ctx), q);
-            folded
-        }
+        Some(s) => Cow::Borrowed(s),
+        None => Cow::Owned(group::fold(scratch.kin(ctx), q)),
     }
 }
 
@@ -236,11 +229,10 @@ fn leaf(
                     group::cohesion_of(mean, g.k)
                 }
                 (_, Some(q)) => {
-                    let mut folded = GroupSum::default();
-                    let sum = group_sum(ctx, scratch, &q, &mut folded);
+                    let sum = group_sum(ctx, scratch, &q);
                     match r {
                         Recipe::Separation(_) => {
-                            group::separation_of(sum, m1, g.k, ctx.agent.size.z, g.factor)
+                            group::separation_of(&sum, m1, g.k, ctx.agent.size.z, g.factor)
                         }
                         Recipe::Alignment(_) => group::alignment_of(
                             group::mean(sum.b.into(), sum.n),
@@ -256,16 +248,13 @@ fn leaf(
             force(own_velocity, f)
         }
         Recipe::Zones(z) => {
-            let mut folded = GroupSum::default();
-            let sum = group_sum(ctx, scratch, &z.query(), &mut folded);
-            group::ra_zones_of(sum, kin.speed.max(0.5 * vmax))
+            let sum = group_sum(ctx, scratch, &z.query());
+            group::ra_zones_of(&sum, kin.speed.max(0.5 * vmax))
         }
         Recipe::Vicsek(v) => {
             let u = (rng.next_f32(), rng.next_f32());
-            let mut folded = GroupSum::default();
-            let q = GroupQuery::Headings { radius: v.radius };
-            let sum = group_sum(ctx, scratch, &q, &mut folded);
-            group::vicsek_of(kin.forward(), sum, v.speed * vmax, v.noise, u)
+            let sum = group_sum(ctx, scratch, &GroupQuery::Headings { radius: v.radius });
+            group::vicsek_of(kin.forward(), &sum, v.speed * vmax, v.noise, u)
         }
         Recipe::Disperse(d) => {
             // Seed 003 group escape (1): a fish slower than v_d re-draws its speed in

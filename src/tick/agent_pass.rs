@@ -192,10 +192,9 @@ impl Pipeline {
                 .for_each_init(
                     || {
                         crate::script::budget::install(clock);
-                        // This thread's buffers, kept from tick to tick; a fresh set only if they
-                        // are somehow in use.
-                        // A one-thread tick called from outside any pool runs here alone: the
-                        // first set is free.
+                        // This thread's buffers, kept from tick to tick (a one-thread tick
+                        // called from outside any pool takes the first set); a fresh set only if
+                        // they are somehow in use.
                         let own = rayon::current_thread_index()
                             .or_else(|| crate::par::is_alone().then_some(0))
                             .and_then(|t| workers.get(t))
