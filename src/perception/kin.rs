@@ -861,6 +861,71 @@ mod tests {
     }
 
     #[test]
+    fn a_cone_admits_exactly_the_lanes_of_the_walks_test_at_its_edge() {
+        // The kernel's 4-wide cone test against the walks' `len == 0 || dot / len ≥ cos`.
+        // Neighbors at the cone's edge (within a few units in the last place of its angle), at
+        // the eye, a hair from it, and far: each must be admitted exactly when the walks' test
+        // admits it.
+        let mut rng = crate::world::Rng::new(17, 0);
+        let mut differ = Vec::new();
+        let mut admitted = [0, 0];
+        for trial in 0..6000 {
+            let here = Vec3::new(
+                rng.range(-50.0, 50.0),
+                rng.range(-50.0, 50.0),
+                rng.range(-50.0, 50.0),
+            );
+            let fwd = Vec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            )
+            .normalize_or(Vec3::Z);
+            let half = [0.3, 1.0, 1.5707964, 2.0, 2.6][trial % 5] + rng.range(-0.01, 0.01);
+            let cos_min = crate::math::cos(half) - 1e-6;
+            // A direction at the edge: `fwd` turned by the half-angle about a perpendicular
+            // axis, then nudged by a few units in the last place (or more, or none).
+            let axis = fwd.any_orthonormal_vector();
+            let angle = half * (1.0 + [0.0, 1e-7, -1e-7, 3e-7, -3e-7, 1e-5, -1e-3][trial % 7]);
+            let dir = glam::Quat::from_axis_angle(axis, angle) * fwd;
+            let dist = match trial % 13 {
+                0 => 0.0,
+                1 => 1e-22,
+                2 => 3e-21,
+                3 => 1e-20,
+                4 => 1e-12,
+                _ => crate::math::powf(10.0, rng.range(-4.0, 0.95)),
+            };
+            // Offsets far below a coordinate's last place vanish: tiny ones are taken at the
+            // origin.
+            let here = if dist < 1e-6 { Vec3::ZERO } else { here };
+            let there = here + dir * dist;
+            let pts = [(here, Vec3::Z), (there, Vec3::X)];
+            let l = lanes(&pts);
+            let probe = Probe {
+                here,
+                me: 0,
+                vision2: 81.0,
+                smell2: 0.0,
+                cone: Some((fwd, cos_min)),
+                headings: false,
+            };
+            let k = fold(&l, probe, &[(0, 2)], &[], &mut []);
+            let offset = there - here;
+            let len = offset.length_squared().sqrt();
+            let walks =
+                offset.length_squared() <= 81.0 && (len == 0.0 || fwd.dot(offset) / len >= cos_min);
+            admitted[walks as usize] += 1;
+            if k.count != walks as u32 {
+                differ.push((trial, k.count, walks));
+            }
+        }
+        assert!(differ.is_empty(), "(trial, kernel, walks): {differ:?}");
+        // Both answers occur at the edge: the test can tell the two forms apart.
+        assert!(admitted[0] > 1000 && admitted[1] > 1000, "{admitted:?}");
+    }
+
+    #[test]
     fn a_cone_that_hides_nothing_gives_the_sums_of_no_cone_bit_for_bit() {
         // A cone is tested a batch at a time before its perceived lanes are folded, long rows
         // cut into batches of `STEPS` steps; with a bound every direction passes (cosine ≥ −2)
