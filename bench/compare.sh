@@ -6,7 +6,13 @@
 #   bench/compare.sh                 # against the newest tag, or HEAD~1 without one
 #   bench/compare.sh 9e7bd01         # against any revision
 #   ROUNDS=5 bench/compare.sh v0.1.0 reef boids   # only these workloads
+#   COUNT=instructions bench/compare.sh 9e7bd01    # instructions per agent-update instead
 # Costs: one release build of REF (about 4 minutes on 2 cores) and about 5 minutes per round.
+# COUNT=instructions counts what each binary executes under `valgrind --tool=callgrind` (one
+# thread, no rounds: the count is the same from run to run, whatever else the machine runs) over
+# two lengths of the same run, and prints the difference per agent-update: warm-up and world
+# building cancel out (and `boids` has the reference kernel it runs beside it taken out). About
+# 10 minutes for the tick workloads; the plan workloads are left out.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
@@ -37,6 +43,15 @@ else
     rows=("${all[@]}")
 fi
 
+count="${COUNT:-speed}"
+case "$count" in
+    speed) ;;
+    instructions)
+        command -v valgrind >/dev/null || { echo "compare.sh: COUNT=instructions needs valgrind" >&2; exit 2; }
+        ;;
+    *) echo "compare.sh: COUNT is speed or instructions, not $count" >&2; exit 2 ;;
+esac
+
 work="$(mktemp -d)"
 trap 'git worktree remove --force "$work/tree" >/dev/null 2>&1 || true; rm -rf "$work"' EXIT
 git worktree add -q --detach "$work/tree" "$ref"
@@ -54,6 +69,49 @@ speed() {
     "$bin" bench "$@" --behaviors "$species" | awk -v w="$1" '$1 == w { print $4; exit }'
 }
 median() { sort -g | awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+
+# Instructions one agent-update of workload W costs: callgrind over T1 and T2 ticks (one
+# thread), the difference over (T2 − T1) × agents updates.
+instructions() {
+    local bin="$1" species="$2" w="$3" n="$4" t1="$5" t2="$6" c1 c2
+    total() {
+        valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin" bench "$w" --agents "$n" \
+            --ticks "$1" --threads 1 --behaviors "$species" 2>&1 >/dev/null |
+            awk '/Collected :/ { print $4 }'
+    }
+    c1=$(total "$t1")
+    c2=$(total "$t2")
+    awk -v a="$c1" -v b="$c2" -v u="$(( (t2 - t1) * n ))" 'BEGIN { if (a > 0 && b > 0) printf "%.0f", (b - a) / u }'
+}
+if [ "$count" = instructions ]; then
+    echo "date: $(date -u '+%Y-%m-%d %H:%M UTC'), instructions per agent-update (callgrind, 1 thread)"
+    printf '%-14s %12s %12s %8s\n' figure "$ref" HEAD ratio
+    # name | workload agents ticks ticks (figures without an entry here are left out)
+    for r in "boids|boids 10000 20 60" "reference|reference 10000 20 60" \
+        "flock|flock 10000 20 60" "reef|reef 10000 10 30" "reef-100k|reef 100000 3 6"; do
+        name="${r%%|*}"
+        want=0
+        for x in "${rows[@]}"; do [ "${x%%|*}" = "$name" ] && want=1; done
+        [ $want = 1 ] || continue
+        read -r w n t1 t2 <<< "${r#*|}"
+        ia=$(instructions "$old" "$work/tree/behaviors" "$w" "$n" "$t1" "$t2")
+        ib=$(instructions "$new" "$root/behaviors" "$w" "$n" "$t1" "$t2")
+        if [ "$w" = boids ] && [ -n "$ia" ] && [ -n "$ib" ]; then
+            # `bench boids` runs the reference kernel as long after it, to print the ratio.
+            ra=$(instructions "$old" "$work/tree/behaviors" reference "$n" "$t1" "$t2")
+            rb=$(instructions "$new" "$root/behaviors" reference "$n" "$t1" "$t2")
+            ia=$(( ia - ${ra:-0} ))
+            ib=$(( ib - ${rb:-0} ))
+        fi
+        if [ -z "$ia" ] || [ -z "$ib" ]; then
+            printf '%-14s %12s %12s %8s\n' "$name" "${ia:--}" "${ib:--}" -
+            continue
+        fi
+        # Below 1: HEAD executes fewer instructions.
+        printf '%-14s %12s %12s %7.3fx\n' "$name" "$ia" "$ib" "$(awk -v x="$ia" -v y="$ib" 'BEGIN { print (x > 0 ? y / x : 0) }')"
+    done
+    exit 0
+fi
 
 echo "date: $(date -u '+%Y-%m-%d %H:%M UTC'), nproc $(nproc), $rounds rounds, load $(cut -d' ' -f1 /proc/loadavg)"
 printf '%-14s %12s %12s %8s\n' figure "$ref" HEAD ratio
