@@ -8,7 +8,9 @@
 //! structure-of-arrays copies of the neighbors' records, every candidate of a grid row tested
 //! and folded without a branch (a mask selects what is added), in fixed lanes that are added up
 //! in a fixed order at the end. (Under a vision cone, which leaves most candidates out, a batch
-//! of rows is tested first and only its steps with a lane perceived are folded: the same sums.)
+//! of rows is tested first and only its steps with a lane perceived are folded: the same sums.
+//! In a flat world, every record in the plane y = 0 as the boids', the y components, all ±0,
+//! are left out: the same sums too.)
 //! Each perceiver's result is therefore a pure function of the world: bit-identical whatever
 //! the thread count. It is the same set of neighbors as the
 //! general path perceives (a neighbor an obstacle hides is left out by the walks' own test, run
@@ -46,6 +48,10 @@ pub struct KinLanes {
     /// Velocities.
     pub vel: [Vec<f32>; 3],
     len: usize,
+    /// Whether every record lies and moves in the plane y = 0 (positions, headings and
+    /// velocities with a y of ±0): a perceiver in that plane then folds two components, not
+    /// three (see [`KinFold::fold`]).
+    flat: bool,
 }
 
 /// Position of the padding entries: every squared distance to it is infinite.
@@ -96,6 +102,8 @@ impl KinLanes {
                     }
                 },
             );
+        let level = |c: &[f32]| c[..n].iter().all(|&y| y == 0.0);
+        self.flat = level(&self.pos[1]) && level(&self.heading[1]) && level(&self.vel[1]);
     }
 
     fn columns_mut(&mut self) -> [&mut Vec<f32>; 9] {
@@ -334,10 +342,21 @@ impl<'a> KinFold<'a> {
         // Beside an obstacle (rare): instances that test occlusion, general in the rest.
         if !self.occluders.is_empty() {
             match (self.probe.cone.is_some(), smell) {
-                (false, false) => self.fold::<false, false, false, true, true>(),
-                (false, true) => self.fold::<false, true, false, true, true>(),
-                (true, false) => self.fold::<true, false, false, true, true>(),
-                (true, true) => self.fold::<true, true, false, true, true>(),
+                (false, false) => self.fold::<false, false, false, true, true, false>(),
+                (false, true) => self.fold::<false, true, false, true, true, false>(),
+                (true, false) => self.fold::<true, false, false, true, true, false>(),
+                (true, true) => self.fold::<true, true, false, true, true, false>(),
+            }
+            (self.pending, self.steps) = (0, 0);
+            return;
+        }
+        // A flat world (every record in the plane y = 0, the perceiver too: the boids'): the
+        // y components are all ±0 and leave every sum +0, so they are not folded at all.
+        if self.lanes.flat && self.probe.here.y == 0.0 && !smell && self.probe.cone.is_none() {
+            match (lone_separation, self.probe.headings) {
+                (true, false) => self.fold::<false, false, true, false, false, true>(),
+                (false, false) => self.fold::<false, false, false, false, false, true>(),
+                (_, true) => self.fold::<false, false, false, true, false, true>(),
             }
             (self.pending, self.steps) = (0, 0);
             return;
@@ -348,15 +367,15 @@ impl<'a> KinFold<'a> {
             lone_separation,
             self.probe.headings,
         ) {
-            (false, false, true, false) => self.fold::<false, false, true, false, false>(),
-            (false, false, true, true) => self.fold::<false, false, true, true, false>(),
-            (false, false, false, false) => self.fold::<false, false, false, false, false>(),
-            (false, false, false, true) => self.fold::<false, false, false, true, false>(),
-            (false, true, _, _) => self.fold::<false, true, false, true, false>(),
-            (true, false, true, false) => self.fold::<true, false, true, false, false>(),
-            (true, false, true, true) => self.fold::<true, false, true, true, false>(),
-            (true, false, false, _) => self.fold::<true, false, false, true, false>(),
-            (true, true, _, _) => self.fold::<true, true, false, true, false>(),
+            (false, false, true, false) => self.fold::<false, false, true, false, false, false>(),
+            (false, false, true, true) => self.fold::<false, false, true, true, false, false>(),
+            (false, false, false, false) => self.fold::<false, false, false, false, false, false>(),
+            (false, false, false, true) => self.fold::<false, false, false, true, false, false>(),
+            (false, true, _, _) => self.fold::<false, true, false, true, false, false>(),
+            (true, false, true, false) => self.fold::<true, false, true, false, false, false>(),
+            (true, false, true, true) => self.fold::<true, false, true, true, false, false>(),
+            (true, false, false, _) => self.fold::<true, false, false, true, false, false>(),
+            (true, true, _, _) => self.fold::<true, true, false, true, false, false>(),
         }
         (self.pending, self.steps) = (0, 0);
     }
@@ -368,6 +387,7 @@ impl<'a> KinFold<'a> {
         const SEPARATION: bool,
         const HEADINGS: bool,
         const OCCLUSION: bool,
+        const FLAT: bool,
     >(
         &mut self,
     ) {
@@ -445,8 +465,8 @@ impl<'a> KinFold<'a> {
                 let (k, ok): (usize, Option<glam::BVec4A>) = ($k, $ok);
                 assert!(k + LANES <= m);
                 let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
-                let (dx, dy, dz) = (v4(px) - cx, v4(py) - cy, v4(pz) - cz);
-                let d2 = dx * dx + dy * dy + dz * dz;
+                let (dx, dz) = (v4(px) - cx, v4(pz) - cz);
+                let (dy, d2) = flat_or(FLAT, dx, dz, || v4(py) - cy);
                 let mut vis = d2.cmple(vision2);
                 if CONE {
                     let len = d2.sqrt();
@@ -486,9 +506,9 @@ impl<'a> KinFold<'a> {
                 let (k, hit, vis): (usize, BVec4A, BVec4A) = ($k, $hit, $vis);
                 assert!(k + LANES <= m);
                 let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
-                let (x, y, z) = (v4(px), v4(py), v4(pz));
-                let (dx, dy, dz) = (x - cx, y - cy, z - cz);
-                let d2 = dx * dx + dy * dy + dz * dz;
+                let (x, z) = (v4(px), v4(pz));
+                let (dx, dz) = (x - cx, z - cz);
+                let (dy, d2) = flat_or(FLAT, dx, dz, || v4(py) - cy);
                 let pick = |v: Vec4| Vec4::select(hit, v, Vec4::ZERO);
                 sum.count += lanes_set(hit);
                 if SMELL {
@@ -496,33 +516,43 @@ impl<'a> KinFold<'a> {
                 }
                 sum.near2 = sum.near2.min(Vec4::select(hit, d2, Vec4::INFINITY));
                 sum.pos[0] += pick(x);
-                sum.pos[1] += pick(y);
+                if !FLAT {
+                    sum.pos[1] += pick(v4(py));
+                }
                 sum.pos[2] += pick(z);
                 if HEADINGS {
                     sum.head[0] += pick(v4(hx));
-                    sum.head[1] += pick(v4(hy));
+                    if !FLAT {
+                        sum.head[1] += pick(v4(hy));
+                    }
                     sum.head[2] += pick(v4(hz));
                 }
-                let (ux, uy, uz) = (v4(vx), v4(vy), v4(vz));
+                let (ux, uz) = (v4(vx), v4(vz));
+                // Never read when `FLAT`.
+                let uy = if FLAT { Vec4::ZERO } else { v4(vy) };
                 sum.vel[0] += pick(ux);
-                sum.vel[1] += pick(uy);
+                if !FLAT {
+                    sum.vel[1] += pick(uy);
+                }
                 sum.vel[2] += pick(uz);
                 if SEPARATION {
-                    separate(&mut sep, hit, d2, sep2, tiny, dx, dy, dz);
+                    separate::<FLAT>(&mut sep, hit, d2, sep2, tiny, dx, dy, dz);
                 } else {
                     for (k, s) in q.iter_mut().enumerate().take(nq) {
                         let r2 = Vec4::splat(radius2[k]);
                         if separation[k] {
-                            separate(s, hit, d2, r2, tiny, dx, dy, dz);
+                            separate::<FLAT>(s, hit, d2, r2, tiny, dx, dy, dz);
                         } else {
                             let take = hit & d2.cmple(r2);
                             let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
                             s.a[0] += pick(dx);
-                            s.a[1] += pick(dy);
                             s.a[2] += pick(dz);
                             s.b[0] += pick(ux);
-                            s.b[1] += pick(uy);
                             s.b[2] += pick(uz);
+                            if !FLAT {
+                                s.a[1] += pick(dy);
+                                s.b[1] += pick(uy);
+                            }
                             s.n += lanes_set(take);
                         }
                     }
@@ -615,7 +645,7 @@ impl<'a> KinFold<'a> {
 /// Separation lanes: `offset / d²` for `1e-6 < d ≤ radius`.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn separate(
+fn separate<const FLAT: bool>(
     s: &mut QueryLanes,
     hit: glam::BVec4A,
     d2: Vec4,
@@ -633,9 +663,24 @@ fn separate(
     let inv = Vec4::ONE / d2;
     let pick = |v: Vec4| Vec4::select(take, v, Vec4::ZERO);
     s.a[0] += pick(dx * inv);
-    s.a[1] += pick(dy * inv);
+    if !FLAT {
+        s.a[1] += pick(dy * inv);
+    }
     s.a[2] += pick(dz * inv);
     s.n += lanes_set(take);
+}
+
+/// A step's y offsets and squared distances: `(dy, dx² + dy² + dz²)`, `dy = y()`; in a flat
+/// world (`flat`: every y ±0) `(0, dx² + dz²)`, the same bits (`dy²` is +0, and adding +0 to
+/// `dx²`, never −0, changes nothing), `y` not read.
+#[inline(always)]
+fn flat_or(flat: bool, dx: Vec4, dz: Vec4, y: impl FnOnce() -> Vec4) -> (Vec4, Vec4) {
+    if flat {
+        (Vec4::ZERO, dx * dx + dz * dz)
+    } else {
+        let dy = y();
+        (dy, dx * dx + dy * dy + dz * dz)
+    }
 }
 
 /// How many lanes of `m` are set. Counts are kept in an integer register, not in a vector
@@ -923,6 +968,75 @@ mod tests {
         assert!(differ.is_empty(), "(trial, kernel, walks): {differ:?}");
         // Both answers occur at the edge: the test can tell the two forms apart.
         assert!(admitted[0] > 1000 && admitted[1] > 1000, "{admitted:?}");
+    }
+
+    #[test]
+    fn a_flat_world_folds_two_components_with_the_bits_of_three() {
+        // Records in the plane y = 0 (some at −0) fold x and z only; every sum must keep the
+        // bits the three-component fold gives the same records. Any y off the plane, in a
+        // position, heading or velocity, makes the world not flat.
+        let mut rng = crate::world::Rng::new(23, 0);
+        let zero = |rng: &mut crate::world::Rng| if rng.range(0.0, 1.0) < 0.5 { 0.0 } else { -0.0 };
+        let pts: Vec<(Vec3, Vec3)> = (0..1500)
+            .map(|_| {
+                let p = Vec3::new(rng.range(-8.0, 8.0), zero(&mut rng), rng.range(-8.0, 8.0));
+                let v = Vec3::new(rng.range(-3.0, 3.0), zero(&mut rng), rng.range(-3.0, 3.0));
+                (p, v)
+            })
+            .collect();
+        let flat = lanes(&pts);
+        assert!(flat.flat);
+        let mut solid = flat.clone();
+        solid.flat = false;
+        let sep = GroupQuery::Separation { radius: 1.5 };
+        let mean = GroupQuery::Mean { radius: 3.0 };
+        let rows = [(0, 7), (7, 300), (300, 301), (301, 1500)];
+        let bits = |k: &KinSums, s: &[GroupSum]| {
+            let v = |v: Vec3A| v.to_array().map(f32::to_bits);
+            let sums: Vec<_> = s.iter().map(|s| (s.n, v(s.a), v(s.b))).collect();
+            (
+                k.count,
+                k.seen,
+                k.nearest2.to_bits(),
+                v(k.pos),
+                v(k.heading),
+                v(k.vel),
+                sums,
+            )
+        };
+        // A perceiver above the plane (a probe, not a record) folds three components.
+        for (me, lift) in [(0, 0.0), (299, 0.0), (300, -0.0), (1499, 0.0), (300, 0.5)] {
+            for headings in [false, true] {
+                for q in [&[sep][..], &[sep, mean], &[mean, sep, mean], &[mean]] {
+                    let probe = Probe {
+                        here: pts[me].0 + Vec3::Y * lift,
+                        me,
+                        vision2: 36.0,
+                        smell2: 0.0,
+                        cone: None,
+                        headings,
+                    };
+                    let (mut a, mut b) = (
+                        vec![GroupSum::default(); q.len()],
+                        vec![GroupSum::default(); q.len()],
+                    );
+                    let two = fold(&flat, probe, &rows, q, &mut a);
+                    let three = fold(&solid, probe, &rows, q, &mut b);
+                    assert!(two.count > 50, "{}", two.count);
+                    assert_eq!(bits(&two, &a), bits(&three, &b), "me {me}, {q:?}");
+                }
+            }
+        }
+        // Off the plane: a single y makes every fold three-component.
+        for part in 0..3 {
+            let mut p = pts.clone();
+            match part {
+                0 => p[5].0.y = 1e-30,
+                1 => p[5].1.y = -2.0,
+                _ => p[5].1 = Vec3::new(0.0, 1.0, 0.0),
+            }
+            assert!(!lanes(&p).flat, "part {part}");
+        }
     }
 
     #[test]
