@@ -5,6 +5,8 @@
 //! stepped from a thread outside any pool (an embedding program's, or a live session's), where a
 //! one-thread tick runs on that thread itself.
 
+mod common;
+
 use shoal::bench;
 use shoal::tick::governor::Schedule;
 
@@ -43,27 +45,7 @@ fn steps(ticks: u64, schedule: Schedule) -> (Vec<(u32, [u32; 8])>, u64) {
             }
         }
     }
-    let agents = w
-        .run
-        .world
-        .agents
-        .iter()
-        .map(|a| {
-            (
-                a.id.0,
-                [
-                    a.pos.x.to_bits(),
-                    a.pos.y.to_bits(),
-                    a.pos.z.to_bits(),
-                    a.yaw.to_bits(),
-                    a.pitch.to_bits(),
-                    a.speed.to_bits(),
-                    a.drives.hunger.to_bits(),
-                    a.mind.current as u32,
-                ],
-            )
-        })
-        .collect();
+    let agents = w.run.world.agents.iter().map(common::state_bits).collect();
     (agents, digest)
 }
 

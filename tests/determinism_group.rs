@@ -2,9 +2,11 @@
 //! and the group sums) and for flockers with obstacles: bit-identical agents on one and two
 //! threads.
 
+mod common;
+
 use shoal::bench;
 
-fn run(threads: usize, boids: bool) -> Vec<(u32, [u32; 5])> {
+fn run(threads: usize, boids: bool) -> Vec<(u32, [u32; 8])> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -18,23 +20,7 @@ fn run(threads: usize, boids: bool) -> Vec<(u32, [u32; 5])> {
         for _ in 0..40 {
             w.run.step();
         }
-        w.run
-            .world
-            .agents
-            .iter()
-            .map(|a| {
-                (
-                    a.id.0,
-                    [
-                        a.pos.x.to_bits(),
-                        a.pos.y.to_bits(),
-                        a.pos.z.to_bits(),
-                        a.yaw.to_bits(),
-                        a.speed.to_bits(),
-                    ],
-                )
-            })
-            .collect()
+        w.run.world.agents.iter().map(common::state_bits).collect()
     })
 }
 

@@ -744,6 +744,19 @@ mod tests {
         f.finish(sums)
     }
 
+    /// A perceiver at `here` in slot `me`, vision radius² `vision2`: no smell, no cone, no
+    /// headings summed.
+    fn plain(here: Vec3, me: usize, vision2: f32) -> Probe {
+        Probe {
+            here,
+            me,
+            vision2,
+            smell2: 0.0,
+            cone: None,
+            headings: false,
+        }
+    }
+
     fn lanes(points: &[(Vec3, Vec3)]) -> KinLanes {
         let mut l = KinLanes::default();
         let positions: Vec<Vec3A> = points.iter().map(|&(p, _)| p.into()).collect();
@@ -829,15 +842,7 @@ mod tests {
                 .collect();
             let diagonals = vec![0.0; pts.len()];
             let l = lanes(&pts);
-            let probe = Probe {
-                here,
-                me: 0,
-                vision2: 100.0,
-                smell2: 0.0,
-                cone: None,
-                headings: false,
-            };
-            let mut f = KinFold::new(&l, probe, &[]);
+            let mut f = KinFold::new(&l, plain(here, 0, 100.0), &[]);
             f.occlude(&occluders, &diagonals);
             f.row(0, pts.len());
             let k = f.finish(&mut []);
@@ -948,12 +953,8 @@ mod tests {
             let pts = [(here, Vec3::Z), (there, Vec3::X)];
             let l = lanes(&pts);
             let probe = Probe {
-                here,
-                me: 0,
-                vision2: 81.0,
-                smell2: 0.0,
                 cone: Some((fwd, cos_min)),
-                headings: false,
+                ..plain(here, 0, 81.0)
             };
             let k = fold(&l, probe, &[(0, 2)], &[], &mut []);
             let offset = there - here;
@@ -1009,12 +1010,8 @@ mod tests {
             for headings in [false, true] {
                 for q in [&[sep][..], &[sep, mean], &[mean, sep, mean], &[mean]] {
                     let probe = Probe {
-                        here: pts[me].0 + Vec3::Y * lift,
-                        me,
-                        vision2: 36.0,
-                        smell2: 0.0,
-                        cone: None,
                         headings,
+                        ..plain(pts[me].0 + Vec3::Y * lift, me, 36.0)
                     };
                     let (mut a, mut b) = (
                         vec![GroupSum::default(); q.len()],

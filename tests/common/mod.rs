@@ -11,6 +11,24 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::Arc;
 
+/// An agent's id and the bits of its state that the determinism tests compare: position,
+/// heading, speed, hunger and current behavior.
+pub fn state_bits(a: &Agent) -> (u32, [u32; 8]) {
+    (
+        a.id.0,
+        [
+            a.pos.x.to_bits(),
+            a.pos.y.to_bits(),
+            a.pos.z.to_bits(),
+            a.yaw.to_bits(),
+            a.pitch.to_bits(),
+            a.speed.to_bits(),
+            a.drives.hunger.to_bits(),
+            a.mind.current as u32,
+        ],
+    )
+}
+
 /// The shipped behaviors folder.
 pub fn behaviors() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("behaviors")
