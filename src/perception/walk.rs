@@ -149,7 +149,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
 }
 
 impl Perceiver<'_, '_> {
-    /// A plain flocker with nothing but kin around (no obstacle, no food): the kin kernel
+    /// A plain flocker with nothing but kin around (no obstacle in range, no food): the kin kernel
     /// alone, its sums written straight into the summaries. Returns whether it took it.
     #[inline(always)]
     fn kernel_alone(&self, summary: &mut [Summary], mask: RowMask, sums: &mut [GroupSum]) -> bool {
@@ -159,7 +159,7 @@ impl Perceiver<'_, '_> {
             view.slot_of.get(self.i),
             view.kernel.get(s).copied().unwrap_or(false),
         ) {
-            if !view.relations.eats_items(s) && self.obstacles_near.is_empty() {
+            if !view.relations.eats_items(s) && self.no_obstacle_in_range() {
                 let probe = probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
                 let acc = kernel(
                     view,
@@ -174,6 +174,20 @@ impl Perceiver<'_, '_> {
             }
         }
         false
+    }
+
+    /// Whether no obstacle the grid lists is within range: the test [`Self::obstacles`] makes,
+    /// so that it would fold none and hide nothing. The grid lists a rock for every agent in
+    /// a cell its grown bounding sphere touches, most of them out of its range: those take
+    /// the kernel alone too, with the same bits (the kernel inside the general fold, with no
+    /// obstacle, sums what the kernel alone does).
+    #[inline(always)]
+    fn no_obstacle_in_range(&self) -> bool {
+        let (world, here) = (self.view.world, self.me.pos);
+        self.obstacles_near.iter().all(|&k| {
+            let o = &world.obstacles[k as usize];
+            !o.active || (o.shape.closest_point(here) - here).length() > self.radius
+        })
     }
 
     /// Folds the active obstacles within range into `fold` and, where the species' vision is

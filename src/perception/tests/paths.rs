@@ -388,3 +388,112 @@ fn rows_of_what_a_species_can_perceive_lose_nothing() {
         assert!(seen[c as usize] > 0, "{c:?}: {seen:?}");
     }
 }
+
+#[test]
+fn an_obstacle_out_of_range_leaves_every_bit_of_the_kin_sums() {
+    // The obstacle grid lists a rock for every cell its bounding sphere, grown by the reach,
+    // touches: most agents it lists it for are out of its range. Those perceive exactly what
+    // they perceive with no rock in the world, bit for bit; those within range perceive it.
+    let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
+    let mut rng = Rng::new(11, 0);
+    for k in 0..900 {
+        let pos = random_point(&mut rng, 18.0);
+        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+    let bare = w.clone();
+    let rocks = [
+        Shape::Sphere {
+            center: Vec3::new(8.0, 8.0, 8.0),
+            radius: 1.0,
+        },
+        Shape::Box(Aabb::new(
+            Vec3::new(-3.0, -1.0, -6.0),
+            Vec3::new(-1.0, 1.0, -4.0),
+        )),
+        Shape::Cylinder {
+            base: Vec3::new(-9.0, -8.0, 5.0),
+            radius: 0.5,
+            height: 6.0,
+        },
+    ];
+    for r in rocks {
+        w.add_obstacle(r);
+    }
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius: 2.0 });
+    groups.insert(GroupQuery::Mean { radius: 3.0 });
+    let reads = Reads {
+        percepts: false,
+        agent_percepts: false,
+        bearing_range: Some(0.0),
+        groups,
+        headings: true,
+    };
+    let whole = SenseParams {
+        vision_radius: 5.0,
+        vision_half_angle: std::f32::consts::PI,
+        smell_radius: 0.0,
+        occlusion: false,
+        ..SenseParams::default()
+    };
+    let cone_occluded = SenseParams {
+        vision_half_angle: 2.0,
+        smell_radius: 3.5,
+        occlusion: true,
+        ..whole
+    };
+    let mut kin = Relations::new(1);
+    kin.set(0, 0, Some(Category::Kin));
+    for sense in [whole, cone_occluded] {
+        let perceive = |w: &World| {
+            let mut ag = Grid::new();
+            ag.rebuild(w.bounds, 2.5, w.agents.iter().map(|a| a.pos));
+            let mut p = Perception::new();
+            p.run_selective(w, &ag, &Grid::new(), &[sense], &kin, &[reads]);
+            p
+        };
+        let (with, without) = (perceive(&w), perceive(&bare));
+        let (mut listed, mut in_range) = (0, 0);
+        for (i, a) in w.agents.iter().enumerate() {
+            let reach = sense.query_radius();
+            let near = w
+                .obstacles
+                .iter()
+                .filter(|o| (o.shape.closest_point(a.pos) - a.pos).length() <= reach)
+                .count() as u32;
+            let (s, t) = (with.summaries(i), without.summaries(i));
+            if near > 0 {
+                // The whole sphere sees every obstacle within its radius.
+                if sense.vision_half_angle == whole.vision_half_angle {
+                    assert_eq!(s[Category::Obstacle as usize].count, near, "agent {i}");
+                }
+                in_range += 1;
+                continue;
+            }
+            // Seen or not, an obstacle within the reach is perceived (smell has no cone).
+            assert_eq!(s[Category::Obstacle as usize].count, 0, "agent {i}");
+            if !with.obstacles_near(a.pos).is_empty() {
+                listed += 1;
+            }
+            let bits = |s: &Summary| format!("{s:?}");
+            assert_eq!(
+                bits(&s[Category::Kin as usize]),
+                bits(&t[Category::Kin as usize]),
+                "agent {i}"
+            );
+            assert_eq!(
+                format!("{:?}", with.group_sums(i)),
+                format!("{:?}", without.group_sums(i)),
+                "agent {i}"
+            );
+        }
+        // Enough of each kind for the test to mean something.
+        assert!(
+            listed > 150 && in_range > 20,
+            "{listed} listed, {in_range} in range"
+        );
+    }
+}
