@@ -50,13 +50,16 @@ pub fn keep_solid(
         let there = world
             .bounds
             .closest_point(me.pos + p.offset + (v + current) * dt);
-        let sep = along_walls(&world.bounds, *pos, *pos - there);
-        let dist = sep.length();
+        // Apart by the whole distance; only the way they part keeps to the walls (a body on
+        // the floor with kin straight above is not overlapping it, however close they are
+        // along the floor).
+        let dist = (*pos - there).length();
         if dist >= apart || dist.is_nan() {
             continue;
         }
+        let sep = along_walls(&world.bounds, *pos, *pos - there);
         let away = match sep.try_normalize() {
-            Some(d) if dist > 1e-4 => d,
+            Some(d) if sep.length() > 1e-4 => d,
             _ => {
                 let left = along_walls(&world.bounds, *pos, crate::frame::left(me.yaw))
                     .try_normalize()
@@ -103,4 +106,86 @@ fn along_walls(bounds: &crate::world::Aabb, pos: Vec3, v: Vec3) -> Vec3 {
         }
     }
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::index::Grid;
+    use crate::perception::{Relations, SenseParams};
+    use crate::world::SpeciesId;
+    use crate::world::{Aabb, AgentId, Anim, Attributes, Drives, ForwardCache, Mind, Rng};
+
+    fn fish(id: u32, pos: Vec3) -> Agent {
+        Agent {
+            id: AgentId(id),
+            species: SpeciesId(0),
+            pos,
+            prev_pos: pos,
+            yaw: 0.0,
+            pitch: 0.0,
+            speed: 0.0,
+            yaw_rate: 0.0,
+            pitch_rate: 0.0,
+            size: Vec3::new(0.4, 0.4, 1.0),
+            drives: Drives::default(),
+            attrs: Attributes::default(),
+            mind: Mind::new(0, 0, 0),
+            anim: Anim::default(),
+            rng: Rng::new(0, id as u64),
+            memory: Default::default(),
+            inbox: None,
+            heard_event: None,
+            forward_cache: ForwardCache::NONE,
+        }
+    }
+
+    /// Where agent 0 of a world with agents at `at` ends the tick, not having moved.
+    fn settled(at: &[Vec3]) -> Vec3 {
+        let mut w = World::new(Aabb::new(Vec3::ZERO, Vec3::splat(20.0)), 0.1, 1);
+        w.agents = at
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| fish(k as u32, p))
+            .collect();
+        let mut rel = Relations::new(1);
+        rel.set(0, 0, Some(Category::Kin));
+        let sense = SenseParams {
+            vision_radius: 8.0,
+            vision_half_angle: std::f32::consts::PI,
+            smell_radius: 0.0,
+            occlusion: false,
+            ..SenseParams::default()
+        };
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 8.0, w.agents.iter().map(|a| a.pos));
+        let mut p = Perception::new();
+        p.run(&w, &ag, &Grid::new(), &[sense], &rel);
+        assert_eq!(p.percepts(0).len(), at.len() - 1);
+        let mut pos = w.agents[0].pos;
+        keep_solid(&mut pos, 0, &w.agents[0], p.percepts(0), &w, &p);
+        pos
+    }
+
+    #[test]
+    fn a_body_on_the_floor_parts_only_from_kin_it_overlaps() {
+        let floor = Vec3::new(10.0, 0.0, 10.0);
+        // Kin straight above, well clear of it: nothing to part from (a body on the floor
+        // used to measure the gap along the floor only, and stepped aside).
+        assert_eq!(settled(&[floor, floor + Vec3::new(0.0, 3.0, 0.0)]), floor);
+        assert_eq!(settled(&[floor, floor + Vec3::new(0.1, 2.0, 0.0)]), floor);
+        // Kin overlapping it above: it cannot go down, so it steps aside along the floor.
+        let moved = settled(&[floor, floor + Vec3::new(0.0, 0.1, 0.0)]);
+        assert_eq!(moved.y, 0.0);
+        assert!((moved - floor).length() > 0.1, "{moved}");
+        // Overlapping kin beside it on the floor: straight apart, along the floor.
+        let moved = settled(&[floor, floor + Vec3::new(0.2, 0.0, 0.0)]);
+        assert!(
+            moved.x < floor.x && moved.y == 0.0 && moved.z == floor.z,
+            "{moved}"
+        );
+        // In open water, kin clear of it leave it where it is.
+        let mid = Vec3::splat(10.0);
+        assert_eq!(settled(&[mid, mid + Vec3::new(0.0, 3.0, 0.0)]), mid);
+    }
 }
