@@ -463,7 +463,7 @@ impl<'a> KinFold<'a> {
         macro_rules! test {
             ($k:expr, $ok:expr) => {{
                 let (k, ok): (usize, Option<glam::BVec4A>) = ($k, $ok);
-                assert!(k + LANES <= m);
+                // `each_step` checked the row's end: `k + LANES <= m` follows.
                 let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
                 let (dx, dz) = (v4(px) - cx, v4(pz) - cz);
                 let (dy, d2) = flat_or(FLAT, dx, dz, || v4(py) - cy);
@@ -504,7 +504,11 @@ impl<'a> KinFold<'a> {
         macro_rules! add {
             ($k:expr, $hit:expr, $vis:expr) => {{
                 let (k, hit, vis): (usize, BVec4A, BVec4A) = ($k, $hit, $vis);
-                assert!(k + LANES <= m);
+                // Under `each_step` the row's end was checked; a cone's steps come back from
+                // `hits` and are checked here.
+                if CONE {
+                    assert!(k + LANES <= m);
+                }
                 let v4 = |c: &[f32]| Vec4::from_slice(&c[k..k + LANES]);
                 let (x, z) = (v4(px), v4(pz));
                 let (dx, dz) = (x - cx, z - cz);
@@ -565,6 +569,8 @@ impl<'a> KinFold<'a> {
             (|$k:ident, $ok:ident| $body:expr) => {
                 for &(start, end) in &self.rows[..self.pending] {
                     let (start, end) = (start as usize, end as usize);
+                    // Once per row: every step below reads `k..k + LANES` with `k < end`.
+                    assert!(end + LANES <= m);
                     let mut $k = start;
                     while $k + LANES <= end {
                         let $ok = None;
