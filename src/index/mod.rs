@@ -325,21 +325,16 @@ fn cell_index(dims: IVec3, c: IVec3) -> usize {
 }
 
 /// `q.floor().as_ivec3().clamp(0, dims − 1)` (±∞ saturate, NaN is 0), without `floorf` (a
-/// library call on baseline x86-64): clamped to `[0, dims − 1]` first, where truncation is the
-/// floor, and clamped again as integers (`dims − 1` above 2²⁴ is rounded as a float; a grid's
-/// dimensions stay far below, at most 1,024 cells an axis). Axis by axis in scalar code: one
-/// compare settles both NaN and the lower bound (every cell lookup comes here).
+/// library call on baseline x86-64): truncated, then clamped as integers. Truncation is the
+/// floor wherever the clamp keeps the result: at and above 0 they agree, and in (−1, 0), where
+/// they differ (0 against −1), both clamp to 0. The cast saturates (±∞, and anything past
+/// `i32`) and takes NaN to 0, so every input lands in `[0, dims − 1]`. Axis by axis in scalar
+/// code (every cell lookup comes here).
 #[inline]
 pub(crate) fn floor_clamped(q: Vec3, dims: IVec3) -> IVec3 {
     #[inline(always)]
     fn axis(v: f32, cells: i32) -> i32 {
-        let top = (cells - 1).max(0);
-        // False for NaN, −0 and below: the first cell.
-        if v > 0.0 {
-            (v.min(top as f32) as i32).min(top)
-        } else {
-            0
-        }
+        (v as i32).clamp(0, (cells - 1).max(0))
     }
     IVec3::new(axis(q.x, dims.x), axis(q.y, dims.y), axis(q.z, dims.z))
 }
