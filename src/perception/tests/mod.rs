@@ -30,6 +30,18 @@ pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
     }
 }
 
+/// Adds `n` agents of species 0 at random points within `spread` of the origin, each with a
+/// random yaw, pitch and speed (drawn from `rng` in that order).
+pub(crate) fn push_swarm(w: &mut World, rng: &mut Rng, n: u32, spread: f32) {
+    for k in 0..n {
+        let pos = random_point(rng, spread);
+        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.0, 2.0);
+        w.agents.push(a);
+    }
+}
+
 fn run(world: &World, rel: &Relations, sense: SenseParams) -> Perception {
     run_with(world, rel, sense, Perception::new())
 }

@@ -9,13 +9,7 @@ fn the_kin_kernel_perceives_what_the_general_path_does() {
     // neighbors, same counts; the sums differ by rounding only.
     let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
     let mut rng = Rng::new(7, 0);
-    for k in 0..400 {
-        let pos = random_point(&mut rng, 15.0);
-        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
-        a.pitch = rng.range(-0.5, 0.5);
-        a.speed = rng.range(0.0, 2.0);
-        w.agents.push(a);
-    }
+    push_swarm(&mut w, &mut rng, 400, 15.0);
     // Agents near a rock perceive it too (the kernel then runs inside the general fold, and
     // with occlusion the rocks hide some neighbors); the others take the kernel alone.
     w.add_obstacle(Shape::Sphere {
@@ -123,13 +117,7 @@ fn the_plain_path_matches_the_general_one() {
     // no agent) as `Other` sends it down the general path: the results must be the same.
     let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 3);
     let mut rng = Rng::new(5, 0);
-    for k in 0..300 {
-        let pos = random_point(&mut rng, 15.0);
-        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
-        a.pitch = rng.range(-0.5, 0.5);
-        a.speed = rng.range(0.0, 2.0);
-        w.agents.push(a);
-    }
+    push_swarm(&mut w, &mut rng, 300, 15.0);
     let sense = SenseParams {
         smell_radius: 6.0,
         vision_radius: 4.0,
@@ -251,12 +239,7 @@ fn a_row_keeps_the_categories_its_species_can_perceive_with_the_same_bits() {
     // far from every flocker gives them rows of kin and obstacles, and the same bits.
     let mut w = World::new(Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)), 0.1, 1);
     let mut rng = Rng::new(11, 0);
-    for k in 0..300 {
-        let mut a = agent(k, 0, random_point(&mut rng, 12.0), rng.range(-3.0, 3.0));
-        a.pitch = rng.range(-0.5, 0.5);
-        a.speed = rng.range(0.0, 2.0);
-        w.agents.push(a);
-    }
+    push_swarm(&mut w, &mut rng, 300, 12.0);
     let mut groups = GroupQueries::new();
     groups.insert(GroupQuery::Separation { radius: 2.0 });
     let reads = Reads {
@@ -396,13 +379,7 @@ fn an_obstacle_out_of_range_leaves_every_bit_of_the_kin_sums() {
     // they perceive with no rock in the world, bit for bit; those within range perceive it.
     let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
     let mut rng = Rng::new(11, 0);
-    for k in 0..900 {
-        let pos = random_point(&mut rng, 18.0);
-        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
-        a.pitch = rng.range(-0.5, 0.5);
-        a.speed = rng.range(0.0, 2.0);
-        w.agents.push(a);
-    }
+    push_swarm(&mut w, &mut rng, 900, 18.0);
     let bare = w.clone();
     let rocks = [
         Shape::Sphere {
