@@ -197,12 +197,13 @@ pub struct KinFold<'a> {
     lanes: &'a KinLanes,
     probe: Probe,
     sum: KinLanesSum,
-    q: [QueryLanes; MAX_KERNEL_QUERIES],
+    /// The query lanes, pending rows and a cone batch's hits, reused from perceiver to
+    /// perceiver: only what a perceiver writes is read back, so nothing is cleared.
+    buf: &'a mut KinBuf,
     /// Squared radii of the queries, and which are separations (the others are means).
     radius2: [f32; MAX_KERNEL_QUERIES],
     separation: [bool; MAX_KERNEL_QUERIES],
     nq: usize,
-    rows: [(u32, u32); ROWS],
     pending: usize,
     /// Steps of the pending rows, counted (and capped at [`STEPS`]) only under a vision cone,
     /// whose batches are tested whole before the perceived steps are folded.
@@ -211,6 +212,27 @@ pub struct KinFold<'a> {
     /// diagonals in the grid's order (read only for a lane whose centre is hidden).
     occluders: &'a [Shape],
     diagonals: &'a [f32],
+}
+
+/// A worker's buffers for [`KinFold`], kept from one perceiver to the next: clearing some
+/// 1.2 KB for every perceiver cost more than a tenth of a small one's fold. Of `q` only the
+/// first `nq` (set up by [`KinFold::new`]), of `rows` the first `pending`, of `hits` the
+/// entries written in the same batch are read.
+#[derive(Debug, Clone)]
+pub struct KinBuf {
+    q: [QueryLanes; MAX_KERNEL_QUERIES],
+    rows: [(u32, u32); ROWS],
+    hits: [u64; STEPS],
+}
+
+impl Default for KinBuf {
+    fn default() -> Self {
+        KinBuf {
+            q: [QUERY_ZERO; MAX_KERNEL_QUERIES],
+            rows: [(0, 0); ROWS],
+            hits: [0; STEPS],
+        }
+    }
 }
 
 /// Lane numbers within a step.
@@ -236,6 +258,7 @@ impl<'a> KinFold<'a> {
         lanes: &'a KinLanes,
         probe: Probe,
         queries: impl IntoIterator<Item = &'q GroupQuery>,
+        buf: &'a mut KinBuf,
     ) -> Self {
         let mut f = KinFold {
             lanes,
@@ -248,11 +271,10 @@ impl<'a> KinFold<'a> {
                 head: [Vec4::ZERO; 3],
                 vel: [Vec4::ZERO; 3],
             },
-            q: [QUERY_ZERO; MAX_KERNEL_QUERIES],
+            buf,
             radius2: [0.0; MAX_KERNEL_QUERIES],
             separation: [false; MAX_KERNEL_QUERIES],
             nq: 0,
-            rows: [(0, 0); ROWS],
             pending: 0,
             steps: 0,
             occluders: &[],
@@ -268,6 +290,7 @@ impl<'a> KinFold<'a> {
                 GroupQuery::Mean { radius } => f.radius2[k] = radius * radius,
                 _ => continue,
             }
+            f.buf.q[k] = QUERY_ZERO;
             f.nq += 1;
         }
         f
@@ -306,7 +329,7 @@ impl<'a> KinFold<'a> {
             self.push_capped(start, end);
             return;
         }
-        self.rows[self.pending] = (start as u32, end as u32);
+        self.buf.rows[self.pending] = (start as u32, end as u32);
         self.pending += 1;
         if self.pending == ROWS {
             self.flush();
@@ -322,7 +345,7 @@ impl<'a> KinFold<'a> {
                 self.flush();
             }
             let cut = end.min(start + (STEPS - self.steps) * LANES);
-            self.rows[self.pending] = (start as u32, cut as u32);
+            self.buf.rows[self.pending] = (start as u32, cut as u32);
             self.pending += 1;
             self.steps += (cut - start).div_ceil(LANES);
             if self.pending == ROWS {
@@ -410,10 +433,10 @@ impl<'a> KinFold<'a> {
         let tiny = Vec4::splat(1e-12);
         let sep2 = Vec4::splat(self.radius2[0]);
         let mut sum = self.sum;
-        let mut sep = self.q[0];
+        let mut sep = self.buf.q[0];
         let nq = self.nq;
         let (radius2, separation) = (self.radius2, self.separation);
-        let q = &mut self.q;
+        let q = &mut self.buf.q;
         let (occluders, diagonals) = (self.occluders, self.diagonals);
         // Each occluder's bounding sphere, centred on the eye and a little larger: a lane
         // whose line of sight passes outside every one is not hidden, with no test. The
@@ -567,7 +590,7 @@ impl<'a> KinFold<'a> {
         // row reads up to LANES − 1 entries past it (within the padding at worst), masked off.
         macro_rules! each_step {
             (|$k:ident, $ok:ident| $body:expr) => {
-                for &(start, end) in &self.rows[..self.pending] {
+                for &(start, end) in &self.buf.rows[..self.pending] {
                     let (start, end) = (start as usize, end as usize);
                     // Once per row: every step below reads `k..k + LANES` with `k < end`.
                     assert!(end + LANES <= m);
@@ -590,7 +613,7 @@ impl<'a> KinFold<'a> {
             // sphere leaving most of the grid cells' cube out. `push_capped` holds a batch to
             // `STEPS` steps.
             debug_assert!(self.steps <= STEPS);
-            let mut hits = [0u64; STEPS];
+            let hits = &mut self.buf.hits;
             let mut n = 0;
             each_step!(|k, ok| {
                 let (hit, vis) = test!(k, ok);
@@ -612,7 +635,7 @@ impl<'a> KinFold<'a> {
         }
         self.sum = sum;
         if SEPARATION {
-            self.q[0] = sep;
+            self.buf.q[0] = sep;
         }
     }
 
@@ -621,7 +644,7 @@ impl<'a> KinFold<'a> {
         if self.pending > 0 {
             self.flush();
         }
-        for (s, out) in self.q[..self.nq].iter().zip(sums) {
+        for (s, out) in self.buf.q[..self.nq].iter().zip(sums) {
             *out = GroupSum {
                 a: vec_of(&s.a),
                 b: vec_of(&s.b),
@@ -743,7 +766,8 @@ mod tests {
         queries: &[GroupQuery],
         sums: &mut [GroupSum],
     ) -> KinSums {
-        let mut f = KinFold::new(l, probe, queries);
+        let mut buf = KinBuf::default();
+        let mut f = KinFold::new(l, probe, queries, &mut buf);
         for &(s, e) in rows {
             f.row(s, e);
         }
@@ -848,7 +872,8 @@ mod tests {
                 .collect();
             let diagonals = vec![0.0; pts.len()];
             let l = lanes(&pts);
-            let mut f = KinFold::new(&l, plain(here, 0, 100.0), &[]);
+            let mut buf = KinBuf::default();
+            let mut f = KinFold::new(&l, plain(here, 0, 100.0), &[], &mut buf);
             f.occlude(&occluders, &diagonals);
             f.row(0, pts.len());
             let k = f.finish(&mut []);

@@ -132,6 +132,8 @@ struct AgentOut<'a> {
     mask: RowMask,
     reach: &'a mut f32,
     sums: &'a mut [GroupSum],
+    /// The kin kernel's buffers, the worker's.
+    kin: &'a mut kin::KinBuf,
 }
 
 /// The output buffers of agents `lo..lo + counts.len()`.
@@ -198,6 +200,7 @@ impl<'a> Outs<'a> {
             let mut percepts = self.percepts;
             let mut sums = self.sums;
             let mut summaries = self.summaries;
+            let mut kin = kin::KinBuf::default();
             let rows = self.counts.iter_mut().zip(self.reaches).zip(self.masks);
             for (k, ((count, reach), &mask)) in rows.enumerate() {
                 let i = lo + k;
@@ -217,6 +220,7 @@ impl<'a> Outs<'a> {
                         mask,
                         reach,
                         sums: own_sums,
+                        kin: &mut kin,
                     },
                 );
             }

@@ -83,6 +83,7 @@ impl View<'_> {
                 out.mask,
                 out.reach,
                 out.sums,
+                out.kin,
             )
         } else {
             perceive_one::<true>(
@@ -97,6 +98,7 @@ impl View<'_> {
                 out.mask,
                 out.reach,
                 out.sums,
+                out.kin,
             )
         };
     }

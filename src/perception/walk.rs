@@ -38,8 +38,9 @@ fn kernel(
     radius: f32,
     groups: &GroupQueries,
     sums: &mut [GroupSum],
+    buf: &mut kin::KinBuf,
 ) -> Acc {
-    let mut k = kin::KinFold::new(lanes, probe, groups.iter());
+    let mut k = kin::KinFold::new(lanes, probe, groups.iter(), buf);
     k.occlude(occluders, view.diagonals);
     view.agents
         .for_each_row_within(probe.here, radius, |s, e| k.row(s, e));
@@ -106,6 +107,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
     mask: RowMask,
     reach: &mut f32,
     sums: &mut [GroupSum],
+    buf: &mut kin::KinBuf,
 ) -> u16 {
     let p = Perceiver {
         view,
@@ -118,7 +120,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
         radius: sense.query_radius(),
         obstacles_near: view.obstacle_grid.near(me.pos),
     };
-    if p.kernel_alone(summary, mask, sums) {
+    if p.kernel_alone(summary, mask, sums, buf) {
         return 0;
     }
     let mut fold = Fold::<KEEP>::new(slots);
@@ -129,7 +131,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
     let occ = &occluders[..n_occ];
     // Agents and food are kept as percepts only where the species reads them.
     let agent_percepts = KEEP && reads.agent_percepts;
-    *reach = p.agents(occ, agent_percepts, &mut fold, sums);
+    *reach = p.agents(occ, agent_percepts, &mut fold, sums, buf);
     if view.relations.eats_items(p.s) {
         p.food(occ, agent_percepts, &mut fold);
     }
@@ -152,7 +154,13 @@ impl Perceiver<'_, '_> {
     /// A plain flocker with nothing but kin around (no obstacle in range, no food): the kin kernel
     /// alone, its sums written straight into the summaries. Returns whether it took it.
     #[inline(always)]
-    fn kernel_alone(&self, summary: &mut [Summary], mask: RowMask, sums: &mut [GroupSum]) -> bool {
+    fn kernel_alone(
+        &self,
+        summary: &mut [Summary],
+        mask: RowMask,
+        sums: &mut [GroupSum],
+        buf: &mut kin::KinBuf,
+    ) -> bool {
         let (view, me, s) = (self.view, self.me, self.s);
         if let (Some(lanes), Some(&me_slot), true) = (
             view.lanes,
@@ -168,6 +176,7 @@ impl Perceiver<'_, '_> {
                     self.radius,
                     &self.reads.groups,
                     sums,
+                    buf,
                 );
                 kin_only(summary, mask, &acc);
                 return true;
@@ -276,6 +285,7 @@ impl Perceiver<'_, '_> {
         agent_percepts: bool,
         fold: &mut Fold<'_, KEEP>,
         sums: &mut [GroupSum],
+        buf: &mut kin::KinBuf,
     ) -> f32 {
         let (view, sense, radius) = (self.view, self.sense, self.radius);
         let groups = &self.reads.groups;
@@ -300,7 +310,7 @@ impl Perceiver<'_, '_> {
             .filter(|_| plain && view.kernel.get(self.s).copied().unwrap_or(false));
         if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(self.i)) {
             let probe = probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
-            fold.set_kin(kernel(view, lanes, (probe, occ), radius, groups, sums));
+            fold.set_kin(kernel(view, lanes, (probe, occ), radius, groups, sums, buf));
             0.0
         } else if plain {
             fold.set_kin(self.plain_walk(occ, row, agent_radius, sums));
