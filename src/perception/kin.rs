@@ -836,6 +836,85 @@ mod tests {
     }
 
     #[test]
+    fn a_buffer_kept_from_perceiver_to_perceiver_gives_every_bit_of_a_fresh_one() {
+        // Perceivers in turn on one buffer, with query lists of four, one and two queries and
+        // with and without a cone: what one leaves behind (more query lanes, longer batches)
+        // must not reach the next one's sums.
+        let mut rng = crate::world::Rng::new(5, 0);
+        let pts: Vec<(Vec3, Vec3)> = (0..300)
+            .map(|_| {
+                let p = Vec3::new(
+                    rng.range(0.0, 12.0),
+                    rng.range(0.0, 12.0),
+                    rng.range(0.0, 12.0),
+                );
+                let v = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 1.0);
+                (p, v)
+            })
+            .collect();
+        let l = lanes(&pts);
+        let lists: [&[GroupQuery]; 3] = [
+            &[
+                GroupQuery::Mean { radius: 5.0 },
+                GroupQuery::Separation { radius: 2.0 },
+                GroupQuery::Mean { radius: 3.0 },
+                GroupQuery::Separation { radius: 4.0 },
+            ],
+            &[GroupQuery::Separation { radius: 2.5 }],
+            &[
+                GroupQuery::Mean { radius: 4.0 },
+                GroupQuery::Mean { radius: 1.0 },
+            ],
+        ];
+        let mut kept = KinBuf::default();
+        let mut cones = 0;
+        for t in 0..60 {
+            let me = t * 5;
+            let cone = (t % 2 == 1).then(|| (pts[me].1.normalize(), -0.3));
+            cones += usize::from(cone.is_some());
+            let probe = Probe {
+                here: pts[me].0,
+                me,
+                vision2: 36.0,
+                smell2: 0.0,
+                cone,
+                headings: t % 3 == 0,
+            };
+            let queries = lists[t % 3];
+            // Rows of every length, some longer than a cone's batch.
+            let rows = [(0, 7), (9, 180), (180, 300)];
+            let mut fresh_sums = [GroupSum::default(); MAX_KERNEL_QUERIES];
+            let fresh = fold(&l, probe, &rows, queries, &mut fresh_sums);
+            let mut kept_sums = [GroupSum::default(); MAX_KERNEL_QUERIES];
+            let mut f = KinFold::new(&l, probe, queries, &mut kept);
+            for &(s, e) in &rows {
+                f.row(s, e);
+            }
+            let k = f.finish(&mut kept_sums);
+            assert!(fresh.count > 0, "perceiver {t} perceives no one");
+            let bits = |k: &KinSums, g: &[GroupSum]| {
+                let mut v = vec![k.count, k.seen, k.nearest2.to_bits()];
+                for a in [k.pos, k.heading, k.vel] {
+                    v.extend(a.to_array().map(f32::to_bits));
+                }
+                for s in g {
+                    for a in [s.a, s.b] {
+                        v.extend(a.to_array().map(f32::to_bits));
+                    }
+                    v.push(s.n);
+                }
+                v
+            };
+            assert_eq!(
+                bits(&k, &kept_sums),
+                bits(&fresh, &fresh_sums),
+                "perceiver {t}"
+            );
+        }
+        assert_eq!(cones, 30);
+    }
+
+    #[test]
     fn obstacles_hide_exactly_what_the_walks_own_test_hides() {
         // Pebbles (radius 0 or nearly) a hair off the lines of sight to neighbors of no size
         // (hidden exactly when the line to the centre is blocked): where rounding makes the
