@@ -31,36 +31,37 @@ pub(super) struct Eye {
 
 impl Eye {
     /// The eye of a perceiver heading `heading` (its forward unit vector) at `yaw`, with the
-    /// cone's cosine bound `cos_min`. The body frame is worked out only where a cone or a sense
-    /// volume reads it; `frame::dorsal` is `forward × left`: both are reused (the forward
-    /// vector is in the body cache).
+    /// cone's cosine bound `cos_min`. The body frame's other two axes are worked out only where
+    /// a sense volume reads them ([`Eye::local`]): a `sin_cos` a perceiver otherwise spends for
+    /// nothing. `frame::dorsal` is `forward × left`: both are reused (the forward vector is in
+    /// the body cache).
     #[inline(always)]
     pub(super) fn new(heading: Vec3, yaw: f32, cos_min: f32, sense: &SenseParams) -> Self {
         let full_circle = cos_min < -1.000_000_5;
-        if full_circle && sense.volume.is_none() {
-            Eye {
-                fwd: Vec3::ZERO,
-                left: Vec3::ZERO,
-                up: Vec3::ZERO,
-                cos_min,
-                full_circle,
+        let (fwd, left, up) = match sense.volume {
+            None if full_circle => (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO),
+            None => (heading, Vec3::ZERO, Vec3::ZERO),
+            Some(_) => {
+                let left = frame::left(yaw);
+                (heading, left, heading.cross(left))
             }
-        } else {
-            let fwd = heading;
-            let left = frame::left(yaw);
-            Eye {
-                fwd,
-                left,
-                up: fwd.cross(left),
-                cos_min,
-                full_circle,
-            }
+        };
+        Eye {
+            fwd,
+            left,
+            up,
+            cos_min,
+            full_circle,
         }
     }
 
     /// `offset` in the body frame (x left, y up, z forward).
     #[inline(always)]
     pub(super) fn local(&self, offset: Vec3) -> Vec3 {
+        debug_assert!(
+            self.left != Vec3::ZERO,
+            "an eye without a sense volume has no frame"
+        );
         Vec3::new(
             offset.dot(self.left),
             offset.dot(self.up),
