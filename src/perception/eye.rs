@@ -38,13 +38,12 @@ impl Eye {
     #[inline(always)]
     pub(super) fn new(heading: Vec3, yaw: f32, cos_min: f32, sense: &SenseParams) -> Self {
         let full_circle = cos_min < -1.000_000_5;
-        let (fwd, left, up) = match sense.volume {
-            None if full_circle => (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO),
-            None => (heading, Vec3::ZERO, Vec3::ZERO),
-            Some(_) => {
-                let left = frame::left(yaw);
-                (heading, left, heading.cross(left))
-            }
+        let (fwd, left, up) = if sense.volume.is_none() {
+            let fwd = if full_circle { Vec3::ZERO } else { heading };
+            (fwd, Vec3::ZERO, Vec3::ZERO)
+        } else {
+            let left = frame::left(yaw);
+            (heading, left, heading.cross(left))
         };
         Eye {
             fwd,
