@@ -118,7 +118,7 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
         }
         CondNode::Contacted => mind.reached,
         CondNode::AtStation(d) => mind
-            .station
+            .station()
             .is_some_and(|s| s.distance(ctx.agent.pos) <= *d),
         CondNode::Script(slot) => {
             mind.script_values

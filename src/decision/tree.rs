@@ -51,7 +51,7 @@ fn entered(bs: &[Behavior], mind: &Mind, i: u16) -> u64 {
     if b.compose == Compose::Leaf {
         mind.entered_tick
     } else {
-        mind.scope_entered
+        mind.scope_entered()
             .get(b.level as usize)
             .copied()
             .unwrap_or(mind.entered_tick)
@@ -135,7 +135,12 @@ fn descend(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng, mut node: u16) -> u16 {
 }
 
 fn mark(mind: &mut Mind, depth: u8, tick: u64) {
-    if let Some(e) = mind.scope_entered.get_mut(depth as usize) {
+    if let Some(e) = mind
+        .rare
+        .0
+        .as_mut()
+        .and_then(|r| r.scope_entered.get_mut(depth as usize))
+    {
         *e = tick;
     }
 }
@@ -289,9 +294,11 @@ fn child_of(bs: &[Behavior], scope: Option<u16>, node: u16) -> u16 {
 pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     let bs = &ctx.species.behaviors;
     let tick = ctx.tick;
-    if mind.scope_entered.len() < ctx.species.depth as usize {
-        mind.scope_entered
-            .resize(ctx.species.depth as usize, mind.entered_tick);
+    if mind.scope_entered().len() < ctx.species.depth as usize {
+        let entered = mind.entered_tick;
+        mind.rare_mut()
+            .scope_entered
+            .resize(ctx.species.depth as usize, entered);
     }
     let cur = mind.current.min(bs.len().saturating_sub(1) as u16);
     let cur = if bs[cur as usize].compose == Compose::Leaf {

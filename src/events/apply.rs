@@ -13,8 +13,24 @@ use crate::decision::{scripts, Ctx};
 use crate::perception::{Category, GroupQueries, Source, Summary};
 use crate::species::{Contact, SpeciesSet};
 use crate::tick::{Pipeline, Rare};
-use crate::world::World;
+use crate::world::{HeardEvent, World};
 use rhai::{Dynamic, ImmutableString, Scope};
+
+/// The next tick's inboxes, one slot an agent, all empty until a message is sent.
+fn inboxes<'a>(
+    inbox: &'a mut Vec<Option<MessageKind>>,
+    heard: &'a mut Vec<Option<HeardEvent>>,
+    n: usize,
+) -> (
+    &'a mut Vec<Option<MessageKind>>,
+    &'a mut Vec<Option<HeardEvent>>,
+) {
+    if inbox.len() != n {
+        inbox.resize(n, None);
+        heard.resize(n, None);
+    }
+    (inbox, heard)
+}
 
 impl Pipeline {
     /// Stage 7: what each agent's pass produced that reaches beyond the agent (counters,
@@ -31,14 +47,12 @@ impl Pipeline {
         let n = world.agents.len();
         self.taken_food.clear();
         self.taken_food.resize(world.food.len(), false);
+        // The per-agent lists below are filled only in a tick that needs them (a contact, a
+        // message): a world without either keeps none of them, one byte to 12 an agent each.
         self.dead.clear();
-        self.dead.resize(n, false);
         self.mated.clear();
-        self.mated.resize(n, false);
         self.next_inbox.clear();
-        self.next_inbox.resize(n, None);
         self.next_events.clear();
-        self.next_events.resize(n, None);
         self.next_payloads.clear();
         let mut named = false;
         let tick = world.tick;
@@ -53,17 +67,17 @@ impl Pipeline {
                     *c += 1;
                 }
             }
-            if out.rare.is_none() && out.contact.is_none() {
+            if out.rare.is_none() {
                 continue;
             }
             let a = &mut world.agents[i];
             let Rare {
                 transitions,
+                contact,
                 messages,
                 payloads,
                 error,
             } = out.rare.take().map(|r| *r).unwrap_or_default();
-            let contact = out.contact.take();
             for t in transitions.into_iter().flatten() {
                 self.stats.transitions += 1;
                 self.events.push(Event::Transition {
@@ -106,8 +120,7 @@ impl Pipeline {
                 });
                 let radius = radius.max(0.0);
                 let agents = &world.agents;
-                let inbox = &mut self.next_inbox;
-                let heard = &mut self.next_events;
+                let (inbox, heard) = inboxes(&mut self.next_inbox, &mut self.next_events, n);
                 let delivered = &mut delivered;
                 let sp = &set.species[sid.0 as usize];
                 self.agent_grid.for_each_within(pos, radius, |j, _, _| {
@@ -133,6 +146,10 @@ impl Pipeline {
         // what a contact does to a later agent (a mating partner's reset, its `on_event`) is
         // not overwritten by that agent's outcome.
         let contacts = std::mem::take(&mut self.contacts);
+        if !contacts.is_empty() {
+            self.dead.resize(n, false);
+            self.mated.resize(n, false);
+        }
         for &(i, contact, source) in &contacts {
             if !self.dead[i] {
                 self.contact(world, &set, i, contact, source, tick);
@@ -142,6 +159,8 @@ impl Pipeline {
         self.contacts.clear();
         // Without a message this tick or the last, every inbox is and stays empty.
         if delivered || self.delivered {
+            // Filled as a message is sent: none this tick, every inbox empties.
+            inboxes(&mut self.next_inbox, &mut self.next_events, n);
             for ((a, m), h) in world
                 .agents
                 .iter_mut()

@@ -297,7 +297,7 @@ fn child(
     depth: u8,
 ) -> Steer {
     match node {
-        RecipeNode::Leaf(r) if depth < 16 => leaf(r, ctx, mind.station, rng, scratch),
+        RecipeNode::Leaf(r) if depth < 16 => leaf(r, ctx, mind.station(), rng, scratch),
         _ => evaluate(node, ctx, mind, rng, scratch, depth + 1),
     }
 }
@@ -315,7 +315,7 @@ pub fn evaluate(
         return Steer::None;
     }
     match node {
-        RecipeNode::Leaf(r) => leaf(r, ctx, mind.station, rng, scratch),
+        RecipeNode::Leaf(r) => leaf(r, ctx, mind.station(), rng, scratch),
         RecipeNode::Priority(v) => {
             for r in v {
                 let s = child(r, ctx, mind, rng, scratch, depth);

@@ -59,12 +59,11 @@ impl Default for Worker {
 /// What one agent's pass produced beyond its own record (applied in agent order by stage 7).
 #[derive(Debug, Default)]
 pub(crate) struct Outcome {
-    pub(crate) contact: Option<(Contact, Source)>,
     /// Species and behavior after the tick (for the counters, read without touching the agent).
     pub(crate) species: u16,
     pub(crate) behavior: u16,
-    /// Transitions, messages and errors: a few agents a tick have any, so they are boxed and
-    /// the per-agent buffer stays small.
+    /// Transitions, messages, contacts and errors: a few agents a tick have any, so they are
+    /// boxed and the per-agent buffer stays small (24 bytes).
     pub(crate) rare: Option<Box<Rare>>,
     /// What this pass explains, when asked ([`super::explain`]).
     pub(crate) explain: Option<Box<explain::Explained>>,
@@ -74,6 +73,8 @@ pub(crate) struct Outcome {
 #[derive(Debug, Default)]
 pub(crate) struct Rare {
     pub(crate) transitions: Transitions,
+    /// Contact intent (a meal, a catch, a mating), resolved in agent order by stage 7.
+    pub(crate) contact: Option<(Contact, Source)>,
     pub(crate) messages: [Option<(Signal, f32)>; 4],
     /// Payloads of the declared events among `messages`, by slot.
     pub(crate) payloads: Vec<(usize, Payload)>,
@@ -407,9 +408,9 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             match a {
                 ActionNode::Send(signal, r) if k < 2 => {
                     let quiet = match *signal {
-                        Signal::Kind(kind) => &mut mind.quiet_until[kind as usize],
+                        Signal::Kind(kind) => &mut mind.rare_mut().quiet_until[kind as usize],
                         Signal::Event(e) => {
-                            let q = &mut mind.quiet_events;
+                            let q = &mut mind.rare_mut().quiet_events;
                             if q.len() <= e as usize {
                                 q.resize(sp.events.len().max(e as usize + 1), 0);
                             }
@@ -439,7 +440,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
                         }
                     }
                 }
-                ActionNode::MarkStation => mind.station = Some(me.pos),
+                ActionNode::MarkStation => mind.rare_mut().station = Some(me.pos),
                 _ => {}
             }
         }
@@ -546,7 +547,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     );
 
     // Contact intent (resolved in agent order by stage 7).
-    out.contact = match b.contact {
+    let contact = match b.contact {
         Some(c @ Contact::Eat { reach }) => ctx
             .nearest(Category::Food)
             .filter(|p| p.dist <= reach)
@@ -559,10 +560,12 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     };
     let rare = transitions.iter().any(Option::is_some)
         || messages.iter().any(Option::is_some)
-        || error.is_some();
+        || error.is_some()
+        || contact.is_some();
     out.rare = rare.then(|| {
         Box::new(Rare {
             transitions,
+            contact,
             messages,
             payloads,
             error: error.map(Box::new),

@@ -517,7 +517,7 @@ pub(super) fn frame(ctx: &Ctx, mind: &Mind, b: &Behavior, st: &Steering) -> Valu
     };
     let (_, leaf) = winner(&b.steer, sctx, mind, &mut rng, &mut scratch, &mut path);
     let (target, intercept) = leaf.map_or((Value::Null, Value::Null), |l| {
-        target(l, sctx, st.plan_target, mind.station, st.ids)
+        target(l, sctx, st.plan_target, mind.station(), st.ids)
     });
     let kin = ctx.kin();
     let p = ctx.static_pressures(&sp.avoid);

@@ -142,8 +142,8 @@ impl Pipeline {
             let leaf = |b: u16| crate::species::validate::first_leaf(&nsp.behaviors, b);
             m.current = crate::species::validate::first_leaf(&nsp.behaviors, m.current);
             let depth = nsp.depth as usize;
-            if m.scope_entered.len() != depth {
-                m.scope_entered.resize(depth, world.tick);
+            if m.scope_entered().len() != depth {
+                m.rare_mut().scope_entered.resize(depth, world.tick);
             }
             let stack: Vec<u16> = m
                 .stack()

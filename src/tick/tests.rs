@@ -77,3 +77,54 @@ fn stage_times_are_read_per_tick() {
     }
     assert_eq!(StageTimes::default().ms_per_tick()[0].1, 0.0);
 }
+
+#[test]
+fn a_world_without_messages_contacts_or_stations_keeps_nothing_for_them() {
+    let (mut p, mut w) = drifters();
+    for k in 0..3 {
+        p.spawn(&mut w, 0, Vec3::new(k as f32, 10.0, 0.0), 0.0, 0.0);
+    }
+    for _ in 0..3 {
+        p.step(&mut w);
+    }
+    // Per-agent lists of the next tick's inboxes and of the tick's contacts: none kept.
+    assert_eq!(p.next_inbox.capacity(), 0);
+    assert_eq!(p.next_events.capacity(), 0);
+    assert_eq!(p.dead.capacity(), 0);
+    assert_eq!(p.mated.capacity(), 0);
+    // The rare parts of a mind: not made.
+    assert!(w.agents.iter().all(|a| a.mind.rare.0.is_none()));
+    // A message makes the inboxes, and the next tick without one empties them.
+    let id = w.agents[1].id;
+    assert!(p.deliver(&mut w, id, MessageKind::Danger));
+    p.step(&mut w);
+    assert!(w.agents.iter().all(|a| a.inbox.is_none()));
+    assert_eq!(p.next_inbox.len(), 3);
+}
+
+#[test]
+fn a_mind_without_its_rare_parts_equals_one_with_them_empty() {
+    use crate::world::{Mind, MindParts, RareMind};
+    let plain = Mind::new(0, 0, 0);
+    let mut made = plain.clone();
+    made.rare_mut();
+    assert!(made.rare.0.is_some());
+    assert_eq!(plain, made);
+    assert_eq!(made, plain);
+    made.rare_mut().station = Some(Vec3::X);
+    assert_ne!(plain, made);
+    assert_ne!(made, plain);
+    assert_eq!(made.station(), Some(Vec3::X));
+    assert_eq!(plain.station(), None);
+    assert_eq!(plain.scope_entered(), &[] as &[u64]);
+    let parts = MindParts {
+        scope_entered: thin_vec::thin_vec![4, 5],
+        ..Default::default()
+    };
+    let deep = Mind {
+        rare: RareMind(Some(Box::new(parts))),
+        ..plain.clone()
+    };
+    assert_eq!(deep.scope_entered(), &[4, 5]);
+    assert_ne!(deep, plain);
+}

@@ -99,13 +99,6 @@ pub struct Mind {
     pub script_steer: ThinVec<Vec<(f32, Term)>>,
     /// Whether this agent already reported a script error (reported once).
     pub script_error_reported: bool,
-    /// Per message kind: the tick before which entering a behavior sends no more of it.
-    #[serde(default)]
-    pub quiet_until: [u64; 3],
-    /// Per declared event of the species: the tick before which entering a behavior sends no
-    /// more of it (empty until the first such send).
-    #[serde(default)]
-    pub quiet_events: ThinVec<u64>,
     /// Whether the current behavior's contact happened (a meal, a catch, a mating): its end
     /// is then not held back by `min_time`.
     #[serde(default)]
@@ -119,13 +112,42 @@ pub struct Mind {
     /// start of the tick); `None` when none of them knows food.
     #[serde(default)]
     pub school_best: Option<Vec3>,
-    /// Its station (the `MarkStation` action), which `HoldStation` returns to.
+    /// What few agents use: the quiet times of messages sent on entering a behavior, a marked
+    /// station, composite behaviors' entry ticks. Held apart, so that every other agent's
+    /// record carries one pointer for it instead of 56 bytes.
     #[serde(default)]
+    pub rare: RareMind,
+}
+
+/// The parts of a [`Mind`] few agents use.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct MindParts {
+    /// Per message kind: the tick before which entering a behavior sends no more of it.
+    pub quiet_until: [u64; 3],
+    /// Per declared event of the species: the tick before which entering a behavior sends no
+    /// more of it (empty until the first such send).
+    pub quiet_events: ThinVec<u64>,
+    /// Its station (the `MarkStation` action), which `HoldStation` returns to.
     pub station: Option<Vec3>,
     /// Per depth of composed behaviors: the tick the composite current at that depth was
     /// entered (empty for species without composites).
-    #[serde(default)]
     pub scope_entered: ThinVec<u64>,
+}
+
+/// A mind's [`MindParts`], absent until one is set. Absent and all-default parts are equal:
+/// which of the two a mind holds is not part of what it is.
+#[derive(Debug, Clone, Serialize, Deserialize, Default)]
+pub struct RareMind(pub Option<Box<MindParts>>);
+
+impl PartialEq for RareMind {
+    fn eq(&self, other: &Self) -> bool {
+        let empty = |p: &MindParts| *p == MindParts::default();
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => a == b,
+            (Some(p), None) | (None, Some(p)) => empty(p),
+            (None, None) => true,
+        }
+    }
 }
 
 /// `n` zeros; no call at all for none (every agent's pass makes an empty mind).
@@ -153,13 +175,10 @@ impl Mind {
             last_steer: Steer::NONE,
             script_steer: ThinVec::new(),
             script_error_reported: false,
-            quiet_until: [0; 3],
-            quiet_events: ThinVec::new(),
             reached: false,
             best_food: None,
             school_best: None,
-            station: None,
-            scope_entered: ThinVec::new(),
+            rare: RareMind::default(),
         }
     }
     /// The stack, bottom first.
@@ -178,6 +197,21 @@ impl Mind {
         }
         self.stack[self.depth as usize] = b;
         self.depth += 1;
+    }
+    /// Its station (the `MarkStation` action), which `HoldStation` returns to.
+    #[inline]
+    pub fn station(&self) -> Option<Vec3> {
+        self.rare.0.as_ref().and_then(|r| r.station)
+    }
+    /// Per depth of composed behaviors: the tick the composite current at that depth was
+    /// entered (empty for species without composites).
+    #[inline]
+    pub fn scope_entered(&self) -> &[u64] {
+        self.rare.0.as_deref().map_or(&[], |r| &r.scope_entered)
+    }
+    /// The rarely used parts, made on first use.
+    pub fn rare_mut(&mut self) -> &mut MindParts {
+        self.rare.0.get_or_insert_with(Default::default)
     }
     /// Pops the top of the stack.
     pub fn pop(&mut self) -> Option<u16> {

@@ -40,9 +40,12 @@ impl Pipeline {
         });
         let index = self.next_payloads.len() as u32;
         self.next_payloads.push(payload);
+        let (inbox, heard) = super::inboxes(
+            &mut self.next_inbox,
+            &mut self.next_events,
+            world.agents.len(),
+        );
         let agents = &world.agents;
-        let inbox = &mut self.next_inbox;
-        let heard = &mut self.next_events;
         let mut delivered = false;
         self.agent_grid
             .for_each_within(pos, radius.max(0.0), |j, _, _| {
@@ -87,7 +90,9 @@ impl Pipeline {
             let a = &world.agents[i];
             let Some(h) = a.heard_event else { continue };
             let sp = &set.species[a.species.0 as usize];
-            if self.dead[i] || !(sp.has_on_event || sp.has_on_event_payload) {
+            if self.dead.get(i).copied().unwrap_or(false)
+                || !(sp.has_on_event || sp.has_on_event_payload)
+            {
                 continue;
             }
             let name = sp.signal_name(Signal::Event(h.event)).to_string();
