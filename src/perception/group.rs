@@ -7,7 +7,7 @@
 //! plain accumulations in the spatial index's fixed order, so they are bit-identical whatever
 //! the thread count.
 
-use glam::Vec3A;
+use glam::{Vec3, Vec3A};
 
 /// Most distinct group queries one species may have (more are folded from the kept percepts).
 pub const MAX_GROUP_QUERIES: usize = 8;
@@ -88,9 +88,29 @@ impl GroupQuery {
     }
 }
 
-/// The running sums of one [`GroupQuery`] (what each field holds depends on the query).
+/// The running sums of one [`GroupQuery`] (what each field holds depends on the query). Kept
+/// for every agent and query each tick: plain `Vec3`s (48 bytes, not the 64 of 16-byte
+/// aligned vectors); each sum is the same per component either way.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct GroupSum {
+    /// First vector sum.
+    pub a: Vec3,
+    /// Second vector sum.
+    pub b: Vec3,
+    /// Third vector sum.
+    pub c: Vec3,
+    /// First count.
+    pub n: u32,
+    /// Second count.
+    pub m: u32,
+    /// A weight sum (R–A zones: the repulsion weights).
+    pub w: f32,
+}
+
+/// The sums of one [`GroupQuery`] while neighbors are folded in: 16-byte aligned vectors, one
+/// vector add a neighbor. Stored as a [`GroupSum`] once the neighbors are done.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GroupAcc {
     /// First vector sum.
     pub a: Vec3A,
     /// Second vector sum.
@@ -101,11 +121,25 @@ pub struct GroupSum {
     pub n: u32,
     /// Second count.
     pub m: u32,
-    /// A weight sum (R–A zones: the repulsion weights).
+    /// A weight sum.
     pub w: f32,
 }
 
-impl GroupSum {
+impl From<GroupAcc> for GroupSum {
+    #[inline(always)]
+    fn from(s: GroupAcc) -> GroupSum {
+        GroupSum {
+            a: s.a.into(),
+            b: s.b.into(),
+            c: s.c.into(),
+            n: s.n,
+            m: s.m,
+            w: s.w,
+        }
+    }
+}
+
+impl GroupAcc {
     /// Folds one neighbor into the sums of `q`.
     #[inline(always)]
     pub fn add(&mut self, q: &GroupQuery, n: &Near) {
@@ -144,7 +178,7 @@ impl GroupSum {
     }
 }
 
-impl GroupSum {
+impl GroupAcc {
     /// The R–A zones of a neighbor within the attraction radius, out of line (see
     /// [`inverse_square`]).
     #[inline(never)]
@@ -233,7 +267,7 @@ impl GroupQueries {
     /// (one per query, in order). Its unit velocity (a square root and a division) is computed
     /// only when a query reads it.
     #[inline(always)]
-    pub fn add(&self, sums: &mut [GroupSum], offset: Vec3A, d2: f32, velocity: Vec3A) {
+    pub fn add(&self, sums: &mut [GroupAcc], offset: Vec3A, d2: f32, velocity: Vec3A) {
         let near = Near::new(offset, d2, velocity, self.unit);
         for (q, s) in self.items[..self.len].iter().zip(sums) {
             if let Some(q) = q {
@@ -247,7 +281,7 @@ impl GroupQueries {
 mod tests {
     use super::*;
 
-    impl GroupSum {
+    impl GroupAcc {
         fn add_one(&mut self, q: &GroupQuery, offset: Vec3A, dist: f32, velocity: Vec3A) {
             self.add(q, &Near::new(offset, dist * dist, velocity, true));
         }
@@ -256,7 +290,7 @@ mod tests {
     #[test]
     fn separation_sums_inverse_square_offsets_within_the_radius() {
         let q = GroupQuery::Separation { radius: 3.0 };
-        let mut s = GroupSum::default();
+        let mut s = GroupAcc::default();
         // (2,0,0)/4 + (0,0,1)/1; the one at 4 is out of range, the coincident one has no
         // direction.
         s.add_one(&q, Vec3A::new(2.0, 0.0, 0.0), 2.0, Vec3A::ZERO);
@@ -275,7 +309,7 @@ mod tests {
             attraction: 6.0,
             soft: 0.0,
         };
-        let mut s = GroupSum::default();
+        let mut s = GroupAcc::default();
         s.add_one(&q, Vec3A::new(0.5, 0.0, 0.0), 0.5, Vec3A::Z);
         s.add_one(&q, Vec3A::new(0.0, 2.0, 0.0), 2.0, Vec3A::X * 4.0);
         s.add_one(&q, Vec3A::new(0.0, 0.0, 5.0), 5.0, Vec3A::ZERO);
@@ -294,12 +328,13 @@ mod tests {
         qs.insert(GroupQuery::Mean { radius: 2.0 });
         assert_eq!(qs.len(), 2);
         assert_eq!(qs.position(&GroupQuery::Headings { radius: 2.0 }), Some(1));
-        let mut sums = [GroupSum::default(); 2];
-        qs.add(&mut sums, Vec3A::X, 1.0, Vec3A::Z * 2.0);
+        let mut acc = [GroupAcc::default(); 2];
+        qs.add(&mut acc, Vec3A::X, 1.0, Vec3A::Z * 2.0);
+        let sums = acc.map(GroupSum::from);
         assert_eq!(
             (sums[0].a, sums[0].b, sums[0].n),
-            (Vec3A::X, Vec3A::Z * 2.0, 1)
+            (Vec3::X, Vec3::Z * 2.0, 1)
         );
-        assert_eq!((sums[1].a, sums[1].n), (Vec3A::Z, 1));
+        assert_eq!((sums[1].a, sums[1].n), (Vec3::Z, 1));
     }
 }

@@ -18,7 +18,7 @@
 //! one-by-one sums only by rounding.
 
 use super::eye::MAX_OCCLUDERS;
-use super::group::{GroupQueries, GroupQuery, GroupSum};
+use super::group::{GroupAcc, GroupQueries, GroupQuery, GroupSum, MAX_GROUP_QUERIES};
 use super::occlusion;
 use crate::world::Shape;
 use glam::{BVec4A, Vec3, Vec3A, Vec4};
@@ -220,6 +220,8 @@ pub struct KinFold<'a> {
 /// entries written in the same batch are read.
 #[derive(Debug, Clone)]
 pub struct KinBuf {
+    /// The group sums of a walk (not the kernel) while it folds neighbors in.
+    pub(super) acc: [GroupAcc; MAX_GROUP_QUERIES],
     q: [QueryLanes; MAX_KERNEL_QUERIES],
     rows: [(u32, u32); ROWS],
     hits: [u64; STEPS],
@@ -228,6 +230,7 @@ pub struct KinBuf {
 impl Default for KinBuf {
     fn default() -> Self {
         KinBuf {
+            acc: [GroupAcc::default(); MAX_GROUP_QUERIES],
             q: [QUERY_ZERO; MAX_KERNEL_QUERIES],
             rows: [(0, 0); ROWS],
             hits: [0; STEPS],
@@ -646,9 +649,9 @@ impl<'a> KinFold<'a> {
         }
         for (s, out) in self.buf.q[..self.nq].iter().zip(sums) {
             *out = GroupSum {
-                a: vec_of(&s.a),
-                b: vec_of(&s.b),
-                c: Vec3A::ZERO,
+                a: vec_of(&s.a).into(),
+                b: vec_of(&s.b).into(),
+                c: Vec3::ZERO,
                 n: s.n,
                 m: 0,
                 w: 0.0,
@@ -780,13 +783,13 @@ mod tests {
         k: &KinSums,
         s: &[GroupSum],
     ) -> (u32, u32, u32, [[u32; 3]; 3], Vec<(u32, [u32; 3], [u32; 3])>) {
-        let v = |v: Vec3A| v.to_array().map(f32::to_bits);
+        let v = |v: Vec3| v.to_array().map(f32::to_bits);
         let sums = s.iter().map(|s| (s.n, v(s.a), v(s.b))).collect();
         (
             k.count,
             k.seen,
             k.nearest2.to_bits(),
-            [v(k.pos), v(k.heading), v(k.vel)],
+            [v(k.pos.into()), v(k.heading.into()), v(k.vel.into())],
             sums,
         )
     }
@@ -844,11 +847,11 @@ mod tests {
         assert_eq!(k.heading, Vec3A::new(1.0, 0.0, 1.0));
         assert_eq!(k.vel, Vec3A::new(4.0, 0.0, 2.0));
         // Separation within 1.5: only (0,0,1), weighted 1/1.
-        assert_eq!((sums[0].a, sums[0].n), (Vec3A::Z, 1));
+        assert_eq!((sums[0].a, sums[0].n), (Vec3::Z, 1));
         // Means within 3: both.
         assert_eq!(
             (sums[1].a, sums[1].b, sums[1].n),
-            (Vec3A::new(2.0, 0.0, 1.0), Vec3A::new(4.0, 0.0, 2.0), 2)
+            (Vec3::new(2.0, 0.0, 1.0), Vec3::new(4.0, 0.0, 2.0), 2)
         );
     }
 

@@ -37,7 +37,7 @@ mod view;
 pub mod volume;
 mod walk;
 
-pub use group::{GroupQueries, GroupQuery, GroupSum};
+pub use group::{GroupAcc, GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
 pub use senses::{Reads, Relations, SenseParams};
 pub use strength::Strength;

@@ -11,7 +11,9 @@ use super::gather::Me;
 use super::rows::RowMask;
 use super::view::View;
 use super::{kin, nearest, volume, Summary};
-use super::{Category, Extent, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams};
+use super::{
+    Category, Extent, GroupAcc, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams,
+};
 use super::{Sense, Source};
 use crate::frame;
 use crate::world::Shape;
@@ -312,11 +314,20 @@ impl Perceiver<'_, '_> {
             let probe = probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
             fold.set_kin(kernel(view, lanes, (probe, occ), radius, groups, sums, buf));
             0.0
-        } else if plain {
-            fold.set_kin(self.plain_walk(occ, row, agent_radius, sums));
-            0.0
         } else {
-            self.general_walk(occ, row, mates, agent_radius, agent_percepts, fold, sums)
+            // Summed in 16-byte vectors in the worker's buffer, stored once at the end.
+            let acc = &mut buf.acc[..groups.len()];
+            acc.fill(GroupAcc::default());
+            let reach = if plain {
+                fold.set_kin(self.plain_walk(occ, row, agent_radius, acc));
+                0.0
+            } else {
+                self.general_walk(occ, row, mates, agent_radius, agent_percepts, fold, acc)
+            };
+            for (s, a) in sums.iter_mut().zip(acc.iter()) {
+                *s = (*a).into();
+            }
+            reach
         }
     }
 
@@ -337,7 +348,7 @@ impl Perceiver<'_, '_> {
         occ: &[Shape],
         row: &[Option<Category>],
         agent_radius: f32,
-        sums: &mut [GroupSum],
+        sums: &mut [GroupAcc],
     ) -> Acc {
         let (view, eye, sense) = (self.view, &self.eye, self.sense);
         let groups = &self.reads.groups;
@@ -378,7 +389,7 @@ impl Perceiver<'_, '_> {
         agent_radius: f32,
         agent_percepts: bool,
         fold: &mut Fold<'_, KEEP>,
-        sums: &mut [GroupSum],
+        sums: &mut [GroupAcc],
     ) -> f32 {
         let (view, eye, sense) = (self.view, &self.eye, self.sense);
         let groups = &self.reads.groups;

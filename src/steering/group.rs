@@ -8,7 +8,7 @@
 use super::Steer;
 pub use crate::params::steering::Zones;
 use crate::perception::group::Near;
-use crate::perception::{GroupQuery, GroupSum};
+use crate::perception::{GroupAcc, GroupQuery, GroupSum};
 use crate::world::Rng;
 use glam::Vec3;
 
@@ -25,7 +25,7 @@ pub struct Neighbor {
 
 /// Folds `neighbors` into the sums of `q`, as perception does for every kin it notes.
 pub fn fold(neighbors: &[Neighbor], q: &GroupQuery) -> GroupSum {
-    let mut s = GroupSum::default();
+    let mut s = GroupAcc::default();
     for n in neighbors {
         let offset = glam::Vec3A::from(n.offset);
         let near = Near::new(
@@ -36,7 +36,7 @@ pub fn fold(neighbors: &[Neighbor], q: &GroupQuery) -> GroupSum {
         );
         s.add(q, &near);
     }
-    s
+    s.into()
 }
 
 /// Separation of seed 001: each neighbor pushes with `m1·k·(length·factor)/|d|` directly away
@@ -54,7 +54,7 @@ pub fn separation(neighbors: &[Neighbor], m1: f32, k: f32, length: f32, factor: 
 /// Separation from the sums of a [`GroupQuery::Separation`]: `−m1·k·length·factor · Σ d/|d|²`.
 #[inline]
 pub fn separation_of(sum: &GroupSum, m1: f32, k: f32, length: f32, factor: f32) -> Vec3 {
-    -Vec3::from(sum.a) * (m1 * k * length * factor)
+    -sum.a * (m1 * k * length * factor)
 }
 
 /// Alignment of seed 001: `m1·k·(v_avg − v)`, proportional to the difference from the
@@ -66,7 +66,7 @@ pub fn alignment(neighbors: &[Neighbor], own_velocity: Vec3, m1: f32, k: f32) ->
             radius: f32::INFINITY,
         },
     );
-    alignment_of(mean(sum.b.into(), sum.n), own_velocity, m1, k)
+    alignment_of(mean(sum.b, sum.n), own_velocity, m1, k)
 }
 
 /// Alignment from the neighbors' mean velocity (`None` without neighbors).
@@ -83,7 +83,7 @@ pub fn cohesion(neighbors: &[Neighbor], k: f32) -> Vec3 {
             radius: f32::INFINITY,
         },
     );
-    cohesion_of(mean(sum.a.into(), sum.n), k)
+    cohesion_of(mean(sum.a, sum.n), k)
 }
 
 /// Cohesion from the neighbors' mean offset (`None` without neighbors).
@@ -124,10 +124,10 @@ pub fn ra_zones(neighbors: &[Neighbor], zones: &Zones, speed: f32) -> Steer {
 #[inline]
 pub fn ra_zones_of(sum: &GroupSum, speed: f32) -> Steer {
     let dir = if sum.n > 0 && sum.w >= 1.0 {
-        Vec3::from(sum.a)
+        sum.a
     } else if sum.n > 0 || sum.m > 0 {
-        let rest = Vec3::from(sum.b + sum.c).normalize_or_zero();
-        Vec3::from(sum.a) + (1.0 - sum.w) * rest
+        let rest = (sum.b + sum.c).normalize_or_zero();
+        sum.a + (1.0 - sum.w) * rest
     } else {
         return Steer::None;
     };
@@ -161,7 +161,7 @@ pub fn vicsek_of(
     noise: f32,
     u: (f32, f32),
 ) -> Steer {
-    let dir = (own_forward.normalize_or_zero() + Vec3::from(sum.a))
+    let dir = (own_forward.normalize_or_zero() + sum.a)
         .try_normalize()
         .unwrap_or(own_forward);
     let Some((yaw, pitch)) = crate::frame::heading_of(dir) else {

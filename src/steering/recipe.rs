@@ -234,13 +234,10 @@ fn leaf(
                         Recipe::Separation(_) => {
                             group::separation_of(&sum, m1, g.k, ctx.agent.size.z, g.factor)
                         }
-                        Recipe::Alignment(_) => group::alignment_of(
-                            group::mean(sum.b.into(), sum.n),
-                            own_velocity,
-                            m1,
-                            g.k,
-                        ),
-                        _ => group::cohesion_of(group::mean(sum.a.into(), sum.n), g.k),
+                        Recipe::Alignment(_) => {
+                            group::alignment_of(group::mean(sum.b, sum.n), own_velocity, m1, g.k)
+                        }
+                        _ => group::cohesion_of(group::mean(sum.a, sum.n), g.k),
                     }
                 }
                 (_, None) => Vec3::ZERO,

@@ -96,8 +96,8 @@ fn the_kin_kernel_perceives_what_the_general_path_does() {
             assert!(close(ka.mean_velocity, kb.mean_velocity), "agent {i}");
             for (ga, gb) in a.group_sums(i).iter().zip(b.group_sums(i)) {
                 assert_eq!(ga.n, gb.n, "agent {i}");
-                assert!(close(ga.a.into(), gb.a.into()), "agent {i}");
-                assert!(close(ga.b.into(), gb.b.into()), "agent {i}");
+                assert!(close(ga.a, gb.a), "agent {i}");
+                assert!(close(ga.b, gb.b), "agent {i}");
             }
         }
         assert!(perceived > 400, "{perceived}");
