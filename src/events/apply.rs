@@ -77,6 +77,7 @@ impl Pipeline {
                 messages,
                 payloads,
                 error,
+                explain: _,
             } = out.rare.take().map(|r| *r).unwrap_or_default();
             for t in transitions.into_iter().flatten() {
                 self.stats.transitions += 1;

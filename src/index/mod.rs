@@ -29,8 +29,9 @@ pub struct Grid {
     entries: Vec<u32>,
     /// Positions of `entries`, in the same order (16-byte lanes: one vector operation each).
     positions: Vec<Vec3A>,
-    /// Scratch: the input points, and the cell of each.
-    points: Vec<Vec3A>,
+    /// Scratch: the input points (12 bytes each: only copied into `positions`), and the cell of
+    /// each.
+    points: Vec<Vec3>,
     cell_of: Vec<u32>,
     /// Slot of each entry index (the inverse of `entries`).
     slots: Vec<u32>,
@@ -67,7 +68,7 @@ impl Grid {
         points: impl ExactSizeIterator<Item = Vec3>,
     ) {
         self.points.clear();
-        self.points.extend(points.map(Vec3A::from));
+        self.points.extend(points);
         let layout = Layout::new(bounds, cell, self.points.len());
         self.layout = layout;
         self.cell_of.clear();
@@ -75,7 +76,7 @@ impl Grid {
             self.points
                 .par_iter()
                 .with_min_len(crate::par::min_len(256))
-                .map(|&p| layout.cell_of(p.into())),
+                .map(|&p| layout.cell_of(p)),
         );
         self.place();
     }
@@ -92,7 +93,7 @@ impl Grid {
         let layout = Layout::new(bounds, cell, n);
         self.layout = layout;
         // Points and their cells in one parallel pass.
-        self.points.resize(n, Vec3A::ZERO);
+        self.points.resize(n, Vec3::ZERO);
         self.cell_of.resize(n, 0);
         self.points
             .par_iter_mut()
@@ -101,7 +102,7 @@ impl Grid {
             .with_min_len(crate::par::min_len(256))
             .for_each(|(i, (q, c))| {
                 let p = point(i);
-                *q = Vec3A::from(p);
+                *q = p;
                 *c = layout.cell_of(p);
             });
         self.place();
@@ -133,7 +134,7 @@ impl Grid {
             let slot = self.cursor[c as usize] as usize;
             self.cursor[c as usize] += 1;
             self.entries[slot] = i as u32;
-            self.positions[slot] = p;
+            self.positions[slot] = Vec3A::from(p);
             self.slots[i] = slot as u32;
         }
     }

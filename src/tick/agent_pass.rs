@@ -62,11 +62,9 @@ pub(crate) struct Outcome {
     /// Species and behavior after the tick (for the counters, read without touching the agent).
     pub(crate) species: u16,
     pub(crate) behavior: u16,
-    /// Transitions, messages, contacts and errors: a few agents a tick have any, so they are
-    /// boxed and the per-agent buffer stays small (24 bytes).
+    /// Transitions, messages, contacts, errors and explanations: a few agents a tick have any,
+    /// so they are boxed and the per-agent buffer stays small (16 bytes).
     pub(crate) rare: Option<Box<Rare>>,
-    /// What this pass explains, when asked ([`super::explain`]).
-    pub(crate) explain: Option<Box<explain::Explained>>,
 }
 
 /// The parts of an outcome most agents do not have in a given tick.
@@ -81,6 +79,8 @@ pub(crate) struct Rare {
     /// Boxed: most outcomes that have a rare part have a transition, not an error (a whole
     /// school's first transitions would otherwise hold room for a diagnostic each).
     pub(crate) error: Option<Box<Diagnostic>>,
+    /// What this pass explains, when asked ([`super::explain`]).
+    pub(crate) explain: Option<Box<explain::Explained>>,
 }
 
 /// What every agent's pass reads of the tick besides its own record: the same for all agents.
@@ -497,7 +497,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         };
         explain::frame(&ctx, mind, b, &st)
     });
-    out.explain = (explained_decision.is_some() || explained_frame.is_some()).then(|| {
+    let explained = (explained_decision.is_some() || explained_frame.is_some()).then(|| {
         Box::new(explain::Explained {
             decision: explained_decision,
             frame: explained_frame,
@@ -561,7 +561,8 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let rare = transitions.iter().any(Option::is_some)
         || messages.iter().any(Option::is_some)
         || error.is_some()
-        || contact.is_some();
+        || contact.is_some()
+        || explained.is_some();
     out.rare = rare.then(|| {
         Box::new(Rare {
             transitions,
@@ -569,6 +570,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             messages,
             payloads,
             error: error.map(Box::new),
+            explain: explained,
         })
     });
     out.species = me.species.0;

@@ -348,7 +348,7 @@ impl Pipeline {
         self.explained.clear();
         if self.explain.on() {
             for o in &mut self.outcomes {
-                if let Some(e) = o.explain.take() {
+                if let Some(e) = o.rare.as_mut().and_then(|r| r.explain.take()) {
                     self.explained.extend(e.decision);
                     self.explained.extend(e.frame);
                 }
