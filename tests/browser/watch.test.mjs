@@ -86,14 +86,18 @@ try {
   // Behaviors per species over time.
   check(await page.locator('[data-testid=histogram] canvas.strip').count() === 1, 'behavior strip chart for the species');
 
-  // Click a fish that switched to grazing after the fix: its panel lists the decision.
+  // Click a fish that switched from wandering to grazing after the fix: its panel lists the
+  // decision. Which fish did, and when, depends on the tick the paused run reached (wall-clock
+  // timing), so the server's answer picks it; the panel must then show what the server says.
   const ids = await page.evaluate(() => window.shoal.ids());
   let grazer = null;
   for (const id of ids) {
     const info = await (await fetch(new URL('/agent/' + id, args.url))).json();
-    if (info.behavior === 'graze') { grazer = id; break; }
+    const last = info.decisions[info.decisions.length - 1];
+    const switched = last && last.from === 'wander' && last.to === 'graze';
+    if (info.behavior === 'graze' && info.stack.includes('wander') && switched) { grazer = id; break; }
   }
-  check(grazer !== null, `a grazing fish exists (${grazer})`);
+  check(grazer !== null, `a fish that switched from wandering to grazing exists (${grazer})`);
   if (grazer !== null) {
     const pos = await page.evaluate((id) => window.shoal.screenPosOf(id), grazer);
     await page.mouse.click(pos.x, pos.y);
