@@ -585,7 +585,7 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
             || {
                 (
                     Scope::new(),
-                    Mind::new(0, 0, 0),
+                    Mind::new(0, 0),
                     Dynamic::from(crate::script::AgentView::default()),
                 )
             },

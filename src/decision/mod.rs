@@ -152,7 +152,7 @@ fn can_start(i: usize, mind: &Mind, tick: u64) -> bool {
 
 /// Whether behavior `i`'s cooldown has run out.
 fn can_start_node(i: usize, mind: &Mind, tick: u64) -> bool {
-    mind.cooldown_until.get(i).is_none_or(|&t| tick >= t)
+    mind.cooldowns.ready(i as u16, tick)
 }
 
 /// The highest-priority behavior (earliest declared among equals) other than the current one
@@ -227,9 +227,8 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     // eaten or mated is done with it, whatever its minimum time).
     if (t_in >= b.min_time || mind.reached) && cond(&b.done, ctx, mind, rng) {
         if b.cooldown > 0.0 {
-            if let Some(c) = mind.cooldown_until.get_mut(cur as usize) {
-                *c = tick + (b.cooldown / ctx.dt).ceil() as u64;
-            }
+            let until = tick + (b.cooldown / ctx.dt).ceil() as u64;
+            mind.cooldowns.start(cur, tick, until);
         }
         // Stacked behaviors whose own completion already holds are dropped.
         while let Some(top) = mind.top() {

@@ -135,12 +135,7 @@ fn descend(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng, mut node: u16) -> u16 {
 }
 
 fn mark(mind: &mut Mind, depth: u8, tick: u64) {
-    if let Some(e) = mind
-        .rare
-        .0
-        .as_mut()
-        .and_then(|r| r.scope_entered.get_mut(depth as usize))
-    {
+    if let Some(e) = mind.scope_entered_mut().get_mut(depth as usize) {
         *e = tick;
     }
 }
@@ -186,9 +181,8 @@ fn finish(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng, n: u16, outcome: Outcome) -
     let tick = ctx.tick;
     let b = &bs[n as usize];
     if b.cooldown > 0.0 {
-        if let Some(c) = mind.cooldown_until.get_mut(n as usize) {
-            *c = tick + (b.cooldown / ctx.dt).ceil() as u64;
-        }
+        let until = tick + (b.cooldown / ctx.dt).ceil() as u64;
+        mind.cooldowns.start(n, tick, until);
     }
     if b.compose != Compose::Leaf {
         drop_within(bs, mind, n);

@@ -130,7 +130,7 @@ mod tests {
             size: Vec3::new(0.4, 0.4, 1.0),
             drives: Drives::default(),
             attrs: Attributes::default(),
-            mind: Mind::new(0, 0, 0),
+            mind: Mind::new(0, 0),
             anim: Anim::default(),
             rng: Rng::new(0, id as u64),
             memory: Default::default(),

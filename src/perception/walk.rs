@@ -126,7 +126,8 @@ pub(super) fn perceive_one<const KEEP: bool>(
         return 0;
     }
     let mut fold = Fold::<KEEP>::new(slots);
-    sums.fill(GroupSum::default());
+    // Every group sum is written by `agents` (kernel or walk), none kept from before.
+    debug_assert_eq!(sums.len(), reads.groups.len());
     // Nearby obstacles first: they are percepts and occluders.
     let mut occluders = [NO_OCCLUDER; MAX_OCCLUDERS];
     let n_occ = p.obstacles(&mut fold, &mut occluders);

@@ -322,15 +322,6 @@ impl Species {
             .position(|b| &*b.name == name)
             .map(|i| i as u16)
     }
-    /// Length of an agent's cooldown list: one entry per behavior when any behavior has a
-    /// cooldown, else none (a million agents of a species without cooldowns save 64 MB).
-    pub fn cooldown_slots(&self) -> usize {
-        if self.behaviors.iter().any(|b| b.cooldown > 0.0) {
-            self.behaviors.len()
-        } else {
-            0
-        }
-    }
     /// Name of behavior `i` ("?" when out of range).
     pub fn behavior_name(&self, i: u16) -> &str {
         self.behaviors.get(i as usize).map_or("?", |b| &b.name)

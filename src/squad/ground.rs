@@ -85,7 +85,7 @@ mod tests {
             size: Vec3::ONE,
             drives: Drives::default(),
             attrs: Attributes::default(),
-            mind: Mind::new(0, 1, 0),
+            mind: Mind::new(0, 0),
             anim: Anim::default(),
             rng: Rng::new(1, 1),
             memory: Default::default(),

@@ -28,7 +28,7 @@ use rhai::{Dynamic, ImmutableString, Scope};
 /// An empty mind: what an agent's record holds while its pass has its mind.
 impl Default for Mind {
     fn default() -> Self {
-        Mind::new(0, 0, 0)
+        Mind::new(0, 0)
     }
 }
 

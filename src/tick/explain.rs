@@ -228,7 +228,7 @@ fn why_not(ctx: &Ctx, mind: &Mind, rng: &Rng, above: u8, current: u16) -> Value 
         if b.priority >= above || i as u16 == current || step {
             continue;
         }
-        let why = if mind.cooldown_until.get(i).is_some_and(|&t| ctx.tick < t) {
+        let why = if !mind.cooldowns.ready(i as u16, ctx.tick) {
             "cooling down".to_string()
         } else if mind.stack().contains(&(i as u16)) {
             "on the stack".to_string()

@@ -9,7 +9,7 @@ use super::Pipeline;
 use crate::events::{Cause, Event};
 use crate::species::{SlotKind, Species, SpeciesSet};
 use crate::steering::Term;
-use crate::world::{SpeciesId, World};
+use crate::world::{Cooldowns, SpeciesId, World};
 use std::sync::Arc;
 
 /// What installing a species set did to the agents.
@@ -156,23 +156,11 @@ impl Pipeline {
             for b in stack {
                 m.push(b);
             }
-            // A cooldown still running is kept even where the new version declares none.
-            let running = m.cooldown_until.iter().any(|&t| t > world.tick);
-            let slots = if running {
-                nsp.behaviors.len()
-            } else {
-                nsp.cooldown_slots()
-            };
-            let mut cooldown = thin_vec::thin_vec![0; slots];
-            for (ob, &t) in m.cooldown_until.iter().enumerate() {
-                if let Some(c) = bmap.get(ob).copied().flatten() {
-                    // Always there while one runs (`slots`); one that ran out needs no place.
-                    if let Some(c) = cooldown.get_mut(c as usize) {
-                        *c = t;
-                    }
-                }
-            }
-            m.cooldown_until = cooldown;
+            // A cooldown still running is kept, even where the new version declares none.
+            let running = m.cooldowns.running(world.tick);
+            m.cooldowns = Cooldowns::from_pairs(
+                running.filter_map(|(ob, t)| Some((bmap.get(ob as usize).copied().flatten()?, t))),
+            );
             nsp.memory.carry(&mut a.memory);
             let (values, steer) = carry_script_state(osp, nsp, &m.script_values, &m.script_steer);
             m.script_values = values.into();
@@ -278,22 +266,21 @@ mod tests {
     fn cooldown_lists_follow_the_version_and_a_running_one_is_kept() {
         let mut p = Pipeline::new(set(&[FISH]));
         let mut w = world_with(&mut p, 2);
-        // "graze" has a cooldown: one entry per behavior.
-        assert_eq!(w.agents[0].mind.cooldown_until, vec![0, 0, 0]);
+        // "graze" has a cooldown; none is held before one starts.
+        assert!(w.agents[0].mind.cooldowns.is_empty());
         w.tick = 40;
-        w.agents[0].mind.cooldown_until = [0, 0, 70].into();
-        w.agents[1].mind.cooldown_until = [40, 0, 0].into();
-        // A version without cooldowns: no list, but for the agent whose cooldown still runs
-        // (the other's ran out at tick 40).
+        w.agents[0].mind.cooldowns = Cooldowns::from_pairs([(2, 70), (1, 40)]);
+        w.agents[1].mind.cooldowns = Cooldowns::from_pairs([(0, 40)]);
+        // A version without cooldowns: a cooldown still running is kept; those that ran out
+        // at tick 40 are dropped.
         let plain = FISH.replace(", cooldown: 1.0", "");
         p.install_species(&mut w, set(&[&plain]));
-        assert_eq!(w.agents[0].mind.cooldown_until, vec![0, 0, 70]);
-        assert!(w.agents[1].mind.cooldown_until.is_empty());
-        let mut fresh = world_with(&mut p, 1);
-        assert!(fresh.agents[0].mind.cooldown_until.is_empty());
-        // Back to a version with one: every agent gets its list again.
-        p.install_species(&mut fresh, set(&[FISH]));
-        assert_eq!(fresh.agents[0].mind.cooldown_until, vec![0, 0, 0]);
+        assert_eq!(w.agents[0].mind.cooldowns, Cooldowns::from_pairs([(2, 70)]));
+        assert!(!w.agents[0].mind.cooldowns.ready(2, 69));
+        assert!(w.agents[0].mind.cooldowns.ready(2, 70));
+        assert!(w.agents[1].mind.cooldowns.is_empty());
+        let fresh = world_with(&mut p, 1);
+        assert!(fresh.agents[0].mind.cooldowns.is_empty());
     }
 
     #[test]
@@ -307,10 +294,10 @@ mod tests {
         w.agents[0].mind.current = graze;
         w.agents[0].mind.push(wander);
         w.agents[0].mind.entered_tick = 12;
-        w.agents[0].mind.cooldown_until = [99, 0, 0].into();
+        w.agents[0].mind.cooldowns = Cooldowns::from_pairs([(0, 99), (2, 80)]);
         w.agents[1].mind.current = wander;
         w.agents[1].mind.entered_tick = 30;
-        w.agents[1].mind.cooldown_until = [55, 0, 0].into();
+        w.agents[1].mind.cooldowns = Cooldowns::from_pairs([(0, 55)]);
         w.agents[2].drives.hunger = 0.77;
         let before: Vec<_> = w.agents.iter().map(|a| (a.pos, a.drives)).collect();
         // New version: "graze" renamed to "feed" and moved last; "wander" now first.
@@ -339,10 +326,10 @@ mod tests {
         // Its stacked "wander" is the current behavior now: dropped from the stack.
         assert_eq!(a0.stack(), &[] as &[u16]);
         // The renamed behavior's cooldown is lost, wander's (was index 2, now 0) is kept.
-        assert_eq!(a0.cooldown_until, vec![0, 0, 0]);
+        assert_eq!(a0.cooldowns, Cooldowns::from_pairs([(0, 80)]));
         let a1 = &w.agents[1].mind;
         assert_eq!((a1.current, a1.entered_tick), (0, 30));
-        assert_eq!(a1.cooldown_until, vec![0, 0, 0]);
+        assert!(a1.cooldowns.is_empty());
         assert_eq!(
             w.agents
                 .iter()
@@ -367,7 +354,7 @@ mod tests {
         let m = &mut w.agents[0].mind;
         m.current = 1; // hide
         m.push(0); // graze, interrupted
-        m.cooldown_until = [10, 20, 30].into();
+        m.cooldowns = Cooldowns::from_pairs([(0, 10), (1, 20), (2, 30)]);
         // Reverse the declaration order: graze 2, hide 1, wander 0.
         let reversed = r#"Species(
     name: "fish",
@@ -383,7 +370,10 @@ mod tests {
         let m = &w.agents[0].mind;
         assert_eq!(m.current, 1);
         assert_eq!(m.stack(), &[2]);
-        assert_eq!(m.cooldown_until, vec![30, 20, 10]);
+        assert_eq!(
+            m.cooldowns,
+            Cooldowns::from_pairs([(0, 30), (1, 20), (2, 10)])
+        );
     }
 
     #[test]

@@ -63,7 +63,7 @@ impl Pipeline {
         // Likewise the mating clock: l(Δt_L)·(1 − H) = L.
         drives.since_mating =
             drives::since_mating_for(drives.libido, drives.hunger, &d.drives.params);
-        let mut mind = Mind::new(sp.initial, sp.cooldown_slots(), sp.slots.len());
+        let mut mind = Mind::new(sp.initial, sp.slots.len());
         mind.script_steer = thin_vec::thin_vec![Vec::new(); sp.steer_slots];
         mind.entered_tick = world.tick;
         let speed = 0.5 * d.body.limits.max_speed;

@@ -105,7 +105,7 @@ fn a_world_without_messages_contacts_or_stations_keeps_nothing_for_them() {
 #[test]
 fn a_mind_without_its_rare_parts_equals_one_with_them_empty() {
     use crate::world::{Mind, MindParts, RareMind};
-    let plain = Mind::new(0, 0, 0);
+    let plain = Mind::new(0, 0);
     let mut made = plain.clone();
     made.rare_mut();
     assert!(made.rare.0.is_some());
@@ -127,4 +127,27 @@ fn a_mind_without_its_rare_parts_equals_one_with_them_empty() {
     };
     assert_eq!(deep.scope_entered(), &[4, 5]);
     assert_ne!(deep, plain);
+}
+
+#[test]
+fn cooldowns_hold_only_started_ones_by_behavior_and_drop_those_run_out() {
+    use crate::world::Cooldowns;
+    let mut c = Cooldowns::default();
+    assert!(c.ready(3, 0) && c.until(3).is_none());
+    c.start(7, 10, 30);
+    c.start(2, 12, 15);
+    // Held by behavior, whatever the order they started in.
+    assert_eq!(c, Cooldowns::from_pairs([(2, 15), (7, 30)]));
+    assert!(!c.ready(2, 14) && c.ready(2, 15) && !c.ready(7, 29) && c.ready(7, 30));
+    assert!(c.ready(5, 0), "a behavior without one may start");
+    // A start drops those that ran out (2's at 15) and replaces the behavior's own.
+    c.start(7, 20, 40);
+    assert_eq!(c, Cooldowns::from_pairs([(7, 40)]));
+    assert_eq!(c.running(39).collect::<Vec<_>>(), vec![(7, 40)]);
+    assert_eq!(c.running(40).count(), 0);
+    // From pairs: the last of a behavior's wins.
+    assert_eq!(
+        Cooldowns::from_pairs([(1, 5), (0, 9), (1, 8)]),
+        Cooldowns::from_pairs([(0, 9), (1, 8)])
+    );
 }

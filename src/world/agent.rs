@@ -88,9 +88,8 @@ pub struct Mind {
     pub entered_tick: u64,
     /// Hysteresis latches: bit i set while hysteresis condition i is latched on.
     pub latches: u64,
-    /// Per behavior: the tick before which it may not start again (cooldown); empty for a
-    /// species without cooldowns.
-    pub cooldown_until: ThinVec<u64>,
+    /// The cooldowns started and not yet dropped: when each behavior may start again.
+    pub cooldowns: Cooldowns,
     /// Cached results of script conditions and weights, refreshed at the decision rate.
     pub script_values: ThinVec<f32>,
     /// Last valid steering, kept when a script fails.
@@ -117,6 +116,49 @@ pub struct Mind {
     /// record carries one pointer for it instead of 56 bytes.
     #[serde(default)]
     pub rare: RareMind,
+}
+
+/// A mind's cooldowns: for each behavior whose cooldown was started, the tick before which it
+/// may not start again, by behavior. Only started ones are held (those that ran out are
+/// dropped at the next start): a list of every behavior held 96 bytes for each reef fish,
+/// whose 12 behaviors have 5 cooldowns and rarely more than one running.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct Cooldowns(ThinVec<(u16, u64)>);
+
+impl Cooldowns {
+    /// The tick before which behavior `b` may not start again (`None`: no cooldown held).
+    #[inline]
+    pub fn until(&self, b: u16) -> Option<u64> {
+        self.0.iter().find(|e| e.0 == b).map(|e| e.1)
+    }
+    /// Whether behavior `b` may start at `tick` (its cooldown, if any, has run out).
+    #[inline]
+    pub fn ready(&self, b: u16, tick: u64) -> bool {
+        self.until(b).is_none_or(|t| tick >= t)
+    }
+    /// Starts behavior `b`'s cooldown at `tick`, to run until `until`; those that ran out by
+    /// `tick` are dropped.
+    pub fn start(&mut self, b: u16, tick: u64, until: u64) {
+        self.0.retain(|e| e.1 > tick && e.0 != b);
+        let at = self.0.partition_point(|e| e.0 < b);
+        self.0.insert(at, (b, until));
+    }
+    /// The cooldowns still running at `tick`, as (behavior, until), by behavior.
+    pub fn running(&self, tick: u64) -> impl Iterator<Item = (u16, u64)> + '_ {
+        self.0.iter().copied().filter(move |e| e.1 > tick)
+    }
+    /// Cooldowns from (behavior, until) pairs in any order (the last of a behavior's wins).
+    pub fn from_pairs(pairs: impl IntoIterator<Item = (u16, u64)>) -> Self {
+        let mut v: ThinVec<(u16, u64)> = pairs.into_iter().collect();
+        v.reverse();
+        v.sort_by_key(|e| e.0);
+        v.dedup_by_key(|e| e.0);
+        Cooldowns(v)
+    }
+    /// Whether none is held.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
 }
 
 /// The parts of a [`Mind`] few agents use.
@@ -161,16 +203,15 @@ fn zeros<T: Default + Clone>(n: usize) -> ThinVec<T> {
 }
 
 impl Mind {
-    /// A mind starting in behavior `initial`, with `cooldowns` entries in its cooldown list
-    /// (the species' [`crate::species::Species::cooldown_slots`]).
-    pub fn new(initial: u16, cooldowns: usize, script_values: usize) -> Self {
+    /// A mind starting in behavior `initial`, with `script_values` cached script results.
+    pub fn new(initial: u16, script_values: usize) -> Self {
         Mind {
             current: initial,
             stack: [0; STACK_CAPACITY],
             depth: 0,
             entered_tick: 0,
             latches: 0,
-            cooldown_until: zeros(cooldowns),
+            cooldowns: Cooldowns::default(),
             script_values: zeros(script_values),
             last_steer: Steer::NONE,
             script_steer: ThinVec::new(),
@@ -208,6 +249,15 @@ impl Mind {
     #[inline]
     pub fn scope_entered(&self) -> &[u64] {
         self.rare.0.as_deref().map_or(&[], |r| &r.scope_entered)
+    }
+    /// [`Mind::scope_entered`], to set an entry tick (empty without the rare parts: marking
+    /// a depth the mind does not track makes nothing).
+    #[inline]
+    pub fn scope_entered_mut(&mut self) -> &mut [u64] {
+        self.rare
+            .0
+            .as_deref_mut()
+            .map_or(&mut [], |r| &mut r.scope_entered)
     }
     /// The rarely used parts, made on first use.
     pub fn rare_mut(&mut self) -> &mut MindParts {

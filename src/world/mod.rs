@@ -9,8 +9,8 @@ mod rng;
 mod signal;
 
 pub use agent::{
-    Agent, AgentId, Anim, Attributes, Drives, ForwardCache, MemValue, MessageKind, Mind, MindParts,
-    RareMind, Sex, SpeciesId, MEMORY_CAPACITY, STACK_CAPACITY,
+    Agent, AgentId, Anim, Attributes, Cooldowns, Drives, ForwardCache, MemValue, MessageKind, Mind,
+    MindParts, RareMind, Sex, SpeciesId, MEMORY_CAPACITY, STACK_CAPACITY,
 };
 pub use rng::Rng;
 pub use signal::{field_fits, field_zero, EventSpec, FieldType, HeardEvent, Payload, Signal};

@@ -20,7 +20,7 @@ pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
         size: Vec3::new(0.2, 0.3, 1.0),
         drives: Drives::default(),
         attrs: Attributes::default(),
-        mind: Mind::new(0, 1, 0),
+        mind: Mind::new(0, 0),
         anim: Anim::default(),
         rng: Rng::new(0, id as u64),
         memory: Default::default(),
