@@ -35,7 +35,7 @@ fn behavior_of(s: &Session, w: &World) -> BTreeMap<u32, String> {
 fn memory_n(a: &shoal::world::Agent) -> i64 {
     a.memory
         .iter()
-        .find(|(k, _)| k == "n")
+        .find(|(k, _)| &**k == "n")
         .map_or(0, |(_, v)| match v {
             shoal::world::MemValue::Int(i) => *i,
             other => panic!("n is {other:?}"),

@@ -69,11 +69,11 @@ fn declared_keys_start_at_their_values_and_keys_without_one_start_unset() {
     assert_eq!(
         sim.agent(id).memory,
         vec![
-            ("gain".to_string(), MemValue::Float(0.5)),
-            ("home".to_string(), MemValue::Vec3(Vec3::new(1.0, 2.0, 3.0))),
-            ("meals".to_string(), MemValue::Int(2)),
-            ("mood".to_string(), MemValue::Str("calm".into())),
-            ("shy".to_string(), MemValue::Bool(true)),
+            ("gain".into(), MemValue::Float(0.5)),
+            ("home".into(), MemValue::Vec3(Vec3::new(1.0, 2.0, 3.0))),
+            ("meals".into(), MemValue::Int(2)),
+            ("mood".into(), MemValue::Str("calm".into())),
+            ("shy".into(), MemValue::Bool(true)),
         ]
     );
     sim.run(5);
@@ -241,7 +241,7 @@ fn a_reload_carries_memory_to_the_new_declaration() {
     sim.run(3);
     let meals = sim.agent(id).memory[0].clone();
     assert!(
-        matches!(meals, (ref k, MemValue::Int(n)) if k == "meals" && n > 0),
+        matches!(meals, (ref k, MemValue::Int(n)) if &**k == "meals" && n > 0),
         "{meals:?}"
     );
     // The new version adds "naps", makes "mood" a number and drops "old"; the script uses "naps".
@@ -257,8 +257,8 @@ fn a_reload_carries_memory_to_the_new_declaration() {
         sim.agent(id).memory,
         vec![
             meals,
-            ("mood".to_string(), MemValue::Float(0.5)),
-            ("naps".to_string(), MemValue::Int(7)),
+            ("mood".into(), MemValue::Float(0.5)),
+            ("naps".into(), MemValue::Int(7)),
         ],
         "kept where the type holds, new and retyped keys at their start values, dropped keys gone"
     );

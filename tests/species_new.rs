@@ -152,13 +152,13 @@ fn a_new_species_from_files_loads_runs_and_behaves() {
         let den = a
             .memory
             .iter()
-            .find(|(k, _)| k == "den")
+            .find(|(k, _)| &**k == "den")
             .map(|(_, v)| v.clone());
         let Some(MemValue::Vec3(den)) = den else {
             panic!("no den: {:?}", a.memory)
         };
         assert!(den.y >= 1.0 && den.y <= 3.0);
-        if let Some((_, MemValue::Int(n))) = a.memory.iter().find(|(k, _)| k == "meals") {
+        if let Some((_, MemValue::Int(n))) = a.memory.iter().find(|(k, _)| &**k == "meals") {
             meals += n;
         }
     }

@@ -448,7 +448,7 @@ Species(
     assert_eq!(sim.behavior(id), "roll");
     assert!(sim.script_errors().is_empty(), "{:?}", sim.script_errors());
     let a = sim.agent(id);
-    let drawn = |key: &str| match a.memory.iter().find(|(k, _)| k == key) {
+    let drawn = |key: &str| match a.memory.iter().find(|(k, _)| &**k == key) {
         Some((_, shoal::world::MemValue::Float(x))) => *x,
         other => panic!("{key}: {other:?}"),
     };

@@ -301,7 +301,7 @@ fn mate_then_leave_then_wander() {
     }
     // Both partners heard of the mating (on_event) and swam apart.
     for id in [f, m] {
-        assert!(sim.agent(id).memory.iter().any(|(k, _)| k == "mated_at"));
+        assert!(sim.agent(id).memory.iter().any(|(k, _)| &**k == "mated_at"));
     }
     let d1 = sim.agent(f).pos.distance(sim.agent(m).pos);
     assert!(d1 > d0 + 3.0, "they swam apart: {d0} → {d1}");

@@ -39,9 +39,9 @@ fn sardine(sim: &mut Sim, pos: Vec3, yaw: f32) -> AgentId {
 
 fn remember(sim: &mut Sim, id: AgentId, key: &str, value: MemValue) {
     let m = &mut sim.agent_mut(id).memory;
-    match m.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
+    match m.binary_search_by(|(k, _)| (**k).cmp(key)) {
         Ok(i) => m[i].1 = value,
-        Err(i) => m.insert(i, (key.to_string(), value)),
+        Err(i) => m.insert(i, (key.into(), value)),
     }
 }
 
@@ -49,7 +49,7 @@ fn recalls(sim: &Sim, id: AgentId, key: &str) -> Option<MemValue> {
     sim.agent(id)
         .memory
         .iter()
-        .find(|(k, _)| k == key)
+        .find(|(k, _)| &**k == key)
         .map(|(_, v)| v.clone())
 }
 

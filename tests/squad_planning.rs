@@ -224,7 +224,7 @@ fn the_wide_formation_is_restored_only_after_the_canyon() {
             .unwrap()
             .memory
             .iter()
-            .find(|(k, _)| k == "formation")
+            .find(|(k, _)| &**k == "formation")
             .map(|(_, v)| v.clone())
         else {
             panic!("the script keeps `formation`")

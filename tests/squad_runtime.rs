@@ -237,7 +237,7 @@ fn a_script_plans_a_new_path_and_reads_the_tables() {
             .unwrap()
             .memory
             .iter()
-            .find(|(key, _)| key == k)
+            .find(|(key, _)| &**key == k)
             .map(|(_, v)| v.clone())
     };
     assert_eq!(

@@ -116,7 +116,7 @@ pub fn agent_info(run: &Run, agent: &Agent, decisions: Option<&DecisionLog>) -> 
         memory: agent
             .memory
             .iter()
-            .map(|(k, v)| (k.clone(), mem_json(v)))
+            .map(|(k, v)| (k.to_string(), mem_json(v)))
             .collect(),
         decisions: decisions.map_or_else(Vec::new, |d| d.iter().cloned().collect()),
         pos: agent.pos.to_array(),

@@ -11,14 +11,18 @@ use rhai::{Dynamic, Engine, EvalAltResult, Position};
 use std::sync::Arc;
 use thin_vec::ThinVec;
 
-/// Makes `dst` a copy of the blackboard `src`, reusing its room and its keys' (a blackboard is
+/// Makes `dst` a copy of the blackboard `src`, reusing its room and its keys (a blackboard is
 /// copied into a script's view and back on every call; a thin list's own `clone_from` would
-/// allocate it and every key afresh).
-pub fn copy_blackboard(dst: &mut ThinVec<(String, MemValue)>, src: &[(String, MemValue)]) {
+/// allocate it afresh). An equal key is kept, not cloned: the keys a species declares are
+/// shared by all its agents, and counting their references from every thread would make
+/// threads contend for one cache line.
+pub fn copy_blackboard(dst: &mut ThinVec<(Arc<str>, MemValue)>, src: &[(Arc<str>, MemValue)]) {
     dst.truncate(src.len());
     let n = dst.len();
     for (d, s) in dst.iter_mut().zip(src) {
-        d.0.clone_from(&s.0);
+        if d.0 != s.0 {
+            d.0 = s.0.clone();
+        }
         d.1.clone_from(&s.1);
     }
     dst.extend(src[n..].iter().cloned());
@@ -78,19 +82,28 @@ impl MemType {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct MemorySpec {
     /// Declared keys with their types, in key order.
-    pub keys: Vec<(String, MemType)>,
+    pub keys: Vec<(Arc<str>, MemType)>,
     /// What a new agent remembers: the keys declared with a start value, in key order (keys
     /// declared without one start unset: `has` is false until a script writes them).
-    pub initial: ThinVec<(String, MemValue)>,
+    pub initial: ThinVec<(Arc<str>, MemValue)>,
 }
 
 impl MemorySpec {
     /// The declared type of `key`.
     pub fn type_of(&self, key: &str) -> Option<MemType> {
         self.keys
-            .binary_search_by(|(k, _)| k.as_str().cmp(key))
+            .binary_search_by(|(k, _)| (**k).cmp(key))
             .ok()
             .map(|i| self.keys[i].1)
+    }
+
+    /// `key` as agents hold it: the declaration's own copy (shared by every agent of the
+    /// species, so remembering it allocates nothing), or a new one for an undeclared key.
+    pub fn key(&self, key: &str) -> Arc<str> {
+        match self.keys.binary_search_by(|(k, _)| (**k).cmp(key)) {
+            Ok(i) => self.keys[i].0.clone(),
+            Err(_) => Arc::from(key),
+        }
     }
 
     /// Why `key` may not be used (`None` when it is declared).
@@ -105,7 +118,7 @@ impl MemorySpec {
         }
         Some(format!(
             "memory key \"{key}\" is not declared in the species' `memory`{}: it declares {}",
-            did_you_mean(key, self.keys.iter().map(|(k, _)| k.as_str())),
+            did_you_mean(key, self.keys.iter().map(|(k, _)| &**k)),
             self.key_list()
         ))
     }
@@ -124,10 +137,10 @@ impl MemorySpec {
     /// changed, starts at its start value (or unset); keys no longer declared are dropped, as
     /// nothing could read them. Without this, a key added while the run goes on would read as
     /// `()` in every agent already swimming.
-    pub fn carry(&self, memory: &mut ThinVec<(String, MemValue)>) {
+    pub fn carry(&self, memory: &mut ThinVec<(Arc<str>, MemValue)>) {
         memory.retain(|(k, v)| self.type_of(k) == Some(MemType::of(v)));
         for (k, v) in &self.initial {
-            if let Err(i) = memory.binary_search_by(|(m, _)| m.as_str().cmp(k)) {
+            if let Err(i) = memory.binary_search_by(|(m, _)| m.cmp(k)) {
                 memory.insert(i, (k.clone(), v.clone()));
             }
         }
@@ -159,19 +172,21 @@ fn err(msg: String) -> Box<EvalAltResult> {
     ))
 }
 
-/// Stores `value` under `key` in `memory` (kept in key order), refusing a full blackboard.
+/// Stores `value` under `key` in `memory` (kept in key order), refusing a full blackboard;
+/// the key of a new entry is `spec`'s ([`MemorySpec::key`]).
 pub fn store(
-    memory: &mut ThinVec<(String, MemValue)>,
+    memory: &mut ThinVec<(Arc<str>, MemValue)>,
     key: &str,
     value: MemValue,
+    spec: &MemorySpec,
 ) -> Result<(), String> {
-    match memory.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
+    match memory.binary_search_by(|(k, _)| (**k).cmp(key)) {
         Ok(i) => memory[i].1 = value,
         Err(i) => {
             if memory.len() >= MEMORY_CAPACITY {
                 return Err(format!("memory is full ({MEMORY_CAPACITY} keys)"));
             }
-            memory.insert(i, (key.to_string(), value));
+            memory.insert(i, (spec.key(key), value));
         }
     }
     Ok(())
@@ -188,7 +203,7 @@ pub fn register(engine: &mut Engine, spec: Arc<MemorySpec>) {
             }
             Ok(v.memory
                 .iter()
-                .find(|(k, _)| k == key)
+                .find(|(k, _)| &**k == key)
                 .map(|(_, m)| from_mem(m))
                 .unwrap_or(Dynamic::UNIT))
         },
@@ -198,7 +213,7 @@ pub fn register(engine: &mut Engine, spec: Arc<MemorySpec>) {
         move |v: &mut AgentView, key: &str, value: Dynamic| -> Result<(), Box<EvalAltResult>> {
             let m = to_mem(value)?;
             s.check_write(key, &m).map_err(err)?;
-            store(&mut v.memory, key, m).map_err(err)
+            store(&mut v.memory, key, m, &s).map_err(err)
         },
     );
     let s = spec.clone();
@@ -208,7 +223,7 @@ pub fn register(engine: &mut Engine, spec: Arc<MemorySpec>) {
             if let Some(why) = s.undeclared(key) {
                 return Err(err(why));
             }
-            Ok(v.memory.iter().any(|(k, _)| k == key))
+            Ok(v.memory.iter().any(|(k, _)| &**k == key))
         },
     );
     engine.register_fn(
@@ -217,7 +232,7 @@ pub fn register(engine: &mut Engine, spec: Arc<MemorySpec>) {
             if let Some(why) = spec.undeclared(key) {
                 return Err(err(why));
             }
-            v.memory.retain(|(k, _)| k != key);
+            v.memory.retain(|(k, _)| &**k != key);
             Ok(())
         },
     );
@@ -228,22 +243,41 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_blackboard_is_copied_into_the_room_it_had() {
-        let board = |keys: &[(&str, f32)]| -> ThinVec<(String, MemValue)> {
+    fn a_blackboard_is_copied_into_the_room_it_had_keeping_equal_keys() {
+        let board = |keys: &[(&str, f32)]| -> ThinVec<(Arc<str>, MemValue)> {
             keys.iter()
-                .map(|(k, v)| (k.to_string(), MemValue::Float(*v)))
+                .map(|(k, v)| (Arc::from(*k), MemValue::Float(*v)))
                 .collect()
         };
         let mut dst = board(&[("meals", 1.0), ("mated_at", 2.0), ("spare", 3.0)]);
-        let room = dst[0].0.as_ptr();
-        let src = board(&[("hunt", 4.0), ("rest", 5.0)]);
+        let room = dst.as_ptr();
+        let meals = dst[0].0.clone();
+        let src = board(&[("meals", 4.0), ("rest", 5.0)]);
         copy_blackboard(&mut dst, &src);
         assert_eq!(dst, src);
-        assert_eq!(dst[0].0.as_ptr(), room, "the key's room is reused");
+        assert_eq!(dst.as_ptr(), room, "the list's room is reused");
+        assert!(Arc::ptr_eq(&dst[0].0, &meals), "an equal key is kept");
+        assert!(Arc::ptr_eq(&dst[1].0, &src[1].0), "another key is shared");
         let longer = board(&[("a", 1.0), ("b", 2.0), ("c", 3.0), ("d", 4.0)]);
         copy_blackboard(&mut dst, &longer);
         assert_eq!(dst, longer);
         copy_blackboard(&mut dst, &[]);
         assert!(dst.is_empty());
+    }
+
+    #[test]
+    fn a_declared_key_is_the_declarations_own() {
+        let spec = MemorySpec {
+            keys: vec![(Arc::from("meals"), MemType::Int)],
+            initial: ThinVec::new(),
+        };
+        let mut m = ThinVec::new();
+        store(&mut m, "meals", MemValue::Int(2), &spec).unwrap();
+        store(&mut m, "other", MemValue::Int(3), &spec).unwrap();
+        assert!(Arc::ptr_eq(&m[0].0, &spec.keys[0].0));
+        assert_eq!(&*m[1].0, "other");
+        store(&mut m, "meals", MemValue::Int(5), &spec).unwrap();
+        assert_eq!(m[0].1, MemValue::Int(5));
+        assert_eq!(m.len(), 2);
     }
 }

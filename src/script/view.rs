@@ -106,7 +106,7 @@ pub struct AgentView {
     /// Highest-priority message heard last tick ("" when none).
     pub heard: ImmutableString,
     /// The blackboard.
-    pub memory: ThinVec<(String, MemValue)>,
+    pub memory: ThinVec<(Arc<str>, MemValue)>,
     /// The agent's random stream.
     pub rng: Rng,
     /// Messages to broadcast: (kind or declared event, radius, payload of a declared event).
@@ -352,30 +352,30 @@ fn register_agent(e: &mut Engine) {
     e.register_indexer_get(|v: &mut AgentView, key: &str| -> Dynamic {
         v.memory
             .iter()
-            .find(|(k, _)| k == key)
+            .find(|(k, _)| &**k == key)
             .map(|(_, m)| from_mem(m))
             .unwrap_or(Dynamic::UNIT)
     });
     e.register_indexer_set(
         |v: &mut AgentView, key: &str, value: Dynamic| -> Result<(), Box<EvalAltResult>> {
             let m = to_mem(value)?;
-            match v.memory.binary_search_by(|(k, _)| k.as_str().cmp(key)) {
+            match v.memory.binary_search_by(|(k, _)| (**k).cmp(key)) {
                 Ok(i) => v.memory[i].1 = m,
                 Err(i) => {
                     if v.memory.len() >= MEMORY_CAPACITY {
                         return Err(err(format!("memory is full ({MEMORY_CAPACITY} keys)")));
                     }
-                    v.memory.insert(i, (key.to_string(), m));
+                    v.memory.insert(i, (Arc::from(key), m));
                 }
             }
             Ok(())
         },
     );
     e.register_fn("has", |v: &mut AgentView, key: &str| {
-        v.memory.iter().any(|(k, _)| k == key)
+        v.memory.iter().any(|(k, _)| &**k == key)
     });
     e.register_fn("forget", |v: &mut AgentView, key: &str| {
-        v.memory.retain(|(k, _)| k != key)
+        v.memory.retain(|(k, _)| &**k != key)
     });
     e.register_fn("random", |v: &mut AgentView| v.rng.next_f32());
     e.register_fn("random_range", |v: &mut AgentView, lo: FLOAT, hi: FLOAT| {

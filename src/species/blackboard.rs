@@ -59,9 +59,10 @@ fn spec_of(def: &SpeciesDef, file: &Path, text: &str, diags: &mut Vec<Diagnostic
             ),
             _ => {}
         }
+        let key: Arc<str> = Arc::from(key.as_str());
         spec.keys.push((key.clone(), t));
         if let Some(v) = start {
-            spec.initial.push((key.clone(), v));
+            spec.initial.push((key, v));
         }
     }
     spec

@@ -256,7 +256,7 @@ pub fn memory(a: &Agent) -> Value {
             MemValue::Vec3(p) => v3(*p),
             MemValue::Str(s) => json!(s),
         };
-        m.insert(k.clone(), v);
+        m.insert(k.to_string(), v);
     }
     Value::Object(m)
 }

@@ -5,6 +5,7 @@ use crate::command::{Steer, Term};
 use crate::frame;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 use thin_vec::{thin_vec, ThinVec};
 
 /// Stable agent id: never reused within a run.
@@ -369,7 +370,7 @@ pub struct Agent {
     /// The agent's own random stream.
     pub rng: Rng,
     /// Per-agent memory (a small blackboard that persists across ticks), in key order.
-    pub memory: ThinVec<(String, MemValue)>,
+    pub memory: ThinVec<(Arc<str>, MemValue)>,
     /// Highest-priority message received last tick.
     pub inbox: Option<MessageKind>,
     /// Highest-priority declared event received last tick. The inbox is one slot: at most one

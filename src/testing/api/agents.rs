@@ -158,7 +158,7 @@ pub(super) fn register(e: &mut Engine) {
             Ok(agent
                 .memory
                 .iter()
-                .find(|(k, _)| k == key)
+                .find(|(k, _)| &**k == key)
                 .map_or(Dynamic::UNIT, |(_, v)| from_mem(v)))
         })?
     });
@@ -168,7 +168,7 @@ pub(super) fn register(e: &mut Engine) {
             let s = tw.sim.world.agents[i].species.0 as usize;
             let spec = tw.species[s].memory.clone();
             spec.check_write(key, &v).map_err(error)?;
-            store(&mut tw.sim.world.agents[i].memory, key, v).map_err(error)
+            store(&mut tw.sim.world.agents[i].memory, key, v, &spec).map_err(error)
         })?
     });
     e.register_fn("has", |a: &mut AgentRef, key: &str| -> R<bool> {
@@ -177,7 +177,7 @@ pub(super) fn register(e: &mut Engine) {
             if let Some(why) = tw.species[agent.species.0 as usize].memory.undeclared(key) {
                 return Err(error(why));
             }
-            Ok(agent.memory.iter().any(|(k, _)| k == key))
+            Ok(agent.memory.iter().any(|(k, _)| &**k == key))
         })?
     });
     e.register_fn("to_string", |a: &mut AgentRef| a.label());

@@ -406,7 +406,7 @@ fn spawn(w: &WorldRef, species: &str, pos: Vec3, opts: &Map) -> R<AgentRef> {
         for (k, v) in m {
             let v = to_mem(v)?;
             sp.memory.check_write(&k, &v).map_err(error)?;
-            store(&mut a.memory, &k, v).map_err(error)?;
+            store(&mut a.memory, &k, v, &sp.memory).map_err(error)?;
         }
     }
     drop(tw);
