@@ -7,7 +7,7 @@
 use super::keep::EMPTY;
 use super::rows::RowMask;
 use super::walk::kernel_species;
-use super::{GroupSum, Perception, Reads, Relations, SenseParams, Summary};
+use super::{GroupSum, Perception, Reads, Relations, SenseParams};
 use crate::index::Grid;
 use crate::world::World;
 use glam::Vec3;
@@ -153,7 +153,6 @@ impl Perception {
         self.gathered.resize(n, UNKNOWN);
         self.slot_starts.resize(n + 1, 0);
         self.sum_starts.resize(n + 1, 0);
-        self.row_starts.resize(n + 1, 0);
         self.row_masks.resize(n, RowMask::ALL);
         world
             .agents
@@ -210,12 +209,10 @@ impl Perception {
         };
         self.row_masks
             .par_iter_mut()
-            .zip(self.row_starts[..n].par_iter_mut())
             .enumerate()
             .with_min_len(crate::par::min_len(1024))
-            .for_each(|(r, (mask, len))| {
+            .for_each(|(r, mask)| {
                 *mask = masks.get(species_of(r)).copied().unwrap_or(RowMask::ALL);
-                *len = mask.len() as u32;
             });
         self.size_rows(n);
         self.copy_by_slot(agents, kernel);
@@ -241,11 +238,14 @@ impl Perception {
         };
         let slots = running(&mut self.slot_starts);
         let sums = running(&mut self.sum_starts);
-        let rows = running(&mut self.row_starts);
         self.percepts.resize(slots as usize, EMPTY);
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
-        self.summaries.resize(rows as usize, Summary::NONE);
+        // The summaries are laid out by the walk (only those perceived are kept).
+        self.held.resize(n, RowMask::ALL);
+        self.held_at.resize(n, 0);
+        self.summary_chunks
+            .resize_with(n.div_ceil(super::SUMMARY_CHUNK), Vec::new);
         self.reaches.resize(n, 0.0);
     }
 

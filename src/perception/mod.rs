@@ -69,11 +69,14 @@ pub struct Perception {
     percepts: Vec<Percept>,
     slot_starts: Vec<u32>,
     counts: Vec<u16>,
-    /// Summaries of every agent by row, `row_starts[r]..row_starts[r + 1]` for row `r`: those
-    /// of the categories in `row_masks[r]` (what its species can perceive this tick, see
-    /// [`rows`]).
-    summaries: Vec<Summary>,
-    row_starts: Vec<u32>,
+    /// Summaries of every agent by row, [`SUMMARY_CHUNK`] rows a list: row `r`'s are at
+    /// `held_at[r]` in list `r / SUMMARY_CHUNK`, those of the categories in `held[r]`: of what
+    /// its species can perceive this tick (`row_masks[r]`, see [`rows`]), what it perceived.
+    /// An empty summary is not kept (a reef fish perceives two or three of its five
+    /// categories at a time: 280 bytes a row otherwise).
+    summary_chunks: Vec<Vec<Summary>>,
+    held: Vec<RowMask>,
+    held_at: Vec<u16>,
     row_masks: Vec<RowMask>,
     /// The mask of each species this tick.
     species_masks: Vec<RowMask>,
@@ -136,12 +139,16 @@ struct AgentOut<'a> {
     kin: &'a mut kin::KinBuf,
 }
 
-/// The output buffers of agents `lo..lo + counts.len()`.
+/// The output buffers of agents `lo..lo + counts.len()` (`lo` a multiple of
+/// [`SUMMARY_CHUNK`]).
 struct Outs<'a> {
     lo: usize,
     percepts: &'a mut [Percept],
     counts: &'a mut [u16],
-    summaries: &'a mut [Summary],
+    /// The summary lists of these rows, one per [`SUMMARY_CHUNK`].
+    summaries: &'a mut [Vec<Summary>],
+    held: &'a mut [RowMask],
+    held_at: &'a mut [u16],
     masks: &'a [RowMask],
     reaches: &'a mut [f32],
     sums: &'a mut [GroupSum],
@@ -170,67 +177,90 @@ impl Default for SummaryBuf {
 struct Starts<'a> {
     slots: &'a [u32],
     sums: &'a [u32],
-    rows: &'a [u32],
 }
 
 impl Starts<'_> {
-    /// Lengths of row `i`'s slots, group sums and summaries.
+    /// Lengths of row `i`'s slots and group sums.
     #[inline]
-    fn lens(&self, i: usize) -> [usize; 3] {
+    fn lens(&self, i: usize) -> [usize; 2] {
         let len = |s: &[u32]| (s[i + 1] - s[i]) as usize;
-        [len(self.slots), len(self.sums), len(self.rows)]
+        [len(self.slots), len(self.sums)]
     }
     /// Offsets of row `i`'s shares from row `lo`'s.
-    fn from(&self, lo: usize, i: usize) -> [usize; 3] {
+    fn from(&self, lo: usize, i: usize) -> [usize; 2] {
         let at = |s: &[u32]| (s[i] - s[lo]) as usize;
-        [at(self.slots), at(self.sums), at(self.rows)]
+        [at(self.slots), at(self.sums)]
     }
 }
 
-/// Agents per task of the parallel walk.
-const AGENTS_PER_TASK: usize = 64;
+/// Rows a task of the parallel walk takes, and rows a list of summaries holds.
+const SUMMARY_CHUNK: usize = 64;
+
+thread_local! {
+    /// A worker's room for the summaries of the chunk it walks.
+    static SCRATCH: std::cell::Cell<Vec<Summary>> = const { std::cell::Cell::new(Vec::new()) };
+}
 
 impl<'a> Outs<'a> {
-    /// Calls `f(i, out)` for every agent, splitting the range in halves on rayon's pool (each
-    /// agent writes only its own slots: the result does not depend on the split).
+    /// Calls `f(i, out)` for every agent, splitting the range in halves of whole chunks on
+    /// rayon's pool (each agent writes only its own slots, and its summaries after those of
+    /// the rows before it in its chunk: the result does not depend on the split).
     fn for_each(self, starts: Starts, f: &(impl Fn(usize, AgentOut) + Sync)) {
         let n = self.counts.len();
-        if n <= AGENTS_PER_TASK {
+        if n == 0 {
+            return;
+        }
+        if n <= SUMMARY_CHUNK {
             let lo = self.lo;
             let mut percepts = self.percepts;
             let mut sums = self.sums;
-            let mut summaries = self.summaries;
+            let list = &mut self.summaries[0];
+            // The chunk's rows are laid out in the worker's scratch, then copied into a list of
+            // exactly their length (one grown by doubling would hold a third more).
+            let mut scratch = SCRATCH.take();
+            scratch.clear();
             let mut kin = kin::KinBuf::default();
             let rows = self.counts.iter_mut().zip(self.reaches).zip(self.masks);
-            for (k, ((count, reach), &mask)) in rows.enumerate() {
+            let held = self.held.iter_mut().zip(self.held_at.iter_mut());
+            for (k, (((count, reach), &mask), (held, at))) in rows.zip(held).enumerate() {
                 let i = lo + k;
-                let [ns, ng, nr] = starts.lens(i);
+                let [ns, ng] = starts.lens(i);
                 let (slots, rest) = std::mem::take(&mut percepts).split_at_mut(ns);
                 percepts = rest;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
-                let (summary, rest) = std::mem::take(&mut summaries).split_at_mut(nr);
-                summaries = rest;
+                let base = scratch.len();
+                scratch.resize(base + mask.len(), Summary::NONE);
                 f(
                     i,
                     AgentOut {
                         slots,
                         count,
-                        summary,
+                        summary: &mut scratch[base..],
                         mask,
                         reach,
                         sums: own_sums,
                         kin: &mut kin,
                     },
                 );
+                *held = mask.compact(&mut scratch[base..]);
+                *at = base as u16;
+                scratch.truncate(base + held.len());
             }
+            list.clear();
+            list.reserve_exact(scratch.len());
+            list.extend_from_slice(&scratch);
+            SCRATCH.set(scratch);
             return;
         }
-        let mid = n / 2;
-        let [slot_mid, sum_mid, row_mid] = starts.from(self.lo, self.lo + mid);
+        let chunks = n.div_ceil(SUMMARY_CHUNK);
+        let mid = chunks / 2 * SUMMARY_CHUNK;
+        let [slot_mid, sum_mid] = starts.from(self.lo, self.lo + mid);
         let (p0, p1) = self.percepts.split_at_mut(slot_mid);
         let (c0, c1) = self.counts.split_at_mut(mid);
-        let (s0, s1) = self.summaries.split_at_mut(row_mid);
+        let (s0, s1) = self.summaries.split_at_mut(chunks / 2);
+        let (h0, h1) = self.held.split_at_mut(mid);
+        let (a0, a1) = self.held_at.split_at_mut(mid);
         let (r0, r1) = self.reaches.split_at_mut(mid);
         let (m0, m1) = self.masks.split_at(mid);
         let (g0, g1) = self.sums.split_at_mut(sum_mid);
@@ -239,6 +269,8 @@ impl<'a> Outs<'a> {
             percepts: p0,
             counts: c0,
             summaries: s0,
+            held: h0,
+            held_at: a0,
             masks: m0,
             reaches: r0,
             sums: g0,
@@ -248,6 +280,8 @@ impl<'a> Outs<'a> {
             percepts: p1,
             counts: c1,
             summaries: s1,
+            held: h1,
+            held_at: a1,
             masks: m1,
             reaches: r1,
             sums: g1,
@@ -306,8 +340,10 @@ impl Perception {
     #[inline]
     fn summary_row(&self, i: usize) -> (&[Summary], RowMask) {
         let r = self.row(i);
-        let row = &self.summaries[self.row_starts[r] as usize..self.row_starts[r + 1] as usize];
-        (row, self.row_masks[r])
+        let held = self.held[r];
+        let at = self.held_at[r] as usize;
+        let row = &self.summary_chunks[r / SUMMARY_CHUNK][at..at + held.len()];
+        (row, held)
     }
 
     /// [`Perception::summaries`] without a copy of what is already in place: a row of every
@@ -358,6 +394,18 @@ impl Perception {
     #[inline]
     pub fn prev_pos(&self, i: usize) -> Option<Vec3> {
         self.gathered.get(i).map(|g| g.prev_pos)
+    }
+
+    /// Summaries the rows may hold: those of the categories their species can perceive.
+    #[cfg(test)]
+    fn row_room(&self) -> usize {
+        self.row_masks.iter().map(|m| m.len()).sum()
+    }
+
+    /// Summaries the rows hold.
+    #[cfg(test)]
+    fn summaries_held(&self) -> usize {
+        self.summary_chunks.iter().map(Vec::len).sum()
     }
 
     /// Number of agents perceived for.
@@ -442,7 +490,9 @@ impl Perception {
             lo: 0,
             percepts: &mut self.percepts,
             counts: &mut self.counts,
-            summaries: &mut self.summaries,
+            summaries: &mut self.summary_chunks,
+            held: &mut self.held,
+            held_at: &mut self.held_at,
             masks: &self.row_masks,
             reaches: &mut self.reaches,
             sums: &mut self.sums,
@@ -450,7 +500,6 @@ impl Perception {
         let starts = Starts {
             slots: &self.slot_starts,
             sums: &self.sum_starts,
-            rows: &self.row_starts,
         };
         outs.for_each(starts, &|r, out| view.perceive_row(r, out));
         // Each agent's reach, by agent, for its next walk (rows are in the grid's order, which
@@ -503,7 +552,19 @@ impl Perception {
         let mut by = [Summary::NONE; Category::COUNT];
         let len = fold.finish(&mut by).0.len();
         self.counts[i] = len as u16;
-        let row = self.row_starts[i] as usize..self.row_starts[i + 1] as usize;
-        self.row_masks[i].keep(&by, &mut self.summaries[row]);
+        // The row's summaries replace its old ones in its chunk's list; the rows after it in
+        // the list move by the difference.
+        let mask = self.row_masks[i];
+        let mut row = [Summary::NONE; Category::COUNT];
+        mask.keep(&by, &mut row[..mask.len()]);
+        let held = mask.compact(&mut row[..mask.len()]);
+        let (c, at) = (i / SUMMARY_CHUNK, self.held_at[i] as usize);
+        let old = self.held[i].len();
+        self.summary_chunks[c].splice(at..at + old, row[..held.len()].iter().copied());
+        self.held[i] = held;
+        let end = ((c + 1) * SUMMARY_CHUNK).min(self.held.len());
+        for a in &mut self.held_at[i + 1..end] {
+            *a = (*a as usize + held.len()).wrapping_sub(old) as u16;
+        }
     }
 }

@@ -96,6 +96,23 @@ impl RowMask {
         }
     }
 
+    /// Moves the summaries of `row` (a row of this mask) that are not empty to its front, in
+    /// order, and returns the mask of those (an empty summary, bit for bit
+    /// [`Summary::NONE`], is what a row that does not hold the category reads).
+    #[inline]
+    pub(super) fn compact(self, row: &mut [Summary]) -> RowMask {
+        let (mut m, mut held, mut k) = (self.0, 0u8, 0);
+        for j in 0..row.len() {
+            let c = m.trailing_zeros();
+            m &= m.wrapping_sub(1);
+            if !row[j].is_none() {
+                row[k] = row[j];
+                k += 1;
+                held |= 1 << c;
+            }
+        }
+        RowMask(held)
+    }
     /// Keeps, of the summaries `by`, those the row holds. The others are empty: the mask
     /// holds every category the walks can fold for the row's species.
     #[inline]
@@ -145,5 +162,29 @@ mod tests {
         assert_eq!(RowMask::ALL.len(), Category::COUNT);
         // A species the relations do not list keeps every category.
         assert_eq!(RowMask::of(7, &rel, false, false), RowMask::ALL);
+    }
+
+    #[test]
+    fn a_compacted_row_keeps_what_was_perceived_in_order() {
+        let mut row = [Summary::NONE; Category::COUNT];
+        row[1].count = 2;
+        row[4].count = 5;
+        // An empty summary with another bit pattern (−0 in a sum) is kept, not lost.
+        row[2].inv_dist_sum = -0.0;
+        let held = RowMask::ALL.compact(&mut row);
+        assert_eq!(held.len(), 3);
+        assert_eq!([row[0].count, row[2].count], [2, 5]);
+        assert!(row[1].inv_dist_sum.is_sign_negative());
+        let by = held.expand(&row[..3]);
+        assert_eq!([by[1].count, by[4].count], [2, 5]);
+        assert!(by[2].inv_dist_sum.is_sign_negative());
+        assert!(by[0].is_none() && by[3].is_none() && by[5].is_none());
+        // In a row of fewer categories, each keeps its own.
+        let m = RowMask(0b10_1010);
+        let mut row = [Summary::NONE; 3];
+        row[2].count = 1;
+        let held = m.compact(&mut row);
+        assert_eq!(held, RowMask(0b10_0000));
+        assert_eq!(held.expand(&row[..1])[5].count, 1);
     }
 }

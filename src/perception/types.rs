@@ -235,6 +235,22 @@ impl Summary {
     };
 }
 
+impl Summary {
+    /// Whether it is [`Summary::NONE`], bit for bit.
+    #[inline]
+    pub fn is_none(&self) -> bool {
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        self.count == 0
+            && self.seen == 0
+            && self.nearest.is_none()
+            && self.nearest_dist.to_bits() == f32::INFINITY.to_bits()
+            && bits(self.centroid) == [0; 3]
+            && bits(self.mean_heading) == [0; 3]
+            && bits(self.mean_velocity) == [0; 3]
+            && self.inv_dist_sum.to_bits() == 0
+    }
+}
+
 impl Default for Summary {
     fn default() -> Self {
         Summary::NONE

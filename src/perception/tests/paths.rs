@@ -231,6 +231,19 @@ fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
     for i in (0..n).filter(|&i| i != 3) {
         assert_eq!(fed.percepts(i), by_grid.percepts(i), "agent {i}");
     }
+    // Its summaries are rebuilt in its row; a row that shrinks to nothing and grows again
+    // leaves the rows after it in its list as they were.
+    let j = (0..n).find(|&j| !by_grid.percepts(j).is_empty()).unwrap();
+    let q = by_grid.percepts(j)[0];
+    let c = q.category as usize;
+    fed.inject(j, w.agents[j].pos, &[]);
+    assert!(fed.summaries(j).iter().all(Summary::is_none));
+    fed.inject(j, w.agents[j].pos, &[q, q]);
+    assert_eq!(fed.summaries(j)[c].count, 2);
+    assert_eq!(fed.summaries(j)[c].nearest_dist, q.dist);
+    for i in (0..n).filter(|&i| i != 3 && i != j) {
+        assert_eq!(fed.summaries(i), by_grid.summaries(i), "agent {i}");
+    }
 }
 
 #[test]
@@ -267,13 +280,13 @@ fn a_row_keeps_the_categories_its_species_can_perceive_with_the_same_bits() {
     };
     let compact = perceive(&w);
     let n = w.agents.len();
-    assert_eq!(compact.summaries.len(), n, "one summary a row");
+    assert_eq!(compact.row_room(), n, "one summary a row");
     w.add_obstacle(Shape::Sphere {
         center: Vec3::splat(90.0),
         radius: 1.0,
     });
     let full = perceive(&w);
-    assert_eq!(full.summaries.len(), n * 2, "kin and obstacles");
+    assert_eq!(full.row_room(), n * 2, "kin and obstacles");
     for i in 0..n {
         assert_eq!(compact.summaries(i), full.summaries(i), "agent {i}");
         assert_eq!(compact.group_sums(i), full.group_sums(i), "agent {i}");
@@ -294,7 +307,7 @@ fn a_row_keeps_the_categories_its_species_can_perceive_with_the_same_bits() {
     };
     w.obstacles.clear();
     fed.run_selective(&w, &ag, &Grid::new(), &[sense], &rel, &[everything]);
-    assert_eq!(fed.summaries.len(), n * Category::COUNT);
+    assert_eq!(fed.row_room(), n * Category::COUNT);
 }
 
 #[test]
@@ -340,8 +353,16 @@ fn rows_of_what_a_species_can_perceive_lose_nothing() {
     let fish = (0..n).filter(|&i| w.agents[i].species.0 == 0).count();
     // Fish: food, predator, kin, mate, obstacle (nothing is `Other` to them); predators: food
     // and obstacles.
-    assert_eq!(masked.summaries.len(), fish * 5 + (n - fish) * 2);
-    assert_eq!(full.summaries.len(), n * Category::COUNT);
+    assert_eq!(masked.row_room(), fish * 5 + (n - fish) * 2);
+    assert_eq!(full.row_room(), n * Category::COUNT);
+    // Of those, a row keeps the summaries of what it perceived, whatever its room.
+    for p in [&masked, &full] {
+        let perceived: usize = (0..n)
+            .map(|i| p.summaries(i).iter().filter(|s| !s.is_none()).count())
+            .sum();
+        assert_eq!(p.summaries_held(), perceived);
+        assert!(perceived < masked.row_room(), "{perceived}");
+    }
     let mut seen = [0u32; Category::COUNT];
     // A worker's buffer, passed from fish to predator and back, reads what a fresh copy does.
     let mut buf = SummaryBuf::default();
