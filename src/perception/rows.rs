@@ -4,6 +4,8 @@
 //! with no relation that makes anything `Other` to it has no `Other` summary. What a species
 //! can perceive follows from its relations, whether it eats items, and whether the world has
 //! obstacles; the walks fold every category as before, and a row keeps those of its mask.
+//! Of those, the stored row keeps only what the agent perceived ([`RowMask::compact`]): an
+//! empty summary reads back as [`Summary::NONE`], so nothing is lost.
 
 use super::{Category, Relations, Summary};
 
