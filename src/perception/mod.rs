@@ -196,11 +196,6 @@ impl Starts<'_> {
 /// Rows a task of the parallel walk takes, and rows a list of summaries holds.
 const SUMMARY_CHUNK: usize = 64;
 
-thread_local! {
-    /// A worker's room for the summaries of the chunk it walks.
-    static SCRATCH: std::cell::Cell<Vec<Summary>> = const { std::cell::Cell::new(Vec::new()) };
-}
-
 impl<'a> Outs<'a> {
     /// Calls `f(i, out)` for every agent, splitting the range in halves of whole chunks on
     /// rayon's pool (each agent writes only its own slots, and its summaries after those of
@@ -215,10 +210,15 @@ impl<'a> Outs<'a> {
             let mut percepts = self.percepts;
             let mut sums = self.sums;
             let list = &mut self.summaries[0];
-            // The chunk's rows are laid out in the worker's scratch, then copied into a list of
-            // exactly their length (one grown by doubling would hold a third more).
-            let mut scratch = SCRATCH.take();
-            scratch.clear();
+            // Rows are written in place, one after another. The list keeps its room from tick
+            // to tick: first every row's whole mask, then a quarter more when short, and down
+            // to an eighth more than the rows hold when it has a quarter more (a list grown by
+            // doubling would hold a third more than it needs). The walk writes every summary
+            // of its row: none is cleared.
+            let mut used = 0;
+            if list.capacity() == 0 {
+                list.reserve_exact(self.masks.iter().map(|m| m.len()).sum());
+            }
             let mut kin = kin::KinBuf::default();
             let rows = self.counts.iter_mut().zip(self.reaches).zip(self.masks);
             let held = self.held.iter_mut().zip(self.held_at.iter_mut());
@@ -229,28 +229,34 @@ impl<'a> Outs<'a> {
                 percepts = rest;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
-                let base = scratch.len();
-                scratch.resize(base + mask.len(), Summary::NONE);
+                let need = used + mask.len();
+                if list.len() < need {
+                    if list.capacity() < need {
+                        list.reserve_exact((need - list.len()).max(list.capacity() / 4));
+                    }
+                    list.resize(need, Summary::NONE);
+                }
+                let row = &mut list[used..need];
                 f(
                     i,
                     AgentOut {
                         slots,
                         count,
-                        summary: &mut scratch[base..],
+                        summary: &mut *row,
                         mask,
                         reach,
                         sums: own_sums,
                         kin: &mut kin,
                     },
                 );
-                *held = mask.compact(&mut scratch[base..]);
-                *at = base as u16;
-                scratch.truncate(base + held.len());
+                *held = mask.compact(row);
+                *at = used as u16;
+                used += held.len();
             }
-            list.clear();
-            list.reserve_exact(scratch.len());
-            list.extend_from_slice(&scratch);
-            SCRATCH.set(scratch);
+            list.truncate(used);
+            if list.capacity() > used + used / 4 + Category::COUNT {
+                list.shrink_to(used + used / 8);
+            }
             return;
         }
         let chunks = n.div_ceil(SUMMARY_CHUNK);

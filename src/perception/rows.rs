@@ -108,7 +108,9 @@ impl RowMask {
             let c = m.trailing_zeros();
             m &= m.wrapping_sub(1);
             if !row[j].is_none() {
-                row[k] = row[j];
+                if k != j {
+                    row[k] = row[j];
+                }
                 k += 1;
                 held |= 1 << c;
             }
