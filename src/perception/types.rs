@@ -233,9 +233,7 @@ impl Summary {
         mean_velocity: Vec3::ZERO,
         inv_dist_sum: 0.0,
     };
-}
 
-impl Summary {
     /// Whether it is [`Summary::NONE`], bit for bit.
     #[inline]
     pub fn is_none(&self) -> bool {

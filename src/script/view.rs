@@ -2,7 +2,7 @@
 //! blackboard, deterministic random numbers, messages and steering values.
 
 use crate::perception::{Category, Level, Sector, Strength};
-use crate::world::{EventSpec, MemValue, Payload, Rng, Signal, MEMORY_CAPACITY};
+use crate::world::{EventSpec, MemValue, Payload, Rng, Signal};
 use glam::Vec3;
 use rhai::{Dynamic, Engine, EvalAltResult, ImmutableString, Position, FLOAT, INT};
 use std::sync::Arc;
@@ -359,16 +359,9 @@ fn register_agent(e: &mut Engine) {
     e.register_indexer_set(
         |v: &mut AgentView, key: &str, value: Dynamic| -> Result<(), Box<EvalAltResult>> {
             let m = to_mem(value)?;
-            match v.memory.binary_search_by(|(k, _)| (**k).cmp(key)) {
-                Ok(i) => v.memory[i].1 = m,
-                Err(i) => {
-                    if v.memory.len() >= MEMORY_CAPACITY {
-                        return Err(err(format!("memory is full ({MEMORY_CAPACITY} keys)")));
-                    }
-                    v.memory.insert(i, (Arc::from(key), m));
-                }
-            }
-            Ok(())
+            // No declaration here: every key is the agent's own.
+            super::memory::store(&mut v.memory, key, m, &super::memory::MemorySpec::default())
+                .map_err(err)
         },
     );
     e.register_fn("has", |v: &mut AgentView, key: &str| {
