@@ -4,7 +4,6 @@
 //! sequential read. Also sizes each agent's share of the output rows. Reads the world and the
 //! agent grid; writes only the stage's own buffers.
 
-use super::keep::EMPTY;
 use super::rows::RowMask;
 use super::walk::kernel_species;
 use super::{GroupSum, Perception, Reads, Relations, SenseParams};
@@ -128,7 +127,7 @@ impl Perception {
         let share = |s: usize| {
             let r = reads.get(s).unwrap_or(&everything);
             let slots = if r.percepts {
-                senses.get(s).unwrap_or(&default).slots() as u32
+                senses.get(s).unwrap_or(&default).slots() as u8
             } else {
                 0
             };
@@ -151,14 +150,14 @@ impl Perception {
         // Every agent's record read once, in order, on the thread that last wrote it; in agent
         // order, its share of the buffers with it.
         self.gathered.resize(n, UNKNOWN);
-        self.slot_starts.resize(n + 1, 0);
+        self.rooms.resize(n, 0);
         self.sum_starts.resize(n + 1, 0);
         self.row_masks.resize(n, RowMask::ALL);
         world
             .agents
             .par_iter()
             .zip(self.gathered[..n].par_iter_mut())
-            .zip(self.slot_starts[..n].par_iter_mut())
+            .zip(self.rooms[..n].par_iter_mut())
             .zip(self.sum_starts[..n].par_iter_mut())
             .with_min_len(crate::par::min_len(256))
             .for_each(|(((a, g), slots), sums)| {
@@ -192,7 +191,7 @@ impl Perception {
             self.angles.resize(n, [0.0; 2]);
             self.angles
                 .par_iter_mut()
-                .zip(self.slot_starts[..n].par_iter_mut())
+                .zip(self.rooms[..n].par_iter_mut())
                 .zip(self.sum_starts[..n].par_iter_mut())
                 .zip(entries.par_iter())
                 .with_min_len(crate::par::min_len(256))
@@ -225,8 +224,8 @@ impl Perception {
         unsensed
     }
 
-    /// Turns every row's share of the output buffers into running starts and sizes the
-    /// buffers to hold them all.
+    /// Turns every row's share of the group sums into running starts and sizes the buffers to
+    /// hold them all (the summaries and percepts are laid out by the walk).
     fn size_rows(&mut self, n: usize) {
         let running = |starts: &mut [u32]| {
             let mut total = 0;
@@ -236,16 +235,16 @@ impl Perception {
             starts[n] = total;
             total
         };
-        let slots = running(&mut self.slot_starts);
         let sums = running(&mut self.sum_starts);
-        self.percepts.resize(slots as usize, EMPTY);
         self.sums.resize(sums as usize, GroupSum::default());
         self.counts.resize(n, 0);
-        // The summaries are laid out by the walk (only those perceived are kept).
+        // Only the summaries perceived and the percepts kept are stored.
+        let chunks = n.div_ceil(super::SUMMARY_CHUNK);
         self.held.resize(n, RowMask::ALL);
         self.held_at.resize(n, 0);
-        self.summary_chunks
-            .resize_with(n.div_ceil(super::SUMMARY_CHUNK), Vec::new);
+        self.summary_chunks.resize_with(chunks, Vec::new);
+        self.percept_at.resize(n, 0);
+        self.percept_chunks.resize_with(chunks, Vec::new);
         self.reaches.resize(n, 0.0);
     }
 

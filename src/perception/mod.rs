@@ -64,10 +64,14 @@ const _: () = assert!(MAX_PERCEPTS <= 32);
 /// Per-agent perception results of one tick.
 #[derive(Debug, Clone, Default)]
 pub struct Perception {
-    /// Percept slots of every agent by row (see `by_grid`), `slot_starts[r]..slot_starts[r + 1]`
-    /// for row `r`.
-    percepts: Vec<Percept>,
-    slot_starts: Vec<u32>,
+    /// Kept percepts of every agent by row (see `by_grid`), [`SUMMARY_CHUNK`] rows a list: row
+    /// `r`'s `counts[r]` are at `percept_at[r]` in list `r / SUMMARY_CHUNK`. A row has room for
+    /// `rooms[r]` (its species' slots) while it is walked, and keeps only what it kept: a flocker
+    /// with 8 slots and a rock now and then keeps a quarter of a percept on average (320 bytes a
+    /// row otherwise).
+    percept_chunks: Vec<Vec<Percept>>,
+    percept_at: Vec<u16>,
+    rooms: Vec<u8>,
     counts: Vec<u16>,
     /// Summaries of every agent by row, [`SUMMARY_CHUNK`] rows a list: row `r`'s are at
     /// `held_at[r]` in list `r / SUMMARY_CHUNK`, those of the categories in `held[r]`: of what
@@ -143,7 +147,10 @@ struct AgentOut<'a> {
 /// [`SUMMARY_CHUNK`]).
 struct Outs<'a> {
     lo: usize,
-    percepts: &'a mut [Percept],
+    /// The percept lists of these rows, one per [`SUMMARY_CHUNK`].
+    percepts: &'a mut [Vec<Percept>],
+    percept_at: &'a mut [u16],
+    rooms: &'a [u8],
     counts: &'a mut [u16],
     /// The summary lists of these rows, one per [`SUMMARY_CHUNK`].
     summaries: &'a mut [Vec<Summary>],
@@ -172,75 +179,81 @@ impl Default for SummaryBuf {
     }
 }
 
-/// Where each row's share of the output buffers starts (one more entry than rows).
-#[derive(Clone, Copy)]
-struct Starts<'a> {
-    slots: &'a [u32],
-    sums: &'a [u32],
-}
-
-impl Starts<'_> {
-    /// Lengths of row `i`'s slots and group sums.
-    #[inline]
-    fn lens(&self, i: usize) -> [usize; 2] {
-        let len = |s: &[u32]| (s[i + 1] - s[i]) as usize;
-        [len(self.slots), len(self.sums)]
-    }
-    /// Offsets of row `i`'s shares from row `lo`'s.
-    fn from(&self, lo: usize, i: usize) -> [usize; 2] {
-        let at = |s: &[u32]| (s[i] - s[lo]) as usize;
-        [at(self.slots), at(self.sums)]
-    }
-}
-
-/// Rows a task of the parallel walk takes, and rows a list of summaries holds.
+/// Rows a task of the parallel walk takes, and rows a list of summaries or percepts holds.
 const SUMMARY_CHUNK: usize = 64;
+
+/// Makes `list` `need` long for the row about to be written in place after the rows before it.
+/// Short of room, it grows by a quarter at least, but never past `most` (what every row of its
+/// chunk could hold): a list grown by doubling would hold a third more than it needs.
+#[inline]
+fn room_for<T: Copy>(list: &mut Vec<T>, need: usize, most: usize, fill: T) {
+    if list.len() >= need {
+        return;
+    }
+    if list.capacity() < need {
+        let short = need - list.len();
+        let quarter = (list.capacity() / 4).min(most.saturating_sub(list.len()));
+        list.reserve_exact(short.max(quarter));
+    }
+    list.resize(need, fill);
+}
+
+/// Ends a chunk's list at the `used` entries its rows hold. It keeps its room from tick to tick:
+/// once it has more than `most` (a function of `used`), down to an eighth and `spare` more.
+fn settle<T>(list: &mut Vec<T>, used: usize, most: usize, spare: usize) {
+    list.truncate(used);
+    if list.capacity() > most {
+        list.shrink_to(used + used / 8 + spare);
+    }
+}
 
 impl<'a> Outs<'a> {
     /// Calls `f(i, out)` for every agent, splitting the range in halves of whole chunks on
-    /// rayon's pool (each agent writes only its own slots, and its summaries after those of
-    /// the rows before it in its chunk: the result does not depend on the split).
-    fn for_each(self, starts: Starts, f: &(impl Fn(usize, AgentOut) + Sync)) {
+    /// rayon's pool (each agent writes only its own group sums, and its summaries and percepts
+    /// after those of the rows before it in its chunk: the result does not depend on the
+    /// split). `sum_starts[r]..sum_starts[r + 1]` are row `r`'s group sums.
+    fn for_each(self, sum_starts: &[u32], f: &(impl Fn(usize, AgentOut) + Sync)) {
         let n = self.counts.len();
         if n == 0 {
             return;
         }
         if n <= SUMMARY_CHUNK {
             let lo = self.lo;
-            let mut percepts = self.percepts;
             let mut sums = self.sums;
             let list = &mut self.summaries[0];
-            // Rows are written in place, one after another. The list keeps its room from tick
-            // to tick: first every row's whole mask, then a quarter more when short, and down
-            // to an eighth more than the rows hold when it has a quarter more (a list grown by
-            // doubling would hold a third more than it needs). The walk writes every summary
-            // of its row: none is cleared.
-            let mut used = 0;
+            let kept = &mut self.percepts[0];
+            // Rows are written in place, one after another, in lists that keep their room from
+            // tick to tick: at first what every row could hold. The walk writes every summary
+            // of its row, and every percept it keeps: none is cleared.
+            let most_summaries = self.masks.iter().map(|m| m.len()).sum();
+            let most_percepts = self.rooms.iter().map(|&r| r as usize).sum();
             if list.capacity() == 0 {
-                list.reserve_exact(self.masks.iter().map(|m| m.len()).sum());
+                list.reserve_exact(most_summaries);
             }
+            if kept.capacity() == 0 {
+                kept.reserve_exact(most_percepts);
+            }
+            let (mut used, mut used_percepts) = (0, 0);
             let mut kin = kin::KinBuf::default();
             let rows = self.counts.iter_mut().zip(self.reaches).zip(self.masks);
             let held = self.held.iter_mut().zip(self.held_at.iter_mut());
-            for (k, (((count, reach), &mask), (held, at))) in rows.zip(held).enumerate() {
+            let percepts = self.percept_at.iter_mut().zip(self.rooms);
+            let all = rows.zip(held).zip(percepts);
+            for (k, ((((count, reach), &mask), (held, at)), (percept_at, &room))) in all.enumerate()
+            {
                 let i = lo + k;
-                let [ns, ng] = starts.lens(i);
-                let (slots, rest) = std::mem::take(&mut percepts).split_at_mut(ns);
-                percepts = rest;
+                let ng = (sum_starts[i + 1] - sum_starts[i]) as usize;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
                 let need = used + mask.len();
-                if list.len() < need {
-                    if list.capacity() < need {
-                        list.reserve_exact((need - list.len()).max(list.capacity() / 4));
-                    }
-                    list.resize(need, Summary::NONE);
-                }
+                room_for(list, need, most_summaries, Summary::NONE);
+                let need_percepts = used_percepts + room as usize;
+                room_for(kept, need_percepts, most_percepts, keep::EMPTY);
                 let row = &mut list[used..need];
                 f(
                     i,
                     AgentOut {
-                        slots,
+                        slots: &mut kept[used_percepts..need_percepts],
                         count,
                         summary: &mut *row,
                         mask,
@@ -252,17 +265,23 @@ impl<'a> Outs<'a> {
                 *held = mask.compact(row);
                 *at = used as u16;
                 used += held.len();
+                *percept_at = used_percepts as u16;
+                used_percepts += *count as usize;
             }
-            list.truncate(used);
-            if list.capacity() > used + used / 4 + Category::COUNT {
-                list.shrink_to(used + used / 8);
-            }
+            settle(list, used, used + used / 4 + Category::COUNT, 0);
+            // Kept percepts come and go with what is near: room for twice what the rows keep
+            // is kept (a fish that fills its slots one tick after a quiet one does not grow the
+            // list again), and one more row's slots.
+            let widest = self.rooms.iter().max().map_or(0, |&r| r as usize);
+            settle(kept, used_percepts, 2 * used_percepts + widest, widest);
             return;
         }
         let chunks = n.div_ceil(SUMMARY_CHUNK);
         let mid = chunks / 2 * SUMMARY_CHUNK;
-        let [slot_mid, sum_mid] = starts.from(self.lo, self.lo + mid);
-        let (p0, p1) = self.percepts.split_at_mut(slot_mid);
+        let sum_mid = (sum_starts[self.lo + mid] - sum_starts[self.lo]) as usize;
+        let (p0, p1) = self.percepts.split_at_mut(chunks / 2);
+        let (pa0, pa1) = self.percept_at.split_at_mut(mid);
+        let (o0, o1) = self.rooms.split_at(mid);
         let (c0, c1) = self.counts.split_at_mut(mid);
         let (s0, s1) = self.summaries.split_at_mut(chunks / 2);
         let (h0, h1) = self.held.split_at_mut(mid);
@@ -273,6 +292,8 @@ impl<'a> Outs<'a> {
         let left = Outs {
             lo: self.lo,
             percepts: p0,
+            percept_at: pa0,
+            rooms: o0,
             counts: c0,
             summaries: s0,
             held: h0,
@@ -284,6 +305,8 @@ impl<'a> Outs<'a> {
         let right = Outs {
             lo: self.lo + mid,
             percepts: p1,
+            percept_at: pa1,
+            rooms: o1,
             counts: c1,
             summaries: s1,
             held: h1,
@@ -292,7 +315,10 @@ impl<'a> Outs<'a> {
             reaches: r1,
             sums: g1,
         };
-        crate::par::join(|| left.for_each(starts, f), || right.for_each(starts, f));
+        crate::par::join(
+            || left.for_each(sum_starts, f),
+            || right.for_each(sum_starts, f),
+        );
     }
 }
 
@@ -324,8 +350,8 @@ impl Perception {
     #[inline]
     pub fn percepts(&self, i: usize) -> &[Percept] {
         let r = self.row(i);
-        let s = self.slot_starts[r] as usize;
-        &self.percepts[s..s + self.counts[r] as usize]
+        let at = self.percept_at[r] as usize;
+        &self.percept_chunks[r / SUMMARY_CHUNK][at..at + self.counts[r] as usize]
     }
 
     /// Obstacles (indices into `World::obstacles`, active or not) that may be near `p`: every
@@ -414,6 +440,13 @@ impl Perception {
         self.summary_chunks.iter().map(Vec::len).sum()
     }
 
+    /// Percepts the rows hold, and the slots they had while walked.
+    #[cfg(test)]
+    fn percepts_held(&self) -> [usize; 2] {
+        let held = self.percept_chunks.iter().map(Vec::len).sum();
+        [held, self.rooms.iter().map(|&r| r as usize).sum()]
+    }
+
     /// Number of agents perceived for.
     pub fn len(&self) -> usize {
         self.counts.len()
@@ -494,7 +527,9 @@ impl Perception {
         };
         let outs = Outs {
             lo: 0,
-            percepts: &mut self.percepts,
+            percepts: &mut self.percept_chunks,
+            percept_at: &mut self.percept_at,
+            rooms: &self.rooms,
             counts: &mut self.counts,
             summaries: &mut self.summary_chunks,
             held: &mut self.held,
@@ -503,11 +538,7 @@ impl Perception {
             reaches: &mut self.reaches,
             sums: &mut self.sums,
         };
-        let starts = Starts {
-            slots: &self.slot_starts,
-            sums: &self.sum_starts,
-        };
-        outs.for_each(starts, &|r, out| view.perceive_row(r, out));
+        outs.for_each(&self.sum_starts, &|r, out| view.perceive_row(r, out));
         // Each agent's reach, by agent, for its next walk (rows are in the grid's order, which
         // changes every tick).
         if self.others.any() {
@@ -533,8 +564,8 @@ impl Perception {
             return;
         }
         let i = self.row(i);
-        let range = self.slot_starts[i] as usize..self.slot_starts[i + 1] as usize;
-        let slots = &mut self.percepts[range];
+        let mut room = [keep::EMPTY; MAX_PERCEPTS];
+        let slots = &mut room[..self.rooms[i] as usize];
         // Fed percepts stand for no object of the world: no neighbor for the group rules.
         let sums = self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize;
         self.sums[sums].fill(GroupSum::default());
@@ -556,19 +587,24 @@ impl Perception {
             );
         }
         let mut by = [Summary::NONE; Category::COUNT];
-        let len = fold.finish(&mut by).0.len();
-        self.counts[i] = len as u16;
-        // The row's summaries replace its old ones in its chunk's list; the rows after it in
-        // the list move by the difference.
+        let kept = fold.finish(&mut by).0;
+        // The row's percepts and summaries replace its old ones in its chunk's lists; the rows
+        // after it in the lists move by the difference.
+        let c = i / SUMMARY_CHUNK;
+        let end = ((c + 1) * SUMMARY_CHUNK).min(self.held.len());
+        let (at, old) = (self.percept_at[i] as usize, self.counts[i] as usize);
+        self.percept_chunks[c].splice(at..at + old, kept.iter().copied());
+        self.counts[i] = kept.len() as u16;
+        for a in &mut self.percept_at[i + 1..end] {
+            *a = (*a as usize + kept.len()).wrapping_sub(old) as u16;
+        }
         let mask = self.row_masks[i];
         let mut row = [Summary::NONE; Category::COUNT];
         mask.keep(&by, &mut row[..mask.len()]);
         let held = mask.compact(&mut row[..mask.len()]);
-        let (c, at) = (i / SUMMARY_CHUNK, self.held_at[i] as usize);
-        let old = self.held[i].len();
+        let (at, old) = (self.held_at[i] as usize, self.held[i].len());
         self.summary_chunks[c].splice(at..at + old, row[..held.len()].iter().copied());
         self.held[i] = held;
-        let end = ((c + 1) * SUMMARY_CHUNK).min(self.held.len());
         for a in &mut self.held_at[i + 1..end] {
             *a = (*a as usize + held.len()).wrapping_sub(old) as u16;
         }

@@ -223,6 +223,9 @@ fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
         kept += by_grid.percepts(i).len();
     }
     assert!(kept > n, "most fish keep percepts");
+    // A row holds what it kept, not its slots.
+    assert_eq!(by_grid.percepts_held(), [kept, n * 8]);
+    assert!(kept < n * 8, "{kept}");
     // Fed percepts land on the agent they are for, whatever its row.
     let mut fed = by_grid.clone();
     let p = by_grid.percepts(7)[0];
@@ -238,11 +241,14 @@ fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
     let c = q.category as usize;
     fed.inject(j, w.agents[j].pos, &[]);
     assert!(fed.summaries(j).iter().all(Summary::is_none));
+    assert!(fed.percepts(j).is_empty());
     fed.inject(j, w.agents[j].pos, &[q, q]);
+    assert_eq!(fed.percepts(j), &[q, q]);
     assert_eq!(fed.summaries(j)[c].count, 2);
     assert_eq!(fed.summaries(j)[c].nearest_dist, q.dist);
     for i in (0..n).filter(|&i| i != 3 && i != j) {
         assert_eq!(fed.summaries(i), by_grid.summaries(i), "agent {i}");
+        assert_eq!(fed.percepts(i), by_grid.percepts(i), "agent {i}");
     }
 }
 
