@@ -5,8 +5,10 @@
 //! classified by the species' relations (food, predator, kin, mate, other), tested against vision
 //! (sphere `v_r` limited to a cone, or a custom body-frame [`Volume`], not fully occluded by
 //! obstacles: see [`occlusion`]) and smell (sphere `O_r`), given its bearing, elevation and sector,
-//! and folded into a per-category [`Summary`]. Results go into fixed-size per-agent slots, so the
-//! stage allocates nothing once warmed up and runs in parallel with identical results.
+//! and folded into a per-category [`Summary`]. Results go into lists of 64 rows each, written in
+//! place (a row keeps the summaries it perceived and the percepts it kept); a list keeps its room
+//! from tick to tick and reallocates only when what its rows keep changes a lot. The stage runs
+//! in parallel with identical results.
 //!
 //! Cost: neighbors are read from a compact per-tick body record, obstacles from an
 //! [`ObstacleGrid`], and the two inverse trigonometric calls of a bearing are spent only on the
@@ -183,13 +185,18 @@ impl Default for SummaryBuf {
 const SUMMARY_CHUNK: usize = 64;
 
 /// Makes `list` `need` long for the row about to be written in place after the rows before it.
-/// Short of room, it grows by a quarter at least, but never past `most` (what every row of its
+/// Short of room, it grows by a quarter at least, but never past `most()` (what every row of its
 /// chunk could hold): a list grown by doubling would hold a third more than it needs.
-#[inline]
-fn room_for<T: Copy>(list: &mut Vec<T>, need: usize, most: usize, fill: T) {
-    if list.len() >= need {
-        return;
+#[inline(always)]
+fn room_for<T: Copy>(list: &mut Vec<T>, need: usize, most: impl FnOnce() -> usize, fill: T) {
+    if list.len() < need {
+        grow(list, need, most(), fill);
     }
+}
+
+/// [`room_for`]'s rare part.
+#[cold]
+fn grow<T: Copy>(list: &mut Vec<T>, need: usize, most: usize, fill: T) {
     if list.capacity() < need {
         let short = need - list.len();
         let quarter = (list.capacity() / 4).min(most.saturating_sub(list.len()));
@@ -198,12 +205,12 @@ fn room_for<T: Copy>(list: &mut Vec<T>, need: usize, most: usize, fill: T) {
     list.resize(need, fill);
 }
 
-/// Ends a chunk's list at the `used` entries its rows hold. It keeps its room from tick to tick:
-/// once it has more than `most` (a function of `used`), down to an eighth and `spare` more.
-fn settle<T>(list: &mut Vec<T>, used: usize, most: usize, spare: usize) {
-    list.truncate(used);
+/// Shrinks a chunk's list whose rows hold `used` entries. It keeps its room from tick to tick:
+/// once it has more than `most`, down to an eighth and `spare()` more.
+fn settle<T>(list: &mut Vec<T>, used: usize, most: usize, spare: impl FnOnce() -> usize) {
     if list.capacity() > most {
-        list.shrink_to(used + used / 8 + spare);
+        list.truncate(used);
+        list.shrink_to(used + used / 8 + spare());
     }
 }
 
@@ -225,19 +232,21 @@ impl<'a> Outs<'a> {
             // Rows are written in place, one after another, in lists that keep their room from
             // tick to tick: at first what every row could hold. The walk writes every summary
             // of its row, and every percept it keeps: none is cleared.
-            let most_summaries = self.masks.iter().map(|m| m.len()).sum();
-            let most_percepts = self.rooms.iter().map(|&r| r as usize).sum();
+            let masks = self.masks;
+            let rooms = self.rooms;
+            let most_summaries = || masks.iter().map(|m| m.len()).sum();
+            let most_percepts = || rooms.iter().map(|&r| r as usize).sum();
             if list.capacity() == 0 {
-                list.reserve_exact(most_summaries);
+                list.reserve_exact(most_summaries());
             }
             if kept.capacity() == 0 {
-                kept.reserve_exact(most_percepts);
+                kept.reserve_exact(most_percepts());
             }
             let (mut used, mut used_percepts) = (0, 0);
             let mut kin = kin::KinBuf::default();
-            let rows = self.counts.iter_mut().zip(self.reaches).zip(self.masks);
+            let rows = self.counts.iter_mut().zip(self.reaches).zip(masks);
             let held = self.held.iter_mut().zip(self.held_at.iter_mut());
-            let percepts = self.percept_at.iter_mut().zip(self.rooms);
+            let percepts = self.percept_at.iter_mut().zip(rooms);
             let all = rows.zip(held).zip(percepts);
             for (k, ((((count, reach), &mask), (held, at)), (percept_at, &room))) in all.enumerate()
             {
@@ -268,12 +277,16 @@ impl<'a> Outs<'a> {
                 *percept_at = used_percepts as u16;
                 used_percepts += *count as usize;
             }
-            settle(list, used, used + used / 4 + Category::COUNT, 0);
-            // Kept percepts come and go with what is near: room for twice what the rows keep
-            // is kept (a fish that fills its slots one tick after a quiet one does not grow the
-            // list again), and one more row's slots.
-            let widest = self.rooms.iter().max().map_or(0, |&r| r as usize);
-            settle(kept, used_percepts, 2 * used_percepts + widest, widest);
+            list.truncate(used);
+            settle(list, used, used + used / 4 + Category::COUNT, || 0);
+            // Kept percepts come and go with what is near: room for up to twice what the rows
+            // keep is kept (a chunk that keeps a few more next tick does not grow its list
+            // again), and when it shrinks, one more row's slots. The list is not cut to
+            // what the rows keep: each row's slots are then there already next tick (rows are
+            // read by `percept_at` and `counts`, never by the list's length).
+            let widest = || rooms.iter().max().map_or(0, |&r| r as usize);
+            let most = 2 * used_percepts + MAX_PERCEPTS;
+            settle(kept, used_percepts, most, widest);
             return;
         }
         let chunks = n.div_ceil(SUMMARY_CHUNK);
@@ -440,11 +453,11 @@ impl Perception {
         self.summary_chunks.iter().map(Vec::len).sum()
     }
 
-    /// Percepts the rows hold, and the slots they had while walked.
+    /// Room for percepts in the rows' lists, and the slots the rows had while walked.
     #[cfg(test)]
-    fn percepts_held(&self) -> [usize; 2] {
-        let held = self.percept_chunks.iter().map(Vec::len).sum();
-        [held, self.rooms.iter().map(|&r| r as usize).sum()]
+    fn percept_room(&self) -> [usize; 2] {
+        let room = self.percept_chunks.iter().map(Vec::capacity).sum();
+        [room, self.rooms.iter().map(|&r| r as usize).sum()]
     }
 
     /// Number of agents perceived for.

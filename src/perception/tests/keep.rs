@@ -319,6 +319,58 @@ fn a_reused_buffer_holds_no_summary_of_a_rock_that_is_gone() {
 }
 
 #[test]
+fn a_reused_buffer_keeps_what_a_fresh_one_does_as_agents_come_and_go() {
+    // The kept percepts of 64 rows share a list that keeps its room from tick to tick: rows
+    // that keep more than the tick before, a school that shrinks (a partial last chunk) and
+    // grows again, and a quiet tick (nothing in sight) must read back as a fresh perception.
+    let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 1);
+    let mut rng = Rng::new(5, 0);
+    let sense = SenseParams {
+        vision_radius: 4.0,
+        max_percepts: 8,
+        ..SenseParams::default()
+    };
+    let reads = Reads::default();
+    let mut reused = Perception::new();
+    for (n, spread) in [
+        (400, 12.0),
+        (130, 12.0),
+        (400, 6.0),
+        (400, 28.0),
+        (257, 8.0),
+    ] {
+        w.agents.clear();
+        for k in 0..n {
+            let pos = random_point(&mut rng, spread);
+            w.agents.push(agent(k, 0, pos, rng.range(-3.0, 3.0)));
+        }
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, 4.0, w.agents.iter().map(|a| a.pos));
+        let run = |p: &mut Perception| {
+            p.run_selective(&w, &ag, &Grid::new(), &[sense], &rel(), &[reads]);
+        };
+        run(&mut reused);
+        let mut fresh = Perception::new();
+        run(&mut fresh);
+        let mut kept = 0;
+        for i in 0..n as usize {
+            assert_eq!(
+                reused.percepts(i),
+                fresh.percepts(i),
+                "{n} agents, agent {i}"
+            );
+            assert_eq!(
+                reused.summaries(i),
+                fresh.summaries(i),
+                "{n} agents, agent {i}"
+            );
+            kept += fresh.percepts(i).len();
+        }
+        assert!(kept > 0, "{n} agents keep percepts");
+    }
+}
+
+#[test]
 fn few_slots_still_keep_the_nearest_of_each_category() {
     // A kin at 1 m, the shark at 5 m and food at 6 m: however few percepts a species asks
     // for, the predator and the food must not be hidden by the kin in front of them.
