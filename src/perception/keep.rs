@@ -1,6 +1,7 @@
 //! The percepts an agent keeps in its slots (stage 2; the room its row has while walked): the
-//! nearest ones, as many as its species keeps, and always the nearest of each category, even when nearer percepts of other
-//! categories fill the slots. Works on percepts already built; reads nothing of the world.
+//! nearest ones, as many as its species keeps, and always the nearest of each category, even
+//! when nearer percepts of other categories fill the slots. Works on percepts already built;
+//! reads nothing of the world.
 
 use super::{Category, Percept, Sense, Source, Summary, MAX_PERCEPTS};
 use glam::Vec3;
