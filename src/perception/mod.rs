@@ -605,21 +605,36 @@ impl Perception {
         // after it in the lists move by the difference.
         let c = i / SUMMARY_CHUNK;
         let end = ((c + 1) * SUMMARY_CHUNK).min(self.held.len());
-        let (at, old) = (self.percept_at[i] as usize, self.counts[i] as usize);
-        self.percept_chunks[c].splice(at..at + old, kept.iter().copied());
+        let old = self.counts[i] as usize;
+        replace_row(
+            &mut self.percept_chunks[c],
+            &mut self.percept_at[i..end],
+            old,
+            kept,
+        );
         self.counts[i] = kept.len() as u16;
-        for a in &mut self.percept_at[i + 1..end] {
-            *a = (*a as usize + kept.len()).wrapping_sub(old) as u16;
-        }
         let mask = self.row_masks[i];
         let mut row = [Summary::NONE; Category::COUNT];
         mask.keep(&by, &mut row[..mask.len()]);
         let held = mask.compact(&mut row[..mask.len()]);
-        let (at, old) = (self.held_at[i] as usize, self.held[i].len());
-        self.summary_chunks[c].splice(at..at + old, row[..held.len()].iter().copied());
+        let old = self.held[i].len();
+        let new = &row[..held.len()];
+        replace_row(
+            &mut self.summary_chunks[c],
+            &mut self.held_at[i..end],
+            old,
+            new,
+        );
         self.held[i] = held;
-        for a in &mut self.held_at[i + 1..end] {
-            *a = (*a as usize + held.len()).wrapping_sub(old) as u16;
-        }
+    }
+}
+
+/// Replaces the `old` entries of a row by `new` in its chunk's `list`. `starts` are where that
+/// row and the rows after it in the chunk start; the later ones move by the difference.
+fn replace_row<T: Copy>(list: &mut Vec<T>, starts: &mut [u16], old: usize, new: &[T]) {
+    let at = starts[0] as usize;
+    list.splice(at..at + old, new.iter().copied());
+    for a in &mut starts[1..] {
+        *a = (*a as usize + new.len()).wrapping_sub(old) as u16;
     }
 }
