@@ -92,6 +92,36 @@ fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
 }
 
 #[test]
+fn a_long_enough_run_says_how_fast_its_first_and_last_tenths_went() {
+    let (code, out, err) = shoal(&["bench", "flock", "--agents", "200", "--ticks", "100"]);
+    assert_eq!(code, 0, "{err}");
+    let line = out
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("steady: "))
+        .unwrap_or_else(|| panic!("no steady line under the row:\n{out}"));
+    let figures: Vec<f64> = line
+        .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .filter_map(|f| f.parse().ok())
+        .collect();
+    let [first, last, ratio] = figures[..] else {
+        panic!("not three figures in {line:?}");
+    };
+    assert!(first > 0.0 && last > 0.0, "{line}");
+    assert!(
+        (ratio - last / first).abs() <= 0.01 + 0.002 * ratio,
+        "{ratio} is not {last} / {first}"
+    );
+    // A tenth of the ticks never took longer than the whole run: each tenth's speed is at
+    // least a tenth of the whole run's (less the rounding of the figures).
+    let whole = row(&out, "flock")[2];
+    assert!(first.min(last) >= 0.1 * whole * 0.99, "{out}");
+    // Under 100 timed ticks, no such line (a tenth would be a handful of ticks).
+    let (code, out, _) = shoal(&["bench", "flock", "--agents", "200", "--ticks", "99"]);
+    assert_eq!(code, 0);
+    assert!(!out.contains("steady"), "{out}");
+}
+
+#[test]
 fn every_boids_row_is_read_against_the_reference_kernel() {
     let (code, out, err) = shoal(&["bench", "boids", "--agents", "300", "--ticks", "3"]);
     assert_eq!(code, 0, "{err}");

@@ -168,7 +168,14 @@ pub struct Sample {
     pub stages: Option<crate::tick::StageTimes>,
     /// What the row measured besides speed, printed under it (the weighted plan's excess).
     pub note: Option<String>,
+    /// Ticks per second over the first and the last tenth of the timed ticks (tick workloads
+    /// timed over at least [`STEADY_MIN_TICKS`] ticks): whether a long run slows down.
+    pub steady: Option<(f64, f64)>,
 }
+
+/// Fewest timed ticks for which [`Sample::steady`] is given (a tenth of them is then at least
+/// 10 ticks).
+pub const STEADY_MIN_TICKS: u64 = 100;
 
 impl Sample {
     /// Ticks per second.
@@ -442,16 +449,29 @@ pub fn median_sample(mut samples: Vec<Sample>) -> Option<Sample> {
     Some(samples.swap_remove(middle))
 }
 
-/// Steps `w` `ticks` times; returns (seconds, agent-updates).
+/// Steps `w` `ticks` times; returns (seconds, agent-updates, the ticks per second of the
+/// first and of the last tenth of the ticks when there are at least [`STEADY_MIN_TICKS`]).
 #[inline(never)]
-pub fn step_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64) {
+pub fn step_timed(w: &mut BenchWorld, ticks: u64) -> (f64, u64, Option<(f64, f64)>) {
+    let tenth = ticks / 10;
+    let (first_end, last_start) = (tenth, ticks - tenth);
     let mut updates = 0;
     let t0 = Instant::now();
-    for _ in 0..ticks {
+    let (mut first, mut last) = (t0, t0);
+    for t in 0..ticks {
+        if t == first_end {
+            first = Instant::now();
+        }
+        if t == last_start {
+            last = Instant::now();
+        }
         updates += w.run.sim.world.agents.len() as u64;
         w.run.step();
     }
-    (t0.elapsed().as_secs_f64(), updates)
+    let end = Instant::now();
+    let rate = |from: Instant, to: Instant| tenth as f64 / (to - from).as_secs_f64().max(1e-12);
+    let steady = (ticks >= STEADY_MIN_TICKS).then(|| (rate(t0, first), rate(last, end)));
+    ((end - t0).as_secs_f64(), updates, steady)
 }
 
 /// Ticks run before timing starts, so buffers are warm and the world has left its spawn state.
@@ -508,10 +528,11 @@ pub fn measure(
     // keeps resident is.
     let tracked = reset_peak_memory();
     w.run.sim.pipeline.reset_stage_times();
-    let (seconds, updates) = match workload {
-        Workload::Perceive => perceive_timed(&mut w, ticks),
-        Workload::Decide => decide_timed(&w, ticks, true),
-        Workload::DecideNative => decide_timed(&w, ticks, false),
+    let untracked = |(seconds, updates)| (seconds, updates, None);
+    let (seconds, updates, steady) = match workload {
+        Workload::Perceive => untracked(perceive_timed(&mut w, ticks)),
+        Workload::Decide => untracked(decide_timed(&w, ticks, true)),
+        Workload::DecideNative => untracked(decide_timed(&w, ticks, false)),
         _ => step_timed(&mut w, ticks),
     };
     let bytes_per_agent = match (tracked, base, memory()) {
@@ -544,6 +565,7 @@ pub fn measure(
                 (updates as f64 / seconds.max(1e-12)) / floor.updates_per_s().max(1e-12)
             )
         }),
+        steady,
     }))
 }
 
@@ -644,6 +666,7 @@ mod tests {
             bytes_per_agent: None,
             stages: None,
             note: None,
+            steady: None,
         }
     }
 

@@ -105,5 +105,6 @@ pub fn measure(passes: u64, search_weight: f32) -> Option<Sample> {
         bytes_per_agent: None,
         stages: None,
         note,
+        steady: None,
     })
 }

@@ -321,6 +321,7 @@ pub fn measure(n: usize, ticks: u64) -> Sample {
         bytes_per_agent,
         stages: None,
         note: None,
+        steady: None,
     }
 }
 

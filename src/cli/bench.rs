@@ -173,6 +173,13 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
                             .collect();
                         println!("  stages, ms/tick: {}", parts.join(", "));
                     }
+                    if let Some((first, last)) = s.steady {
+                        println!(
+                            "  steady: {first:.1} ticks/s over the first tenth, {last:.1} over the \
+                             last ({:.2}×)",
+                            last / first.max(1e-12)
+                        );
+                    }
                     if let Some(note) = &s.note {
                         println!("  {note}");
                     }
