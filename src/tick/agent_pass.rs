@@ -19,7 +19,7 @@ use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
-use crate::world::{Agent, ForwardCache, Mind, World};
+use crate::world::{Agent, ForwardCache, Mind, Spot, World};
 use crate::world::{Payload, Signal};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -155,7 +155,7 @@ impl Pipeline {
         // lookup in it is `None` either way.
         if world.agents.iter().any(|a| a.mind.best_food.is_some()) {
             self.known_food
-                .extend(world.agents.iter().map(|a| a.mind.best_food));
+                .extend(world.agents.iter().map(|a| a.mind.best_food.get()));
         }
         self.explain_ids.clear();
         if self.explain.on() {
@@ -237,24 +237,27 @@ fn remember_food(
         .filter(|p| p.category == Category::Food)
         .min_by(|a, b| a.dist.total_cmp(&b.dist));
     match food {
-        Some(f) => mind.best_food = Some(pos + f.offset),
+        Some(f) => mind.best_food = Spot::new(Some(pos + f.offset)),
         None => {
             if mind
                 .best_food
+                .get()
                 .is_some_and(|b| b.distance_squared(pos) <= vision_radius * vision_radius)
             {
-                mind.best_food = None;
+                mind.best_food = Spot::NONE;
             }
         }
     }
-    mind.school_best = percepts
-        .iter()
-        .filter(|p| p.category == Category::Kin)
-        .filter_map(|p| match p.source {
-            Source::Agent(j) => known_food.get(j as usize).copied().flatten(),
-            _ => None,
-        })
-        .min_by(|a, b| a.distance_squared(pos).total_cmp(&b.distance_squared(pos)));
+    mind.school_best = Spot::new(
+        percepts
+            .iter()
+            .filter(|p| p.category == Category::Kin)
+            .filter_map(|p| match p.source {
+                Source::Agent(j) => known_food.get(j as usize).copied().flatten(),
+                _ => None,
+            })
+            .min_by(|a, b| a.distance_squared(pos).total_cmp(&b.distance_squared(pos))),
+    );
 }
 
 /// Stages 3–6 for agent `i` (drives, decide, steer, move): `agent` is its record, `out` its
