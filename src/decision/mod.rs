@@ -104,10 +104,10 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
             })
         }
         CondNode::Heard(crate::world::Signal::Kind(m)) => {
-            ctx.agent.inbox.is_some_and(|k: MessageKind| k == *m)
+            ctx.agent.inbox.kind().is_some_and(|k: MessageKind| k == *m)
         }
         CondNode::Heard(crate::world::Signal::Event(e)) => {
-            ctx.agent.heard_event.is_some_and(|h| h.event == *e)
+            ctx.agent.inbox.heard().is_some_and(|h| h.event == *e)
         }
         CondNode::TimeIn(t) => ctx.time_in_behavior(mind) >= *t,
         CondNode::Chance(p) => rng.next_f32() < p * ctx.dt,

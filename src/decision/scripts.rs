@@ -42,7 +42,7 @@ pub fn fill_view(
 ) {
     fill_scalars(v, ctx, mind, species_name, behavior);
     let a: &Agent = ctx.agent;
-    match a.heard_event {
+    match a.inbox.heard() {
         // A declared event: its name (shared by the species) and its payload.
         Some(h) => {
             let name = ctx
@@ -54,7 +54,7 @@ pub fn fill_view(
             v.heard_payload = ctx.world.event_payloads.get(h.payload as usize).cloned();
         }
         None => {
-            let heard = a.inbox.map_or("", |k| k.name());
+            let heard = a.inbox.kind().map_or("", |k| k.name());
             if v.heard.as_str() != heard {
                 v.heard = shared_name(heard);
             }

@@ -168,8 +168,7 @@ impl Pipeline {
                 .zip(self.next_inbox.iter())
                 .zip(self.next_events.iter())
             {
-                a.inbox = *m;
-                a.heard_event = *h;
+                a.inbox = crate::world::Inbox::of(*m, *h);
             }
             world.event_payloads = std::mem::take(&mut self.next_payloads);
         }

@@ -134,8 +134,7 @@ mod tests {
             anim: Anim::default(),
             rng: Rng::new(0, id as u64),
             memory: Default::default(),
-            inbox: None,
-            heard_event: None,
+            inbox: crate::world::Inbox::Empty,
             forward_cache: ForwardCache::NONE,
         }
     }

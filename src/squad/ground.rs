@@ -89,8 +89,7 @@ mod tests {
             anim: Anim::default(),
             rng: Rng::new(1, 1),
             memory: Default::default(),
-            inbox: None,
-            heard_event: None,
+            inbox: crate::world::Inbox::Empty,
             forward_cache: crate::world::ForwardCache::NONE,
         }
     }

@@ -84,8 +84,7 @@ impl Pipeline {
             anim: Anim::default(),
             rng,
             memory: sp.memory.initial.clone(),
-            inbox: None,
-            heard_event: None,
+            inbox: crate::world::Inbox::Empty,
             forward_cache: crate::world::ForwardCache::NONE,
         };
         world.agents.push(agent);
@@ -104,11 +103,11 @@ impl Pipeline {
         };
         // One slot: a declared event ranked above this kind keeps it.
         let sp = &self.species.species[a.species.0 as usize];
-        match a.heard_event {
+        match a.inbox.heard() {
             Some(h) if sp.rank(crate::world::Signal::Event(h.event)) > kind.rank() => {}
             _ => {
-                a.heard_event = None;
-                a.inbox = Some(MessageKind::max_priority(a.inbox, kind));
+                let kept = MessageKind::max_priority(a.inbox.kind(), kind);
+                a.inbox = crate::world::Inbox::Kind(kept);
             }
         }
         // The tick clears every inbox it did not fill only when one was filled.

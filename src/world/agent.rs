@@ -432,11 +432,8 @@ pub struct Agent {
     pub rng: Rng,
     /// Per-agent memory (a small blackboard that persists across ticks), in key order.
     pub memory: ThinVec<(Arc<str>, MemValue)>,
-    /// Highest-priority message received last tick.
-    pub inbox: Option<MessageKind>,
-    /// Highest-priority declared event received last tick. The inbox is one slot: at most one
-    /// of `inbox` and `heard_event` holds a message (the higher-ranked one).
-    pub heard_event: Option<super::HeardEvent>,
+    /// The highest-ranked message or declared event received last tick (one slot).
+    pub inbox: super::Inbox,
     /// Forward vector of the current heading, when locomotion left it.
     pub forward_cache: ForwardCache,
 }
@@ -553,15 +550,17 @@ mod tests {
     #[test]
     fn an_agent_record_is_no_larger_than_its_budget() {
         // Every agent carries it: a field added here costs a million agents its size. The
-        // two foraging places are 12 bytes each, not an `Option<Vec3>`'s 16.
+        // two foraging places are 12 bytes each, not an `Option<Vec3>`'s 16; the one inbox
+        // slot is 8, not two options' 13.
         assert_eq!(std::mem::size_of::<Spot>(), 12);
+        assert_eq!(std::mem::size_of::<super::super::Inbox>(), 8);
         assert!(
             std::mem::size_of::<Mind>() <= 112,
             "{}",
             std::mem::size_of::<Mind>()
         );
         assert!(
-            std::mem::size_of::<Agent>() <= 280,
+            std::mem::size_of::<Agent>() <= 272,
             "{}",
             std::mem::size_of::<Agent>()
         );

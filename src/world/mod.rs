@@ -13,7 +13,9 @@ pub use agent::{
     MindParts, RareMind, Sex, SpeciesId, Spot, MEMORY_CAPACITY, STACK_CAPACITY,
 };
 pub use rng::Rng;
-pub use signal::{field_fits, field_zero, EventSpec, FieldType, HeardEvent, Payload, Signal};
+pub use signal::{
+    field_fits, field_zero, EventSpec, FieldType, HeardEvent, Inbox, Payload, Signal,
+};
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};

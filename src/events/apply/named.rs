@@ -88,7 +88,7 @@ impl Pipeline {
     pub(super) fn on_heard_events(&mut self, world: &mut World, set: &SpeciesSet, tick: u64) {
         for i in 0..world.agents.len() {
             let a = &world.agents[i];
-            let Some(h) = a.heard_event else { continue };
+            let Some(h) = a.inbox.heard() else { continue };
             let sp = &set.species[a.species.0 as usize];
             if self.dead.get(i).copied().unwrap_or(false)
                 || !(sp.has_on_event || sp.has_on_event_payload)
@@ -179,7 +179,7 @@ mod tests {
             &named[0].1[..],
             &[("strength".into(), MemValue::Float(0.0))]
         );
-        let heard: Vec<_> = w.agents.iter().map(|a| a.heard_event).collect();
+        let heard: Vec<_> = w.agents.iter().map(|a| a.inbox.heard()).collect();
         assert_eq!(heard[0], None, "the sender does not hear itself");
         let kin = heard[1].expect("kin hears it");
         let other = heard[2].expect("a species that declares the shared event hears it");
@@ -190,18 +190,18 @@ mod tests {
             w.event_payloads[kin.payload as usize][0].1,
             MemValue::Float(0.0)
         );
-        assert!(w.agents.iter().all(|a| a.inbox.is_none()));
+        assert!(w.agents.iter().all(|a| a.inbox.kind().is_none()));
         // Heard for one tick, like a built-in message.
         p.step(&mut w);
-        assert!(w.agents.iter().all(|a| a.heard_event.is_none()));
+        assert!(w.agents.iter().all(|a| a.inbox.heard().is_none()));
     }
 
     #[test]
     fn an_event_not_shared_is_heard_by_the_sender_species_only() {
         let (mut p, mut w, _) = world_of(r#"Send("chirp", 10.0)"#);
         p.step(&mut w);
-        assert_eq!(w.agents[1].heard_event.map(|h| h.event), Some(1));
-        assert_eq!(w.agents[2].heard_event, None);
+        assert_eq!(w.agents[1].inbox.heard().map(|h| h.event), Some(1));
+        assert_eq!(w.agents[2].inbox.heard(), None);
     }
 
     #[test]
@@ -213,8 +213,12 @@ mod tests {
         ] {
             let (mut p, mut w, _) = world_of(send);
             p.step(&mut w);
-            assert_eq!(w.agents[1].heard_event.map(|h| h.event), Some(0), "{send}");
-            assert_eq!(w.agents[1].inbox, None, "{send}");
+            assert_eq!(
+                w.agents[1].inbox.heard().map(|h| h.event),
+                Some(0),
+                "{send}"
+            );
+            assert_eq!(w.agents[1].inbox.kind(), None, "{send}");
         }
         // Danger (30) over alarm_call, in either order.
         for send in [
@@ -223,16 +227,24 @@ mod tests {
         ] {
             let (mut p, mut w, _) = world_of(send);
             p.step(&mut w);
-            assert_eq!(w.agents[1].inbox, Some(MessageKind::Danger), "{send}");
-            assert_eq!(w.agents[1].heard_event, None, "{send}");
+            assert_eq!(
+                w.agents[1].inbox.kind(),
+                Some(MessageKind::Danger),
+                "{send}"
+            );
+            assert_eq!(w.agents[1].inbox.heard(), None, "{send}");
             // The listener hears only the shared event.
-            assert_eq!(w.agents[2].heard_event.map(|h| h.event), Some(0), "{send}");
+            assert_eq!(
+                w.agents[2].inbox.heard().map(|h| h.event),
+                Some(0),
+                "{send}"
+            );
         }
         // chirp (5) under Mate (10).
         let (mut p, mut w, _) = world_of(r#"Send("chirp", 10.0), Send(Mate, 10.0)"#);
         p.step(&mut w);
-        assert_eq!(w.agents[1].inbox, Some(MessageKind::Mate));
-        assert_eq!(w.agents[1].heard_event, None);
+        assert_eq!(w.agents[1].inbox.kind(), Some(MessageKind::Mate));
+        assert_eq!(w.agents[1].inbox.heard(), None);
     }
 
     #[test]
@@ -240,11 +252,11 @@ mod tests {
         let (mut p, mut w, ids) = world_of(r#"Send("alarm_call", 10.0)"#);
         p.step(&mut w);
         assert!(p.deliver(&mut w, ids[1], MessageKind::Obstacle));
-        assert_eq!(w.agents[1].heard_event.map(|h| h.event), Some(0));
-        assert_eq!(w.agents[1].inbox, None);
+        assert_eq!(w.agents[1].inbox.heard().map(|h| h.event), Some(0));
+        assert_eq!(w.agents[1].inbox.kind(), None);
         assert!(p.deliver(&mut w, ids[1], MessageKind::Danger));
-        assert_eq!(w.agents[1].heard_event, None);
-        assert_eq!(w.agents[1].inbox, Some(MessageKind::Danger));
+        assert_eq!(w.agents[1].inbox.heard(), None);
+        assert_eq!(w.agents[1].inbox.kind(), Some(MessageKind::Danger));
         let sp = &p.species.species[0];
         assert_eq!(sp.rank(Signal::Event(0)), 25);
         assert_eq!(sp.signal_name(Signal::Event(1)), "chirp");

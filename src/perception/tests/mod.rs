@@ -24,8 +24,7 @@ pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
         anim: Anim::default(),
         rng: Rng::new(0, id as u64),
         memory: Default::default(),
-        inbox: None,
-        heard_event: None,
+        inbox: crate::world::Inbox::Empty,
         forward_cache: crate::world::ForwardCache::NONE,
     }
 }

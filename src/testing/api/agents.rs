@@ -70,11 +70,14 @@ pub(super) fn register(e: &mut Engine) {
         .register_get("heard", |a: &mut AgentRef| -> R<String> {
             a.with(|tw, i| {
                 let ag = &tw.sim.world.agents[i];
-                match ag.heard_event {
+                match ag.inbox.heard() {
                     Some(h) => tw.sim.species().species[ag.species.0 as usize]
                         .signal_name(crate::world::Signal::Event(h.event))
                         .to_string(),
-                    None => ag.inbox.map_or(String::new(), |k| k.name().to_string()),
+                    None => ag
+                        .inbox
+                        .kind()
+                        .map_or(String::new(), |k| k.name().to_string()),
                 }
             })
         });
