@@ -60,21 +60,27 @@ fn a_repeat_of_zero_is_refused() {
     assert!(err.contains("--repeat"), "{err}");
 }
 
+/// The first line of `out` that starts with `prefix` (indented or not, as the notes under a
+/// row are): its number and what follows the prefix.
+fn note<'a>(out: &'a str, prefix: &str) -> (usize, &'a str) {
+    out.lines()
+        .enumerate()
+        .find_map(|(k, l)| l.trim().strip_prefix(prefix).map(|rest| (k, rest)))
+        .unwrap_or_else(|| panic!("no line starting {prefix:?} in:\n{out}"))
+}
+
 #[test]
 fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
     let (code, out, err) = shoal(&[
         "bench", "boids", "--agents", "300", "--ticks", "4", "--stages",
     ]);
     assert_eq!(code, 0, "{err}");
-    let lines: Vec<&str> = out.lines().collect();
-    let at = lines
-        .iter()
-        .position(|l| l.starts_with("boids"))
-        .unwrap_or_else(|| panic!("no boids row in:\n{out}"));
-    let stages = lines
-        .get(at + 1)
-        .and_then(|l| l.trim().strip_prefix("stages, ms/tick: "))
-        .unwrap_or_else(|| panic!("no stages line under the row:\n{out}"));
+    let (at, stages) = note(&out, "stages, ms/tick: ");
+    let above = at.checked_sub(1).and_then(|k| out.lines().nth(k));
+    assert!(
+        above.is_some_and(|l| l.starts_with("boids")),
+        "not under the boids row:\n{out}"
+    );
     let parts = named_figures(stages);
     let names: Vec<&str> = parts.iter().map(|p| p.0).collect();
     assert_eq!(names, ["index", "perception", "agents", "events"], "{out}");
@@ -95,10 +101,7 @@ fn stages_print_each_stage_under_its_row_and_add_up_to_at_most_the_tick() {
 fn a_long_enough_run_says_how_fast_its_first_and_last_tenths_went() {
     let (code, out, err) = shoal(&["bench", "flock", "--agents", "200", "--ticks", "100"]);
     assert_eq!(code, 0, "{err}");
-    let line = out
-        .lines()
-        .find_map(|l| l.trim().strip_prefix("steady: "))
-        .unwrap_or_else(|| panic!("no steady line under the row:\n{out}"));
+    let (_, line) = note(&out, "steady: ");
     let figures: Vec<f64> = line
         .split(|c: char| !(c.is_ascii_digit() || c == '.'))
         .filter_map(|f| f.parse().ok())
@@ -125,10 +128,7 @@ fn a_long_enough_run_says_how_fast_its_first_and_last_tenths_went() {
 fn every_boids_row_is_read_against_the_reference_kernel() {
     let (code, out, err) = shoal(&["bench", "boids", "--agents", "300", "--ticks", "3"]);
     assert_eq!(code, 0, "{err}");
-    let note = out
-        .lines()
-        .find(|l| l.trim_start().starts_with("reference kernel"))
-        .unwrap_or_else(|| panic!("no reference line under the boids row:\n{out}"));
+    let (_, note) = note(&out, "reference kernel");
     let ratio: f64 = note
         .rsplit("boids runs at ")
         .next()
