@@ -29,8 +29,8 @@ pub struct Grid {
     entries: Vec<u32>,
     /// Positions of `entries`, in the same order (16-byte lanes: one vector operation each).
     positions: Vec<Vec3A>,
-    /// Scratch: the input points (12 bytes each: only copied into `positions`), and the cell of
-    /// each.
+    /// Scratch: the input points of [`Grid::rebuild`] (12 bytes each: only copied into
+    /// `positions`; [`Grid::rebuild_with`] reads its points twice instead), and the cell of each.
     points: Vec<Vec3>,
     cell_of: Vec<u32>,
     /// Slot of each entry index (the inverse of `entries`).
@@ -92,24 +92,27 @@ impl Grid {
     ) {
         let layout = Layout::new(bounds, cell, n);
         self.layout = layout;
-        // Points and their cells in one parallel pass.
-        self.points.resize(n, Vec3::ZERO);
+        // The cells in one parallel pass; the points are read again as they are placed, not
+        // kept (12 bytes an agent).
+        self.points = Vec::new();
         self.cell_of.resize(n, 0);
-        self.points
+        self.cell_of
             .par_iter_mut()
-            .zip(self.cell_of.par_iter_mut())
             .enumerate()
             .with_min_len(crate::par::min_len(256))
-            .for_each(|(i, (q, c))| {
-                let p = point(i);
-                *q = p;
-                *c = layout.cell_of(p);
-            });
-        self.place();
+            .for_each(|(i, c)| *c = layout.cell_of(point(i)));
+        self.place_by(point);
     }
 
     /// Sorts `self.points` (in cells `self.cell_of`) by cell.
     fn place(&mut self) {
+        let points = std::mem::take(&mut self.points);
+        self.place_by(|i| points[i]);
+        self.points = points;
+    }
+
+    /// Sorts points `0..n`, `point(i)` giving point `i` (in cells `self.cell_of`), by cell.
+    fn place_by(&mut self, point: impl Fn(usize) -> Vec3) {
         let dims = self.layout.dims;
         let ncells = (dims.x * dims.y * dims.z) as usize;
         self.starts.clear();
@@ -130,11 +133,11 @@ impl Grid {
         self.positions.resize(n, Vec3A::ZERO);
         self.slots.clear();
         self.slots.resize(n, 0);
-        for (i, (&c, &p)) in self.cell_of.iter().zip(&self.points).enumerate() {
+        for (i, &c) in self.cell_of.iter().enumerate() {
             let slot = self.cursor[c as usize] as usize;
             self.cursor[c as usize] += 1;
             self.entries[slot] = i as u32;
-            self.positions[slot] = Vec3A::from(p);
+            self.positions[slot] = Vec3A::from(point(i));
             self.slots[i] = slot as u32;
         }
     }
