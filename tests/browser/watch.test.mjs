@@ -107,6 +107,8 @@ try {
     check(picked === grazer, `the clicked agent is selected (${picked})`);
     await page.waitForFunction(() => document.querySelector('[data-testid=panel-behavior]').textContent === 'graze', null, { timeout: 5000 }).catch(() => {});
     check((await page.locator('[data-testid=panel-behavior]').textContent()) === 'graze', 'panel shows the current behavior');
+    // The panel fills its fields as the agent's details arrive: wait for the stack as for the behavior.
+    await page.waitForFunction(() => (document.querySelector('#panel-stack')?.textContent ?? '').includes('wander'), null, { timeout: 5000 }).catch(() => {});
     check((await page.locator('#panel-stack').textContent()).includes('wander'), 'panel shows the stack');
     const history = (await page.locator('[data-testid=panel-history] li').first().textContent()) || '';
     check(history.includes('wander → graze') && history.includes('hunger > 0.5'), `panel lists the decision and its cause (${history})`);
