@@ -6,7 +6,7 @@
 
 use super::rows::RowMask;
 use super::walk::kernel_species;
-use super::{GroupSum, Perception, Reads, Relations, SenseParams};
+use super::{Perception, Reads, Relations, SenseParams};
 use crate::index::Grid;
 use crate::world::World;
 use glam::Vec3;
@@ -111,6 +111,9 @@ impl Perception {
                 kernel_species(s, senses.get(s).unwrap_or(&default), r, relations)
             }));
         let kernel = self.kernel.iter().any(|&k| k);
+        // Each species' group queries: how its rows' sums are laid out and read back.
+        self.queries.clear();
+        self.queries.extend(reads.iter().map(|r| r.groups));
         // The categories each species' rows hold (a species beyond these, all of them).
         let obstacles = !world.obstacles.is_empty();
         self.species_masks.clear();
@@ -131,7 +134,7 @@ impl Perception {
             } else {
                 0
             };
-            (slots, r.groups.len() as u32)
+            (slots, r.groups.iter().map(|q| q.words() as u32).sum())
         };
         // The walk's order: the grid's when it indexes exactly these agents (its inverse is
         // then the row of each) and perceivers take the general path, else agent order.
@@ -236,7 +239,7 @@ impl Perception {
             total
         };
         let sums = running(&mut self.sum_starts);
-        self.sums.resize(sums as usize, GroupSum::default());
+        self.sums.resize(sums as usize, 0);
         self.counts.resize(n, 0);
         // Only the summaries perceived and the percepts kept are stored.
         let chunks = n.div_ceil(super::SUMMARY_CHUNK);

@@ -86,6 +86,16 @@ impl GroupQuery {
     pub fn reads_unit(&self) -> bool {
         matches!(self, GroupQuery::Zones { .. } | GroupQuery::Headings { .. })
     }
+
+    /// How many 4-byte words its sums take in perception's output: only the fields it folds
+    /// into are kept (a separation's 16 bytes, not a [`GroupSum`]'s 48).
+    pub const fn words(&self) -> usize {
+        match self {
+            GroupQuery::Separation { .. } | GroupQuery::Headings { .. } => 4,
+            GroupQuery::Mean { .. } => 7,
+            GroupQuery::Zones { .. } => 12,
+        }
+    }
 }
 
 /// The running sums of one [`GroupQuery`] (what each field holds depends on the query). Kept
@@ -123,6 +133,66 @@ pub struct GroupAcc {
     pub m: u32,
     /// A weight sum.
     pub w: f32,
+}
+
+impl GroupSum {
+    /// Writes the fields `q` folds into to `out`, [`GroupQuery::words`] words, bit for bit.
+    #[inline]
+    pub(crate) fn pack(&self, q: &GroupQuery, out: &mut [u32]) {
+        let f = f32::to_bits;
+        let (a, b, c) = (self.a, self.b, self.c);
+        match q {
+            GroupQuery::Separation { .. } | GroupQuery::Headings { .. } => {
+                out[..4].copy_from_slice(&[f(a.x), f(a.y), f(a.z), self.n]);
+            }
+            GroupQuery::Mean { .. } => {
+                out[..7].copy_from_slice(&[f(a.x), f(a.y), f(a.z), f(b.x), f(b.y), f(b.z), self.n])
+            }
+            GroupQuery::Zones { .. } => out[..12].copy_from_slice(&[
+                f(a.x),
+                f(a.y),
+                f(a.z),
+                f(b.x),
+                f(b.y),
+                f(b.z),
+                f(c.x),
+                f(c.y),
+                f(c.z),
+                self.n,
+                self.m,
+                f(self.w),
+            ]),
+        }
+    }
+
+    /// The sums of `q` that [`GroupSum::pack`] wrote to `words`; the fields `q` does not fold
+    /// into are zero, as its fold leaves them.
+    #[inline]
+    pub(crate) fn unpack(q: &GroupQuery, words: &[u32]) -> GroupSum {
+        let f = f32::from_bits;
+        let v = |w: &[u32]| Vec3::new(f(w[0]), f(w[1]), f(w[2]));
+        match q {
+            GroupQuery::Separation { .. } | GroupQuery::Headings { .. } => GroupSum {
+                a: v(&words[..3]),
+                n: words[3],
+                ..GroupSum::default()
+            },
+            GroupQuery::Mean { .. } => GroupSum {
+                a: v(&words[..3]),
+                b: v(&words[3..6]),
+                n: words[6],
+                ..GroupSum::default()
+            },
+            GroupQuery::Zones { .. } => GroupSum {
+                a: v(&words[..3]),
+                b: v(&words[3..6]),
+                c: v(&words[6..9]),
+                n: words[9],
+                m: words[10],
+                w: f(words[11]),
+            },
+        }
+    }
 }
 
 impl From<GroupAcc> for GroupSum {
@@ -318,6 +388,56 @@ mod tests {
         assert_eq!(s.a, Vec3A::new(-1.0, 0.0, 0.0));
         assert_eq!(s.b, Vec3A::X);
         assert_eq!(s.c, Vec3A::Z);
+    }
+
+    #[test]
+    fn packed_sums_read_back_bit_for_bit_in_their_words() {
+        let queries = [
+            GroupQuery::Separation { radius: 3.0 },
+            GroupQuery::Mean { radius: 3.0 },
+            GroupQuery::Headings { radius: 3.0 },
+            GroupQuery::Zones {
+                repulsion: 1.0,
+                matching: 2.0,
+                attraction: 4.0,
+                soft: 0.5,
+            },
+        ];
+        let neighbors = [
+            (Vec3A::new(0.3, -0.2, 0.1), Vec3A::new(1.0, 0.5, -2.0)),
+            (Vec3A::new(-1.5, 0.0, -0.25), Vec3A::new(-0.0, 3.0, 1.0)),
+            (Vec3A::new(0.0, 2.5, 1.0), Vec3A::new(0.1, 0.0, 0.0)),
+        ];
+        for q in &queries {
+            let mut acc = GroupAcc::default();
+            for (offset, velocity) in neighbors {
+                acc.add(
+                    q,
+                    &Near::new(offset, offset.length_squared(), velocity, true),
+                );
+            }
+            let sum = GroupSum::from(acc);
+            let mut words = [0xdead_beef; 12];
+            sum.pack(q, &mut words);
+            // Only its own words are written.
+            assert!(
+                words[q.words()..].iter().all(|&w| w == 0xdead_beef),
+                "{q:?}"
+            );
+            let back = GroupSum::unpack(q, &words[..q.words()]);
+            let bits = |s: &GroupSum| {
+                [s.a, s.b, s.c]
+                    .map(|v| v.to_array().map(f32::to_bits))
+                    .concat()
+                    .into_iter()
+                    .chain([s.n, s.m, s.w.to_bits()])
+                    .collect::<Vec<u32>>()
+            };
+            assert_eq!(bits(&back), bits(&sum), "{q:?}");
+            assert!(sum.n > 0, "{q:?}: the test's neighbors fold into it");
+        }
+        // A separation's 16 bytes, not 48.
+        assert_eq!(queries.map(|q| q.words()), [4, 7, 4, 12]);
     }
 
     #[test]

@@ -91,9 +91,13 @@ pub struct Perception {
     /// How far a bounded kin neighborhood reached this tick, by row (0 without a bound): where
     /// the agent's next walk starts.
     reaches: Vec<f32>,
-    /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`.
-    sums: Vec<GroupSum>,
+    /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`: of
+    /// each query of its species, in order, the words it folds into ([`GroupSum::pack`]; a
+    /// separation keeps 16 bytes, not a whole sum's 48).
+    sums: Vec<u32>,
     sum_starts: Vec<u32>,
+    /// The group queries of each species this tick (how to read a row's words back).
+    queries: Vec<GroupQueries>,
     /// Whether the outputs' rows are in the agent grid's order (an agent's row is then its slot,
     /// `slot_of`), not in agent order. Perceivers on the general path are walked in the grid's
     /// order when the grid indexes exactly the world's agents: perceivers next to each other in
@@ -140,7 +144,10 @@ struct AgentOut<'a> {
     summary: &'a mut [Summary],
     mask: RowMask,
     reach: &'a mut f32,
-    sums: &'a mut [GroupSum],
+    /// Its group sums' words (see [`Perception::sums`]).
+    sums: &'a mut [u32],
+    /// Room for its group sums while they are folded, the worker's.
+    group_buf: &'a mut GroupBuf,
     /// The kin kernel's buffers, the worker's.
     kin: &'a mut kin::KinBuf,
 }
@@ -160,7 +167,7 @@ struct Outs<'a> {
     held_at: &'a mut [u16],
     masks: &'a [RowMask],
     reaches: &'a mut [f32],
-    sums: &'a mut [GroupSum],
+    sums: &'a mut [u32],
 }
 
 /// Room for an agent's summaries by category (see [`Perception::summaries_in`]); a worker
@@ -180,6 +187,11 @@ impl Default for SummaryBuf {
         }
     }
 }
+
+/// Room for an agent's group sums, one per query of its species (see
+/// [`Perception::group_sums_in`]); a worker keeps one from agent to agent.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GroupBuf([GroupSum; group::MAX_GROUP_QUERIES]);
 
 /// Rows a task of the parallel walk takes, and rows a list of summaries or percepts holds.
 const SUMMARY_CHUNK: usize = 64;
@@ -244,6 +256,7 @@ impl<'a> Outs<'a> {
             }
             let (mut used, mut used_percepts) = (0, 0);
             let mut kin = kin::KinBuf::default();
+            let mut group_buf = GroupBuf::default();
             let rows = self.counts.iter_mut().zip(self.reaches).zip(masks);
             let held = self.held.iter_mut().zip(self.held_at.iter_mut());
             let percepts = self.percept_at.iter_mut().zip(rooms);
@@ -268,6 +281,7 @@ impl<'a> Outs<'a> {
                         mask,
                         reach,
                         sums: own_sums,
+                        group_buf: &mut group_buf,
                         kin: &mut kin,
                     },
                 );
@@ -413,11 +427,30 @@ impl Perception {
         &buf.by
     }
 
-    /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
+    /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order,
+    /// read back into `buf` (rows keep only the words each query folds into).
     #[inline]
-    pub fn group_sums(&self, i: usize) -> &[GroupSum] {
+    pub fn group_sums_in<'b>(&self, i: usize, buf: &'b mut GroupBuf) -> &'b [GroupSum] {
         let r = self.row(i);
-        &self.sums[self.sum_starts[r] as usize..self.sum_starts[r + 1] as usize]
+        let mut words = &self.sums[self.sum_starts[r] as usize..self.sum_starts[r + 1] as usize];
+        if words.is_empty() {
+            return &[];
+        }
+        let s = self.gathered[i].tag.species as usize;
+        let queries = self.queries.get(s).unwrap_or(&GroupQueries::EMPTY);
+        let mut n = 0;
+        for (q, out) in queries.iter().zip(buf.0.iter_mut()) {
+            let (own, rest) = words.split_at(q.words().min(words.len()));
+            *out = GroupSum::unpack(q, own);
+            words = rest;
+            n += 1;
+        }
+        &buf.0[..n]
+    }
+
+    /// [`Perception::group_sums_in`] into a list of its own.
+    pub fn group_sums(&self, i: usize) -> Vec<GroupSum> {
+        self.group_sums_in(i, &mut GroupBuf::default()).to_vec()
     }
 
     /// Velocity of agent `i` at the start of the tick ([`crate::world::Agent::velocity`], bit
@@ -581,7 +614,7 @@ impl Perception {
         let slots = &mut room[..self.rooms[i] as usize];
         // Fed percepts stand for no object of the world: no neighbor for the group rules.
         let sums = self.sum_starts[i] as usize..self.sum_starts[i + 1] as usize;
-        self.sums[sums].fill(GroupSum::default());
+        self.sums[sums].fill(0);
         // Folded as perception folds what it perceives (no heading or velocity: their means
         // are zero), the nearest of each category kept.
         let mut fold = Fold::<true>::new(slots);

@@ -70,6 +70,9 @@ impl View<'_> {
             .get(s)
             .copied()
             .unwrap_or(self.default_cos_min);
+        // The group sums are folded whole, then only each query's own words are kept.
+        let groups = &rd.groups;
+        let sums = &mut out.group_buf.0[..groups.len()];
         *out.count = if out.slots.is_empty() {
             perceive_one::<false>(
                 i,
@@ -82,7 +85,7 @@ impl View<'_> {
                 out.summary,
                 out.mask,
                 out.reach,
-                out.sums,
+                sums,
                 out.kin,
             )
         } else {
@@ -97,10 +100,16 @@ impl View<'_> {
                 out.summary,
                 out.mask,
                 out.reach,
-                out.sums,
+                sums,
                 out.kin,
             )
         };
+        let mut words = out.sums;
+        for (q, sum) in groups.iter().zip(sums.iter()) {
+            let (own, rest) = words.split_at_mut(q.words());
+            sum.pack(q, own);
+            words = rest;
+        }
     }
 
     /// The perceiver of row `r` (its agent index), and what it reads of itself: in the grid's

@@ -13,7 +13,8 @@ use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{
-    Category, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary, SummaryBuf,
+    Category, GroupBuf, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary,
+    SummaryBuf,
 };
 use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
@@ -40,6 +41,8 @@ pub(super) struct Worker {
     view: Dynamic,
     /// The agent's summaries, when its row holds some categories only.
     summaries: SummaryBuf,
+    /// The agent's group sums, read back from perception's rows.
+    groups: GroupBuf,
     /// Locomotion's response factors of the last agent's body (the next is most often alike).
     gains: Option<locomotion::Gains>,
 }
@@ -51,6 +54,7 @@ impl Default for Worker {
             scratch: Scratch::default(),
             view: Dynamic::from(AgentView::default()),
             summaries: SummaryBuf::default(),
+            groups: GroupBuf::default(),
             gains: None,
         }
     }
@@ -281,6 +285,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         scratch,
         view,
         summaries: summary_buf,
+        groups: group_buf,
         gains,
     } = w;
     scratch.reset();
@@ -297,7 +302,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let sp = &set.species[s];
     let percepts = perception.percepts(i);
     let summaries = perception.summaries_in(i, summary_buf);
-    let group_sums = perception.group_sums(i);
+    let group_sums = perception.group_sums_in(i, group_buf);
     let dt = world.dt;
     let tick = world.tick;
     // What every stage reads besides the agent's record, looked up once; each stage's `Ctx`
