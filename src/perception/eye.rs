@@ -29,6 +29,19 @@ pub(super) struct Eye {
     pub(super) full_circle: bool,
 }
 
+/// The cosine bound of a vision cone of half-angle `half_angle`, a hair wide so that a neighbor
+/// right on its edge is in.
+#[inline]
+pub(super) fn cos_min(half_angle: f32) -> f32 {
+    crate::math::cos(half_angle) - 1e-6
+}
+
+/// Whether a cone of cosine bound `cos_min` is the whole sphere.
+#[inline(always)]
+pub(super) fn full_circle(cos_min: f32) -> bool {
+    cos_min < -1.000_000_5
+}
+
 impl Eye {
     /// The eye of a perceiver heading `heading` (its forward unit vector) at `yaw`, with the
     /// cone's cosine bound `cos_min`. The body frame's other two axes are worked out only where
@@ -37,7 +50,7 @@ impl Eye {
     /// the body cache).
     #[inline(always)]
     pub(super) fn new(heading: Vec3, yaw: f32, cos_min: f32, sense: &SenseParams) -> Self {
-        let full_circle = cos_min < -1.000_000_5;
+        let full_circle = full_circle(cos_min);
         let (fwd, left, up) = if sense.volume.is_none() {
             let fwd = if full_circle { Vec3::ZERO } else { heading };
             (fwd, Vec3::ZERO, Vec3::ZERO)

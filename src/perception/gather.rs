@@ -4,6 +4,8 @@
 //! sequential read. Also sizes each agent's share of the output rows. Reads the world and the
 //! agent grid; writes only the stage's own buffers.
 
+use super::eye::{cos_min, full_circle};
+use super::kin;
 use super::rows::RowMask;
 use super::walk::kernel_species;
 use super::{Perception, Reads, Relations, SenseParams};
@@ -217,13 +219,19 @@ impl Perception {
                 *mask = masks.get(species_of(r)).copied().unwrap_or(RowMask::ALL);
             });
         self.size_rows(n);
-        self.copy_by_slot(agents, kernel);
+        // The kernel's heading lanes only where some kernel perceiver's fold sums headings.
+        let headings = obstacles
+            || self.kernel.iter().enumerate().any(|(s, &k)| {
+                let sense = senses.get(s).unwrap_or(&default);
+                let r = reads.get(s).unwrap_or(&everything);
+                let cone = !full_circle(cos_min(sense.vision_half_angle));
+                let smell = sense.smell_radius * sense.smell_radius > 0.0;
+                k && kin::needs_headings(false, cone, smell, r.headings)
+            });
+        self.copy_by_slot(agents, kernel, headings);
         self.cos_mins.clear();
-        self.cos_mins.extend(
-            senses
-                .iter()
-                .map(|s| crate::math::cos(s.vision_half_angle) - 1e-6),
-        );
+        self.cos_mins
+            .extend(senses.iter().map(|s| cos_min(s.vision_half_angle)));
         unsensed
     }
 
@@ -254,7 +262,7 @@ impl Perception {
     /// Copies the gathered records into the agent grid's order (`near`, `tags`, `diagonals`,
     /// and the kin kernel's lanes when `kernel`: a species may perceive by it), and works out
     /// the slot of each agent in that order.
-    fn copy_by_slot(&mut self, agents: &Grid, kernel: bool) {
+    fn copy_by_slot(&mut self, agents: &Grid, kernel: bool, headings: bool) {
         let n = self.gathered.len();
         let entries = agents.entries();
         let gathered = &self.gathered[..];
@@ -263,13 +271,15 @@ impl Perception {
         self.near.resize(entries.len(), Body::default());
         // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
         if kernel {
-            self.lanes.fill(agents.positions(), &mut self.near, |k, b| {
-                *b = of_slot(k).body;
-                (b.heading, b.velocity())
-            });
-        } else {
             self.lanes
-                .fill(&[], &mut [], |_, _: &mut Body| (Vec3::ZERO, Vec3::ZERO));
+                .fill(agents.positions(), &mut self.near, headings, |k, b| {
+                    *b = of_slot(k).body;
+                    (b.heading, b.velocity())
+                });
+        } else {
+            self.lanes.fill(&[], &mut [], false, |_, _: &mut Body| {
+                (Vec3::ZERO, Vec3::ZERO)
+            });
             self.near
                 .par_iter_mut()
                 .enumerate()

@@ -48,10 +48,20 @@ pub struct KinLanes {
     /// Velocities.
     pub vel: [Vec<f32>; 3],
     len: usize,
+    /// Whether the heading columns are filled (see [`KinLanes::fill`]).
+    headings: bool,
     /// Whether every record lies and moves in the plane y = 0 (positions, headings and
     /// velocities with a y of ±0): a perceiver in that plane then folds two components, not
     /// three (see [`KinFold::fold`]).
     flat: bool,
+}
+
+/// Whether a perceiver's fold sums headings, so reads the heading lanes: beside an obstacle
+/// (`occluders`), with a vision cone or smell, or when its species reads the mean heading.
+/// [`KinFold::flush`] picks its instance by the same four.
+#[inline]
+pub fn needs_headings(occluders: bool, cone: bool, smell: bool, headings: bool) -> bool {
+    occluders || cone || smell || headings
 }
 
 /// Position of the padding entries: every squared distance to it is infinite.
@@ -60,18 +70,23 @@ const FAR: f32 = 1e30;
 impl KinLanes {
     /// Refills the lanes for `positions` (in grid order): `motion(k, &mut extra[k])` gives the
     /// heading and velocity of slot `k` (and may fill `extra[k]` on the way). Filled in
-    /// parallel.
+    /// parallel. Without `headings` the heading columns are left empty (12 bytes an agent):
+    /// only a fold that sums headings reads them (see [`needs_headings`]).
     pub fn fill<T: Send>(
         &mut self,
         positions: &[Vec3A],
         extra: &mut [T],
+        headings: bool,
         motion: impl Fn(usize, &mut T) -> (Vec3, Vec3) + Sync,
     ) {
         let n = positions.len().min(extra.len());
         self.len = n;
+        self.headings = headings;
         for (c, v) in self.columns_mut().into_iter().enumerate() {
             v.clear();
-            v.resize(n + LANES, if c < 3 { FAR } else { 0.0 });
+            if headings || !(3..6).contains(&c) {
+                v.resize(n + LANES, if c < 3 { FAR } else { 0.0 });
+            }
         }
         // Slots per task: a 1,000-agent world splits it in four (its helper thread is awake).
         const CHUNK: usize = 256;
@@ -82,28 +97,49 @@ impl KinLanes {
             c[..n].par_chunks_mut(CHUNK)
         }
         let chunks = |c| chunks(c, n);
-        chunks(px)
+        let positions_and_velocities = chunks(px)
             .zip(chunks(py))
             .zip(chunks(pz))
-            .zip(chunks(hx).zip(chunks(hy)).zip(chunks(hz)))
             .zip(chunks(vx).zip(chunks(vy)).zip(chunks(vz)))
             .zip(extra[..n].par_chunks_mut(CHUNK))
             .enumerate()
-            .with_min_len(crate::par::min_len(1))
-            .for_each(
-                |(m, (((((px, py), pz), ((hx, hy), hz)), ((vx, vy), vz)), extra))| {
-                    for (l, t) in extra.iter_mut().enumerate() {
-                        let k = m * CHUNK + l;
-                        let p = positions[k];
-                        let (h, v) = motion(k, t);
-                        (px[l], py[l], pz[l]) = (p.x, p.y, p.z);
-                        (hx[l], hy[l], hz[l]) = (h.x, h.y, h.z);
-                        (vx[l], vy[l], vz[l]) = (v.x, v.y, v.z);
-                    }
-                },
-            );
+            .with_min_len(crate::par::min_len(1));
+        let write = |m: usize, l: usize, t: &mut T, p: [&mut f32; 3], v: [&mut f32; 3]| {
+            let k = m * CHUNK + l;
+            let at = positions[k];
+            let (h, vel) = motion(k, t);
+            (*p[0], *p[1], *p[2]) = (at.x, at.y, at.z);
+            (*v[0], *v[1], *v[2]) = (vel.x, vel.y, vel.z);
+            h
+        };
+        if headings {
+            positions_and_velocities
+                .zip(chunks(hx).zip(chunks(hy)).zip(chunks(hz)))
+                .for_each(
+                    |((m, ((((px, py), pz), ((vx, vy), vz)), extra)), ((hx, hy), hz))| {
+                        for (l, t) in extra.iter_mut().enumerate() {
+                            let p = [&mut px[l], &mut py[l], &mut pz[l]];
+                            let h = write(m, l, t, p, [&mut vx[l], &mut vy[l], &mut vz[l]]);
+                            (hx[l], hy[l], hz[l]) = (h.x, h.y, h.z);
+                        }
+                    },
+                );
+        } else {
+            positions_and_velocities.for_each(|(m, ((((px, py), pz), ((vx, vy), vz)), extra))| {
+                for (l, t) in extra.iter_mut().enumerate() {
+                    let p = [&mut px[l], &mut py[l], &mut pz[l]];
+                    write(m, l, t, p, [&mut vx[l], &mut vy[l], &mut vz[l]]);
+                }
+            });
+        }
         let level = |c: &[f32]| c[..n].iter().all(|&y| y == 0.0);
-        self.flat = level(&self.pos[1]) && level(&self.heading[1]) && level(&self.vel[1]);
+        self.flat =
+            level(&self.pos[1]) && (!headings || level(&self.heading[1])) && level(&self.vel[1]);
+    }
+
+    /// Whether the heading columns are filled.
+    pub fn has_headings(&self) -> bool {
+        self.headings
     }
 
     fn columns_mut(&mut self) -> [&mut Vec<f32>; 9] {
@@ -361,6 +397,16 @@ impl<'a> KinFold<'a> {
     /// Folds the rows gathered so far.
     fn flush(&mut self) {
         let smell = self.probe.smell2 > 0.0;
+        debug_assert!(
+            self.lanes.has_headings()
+                || !needs_headings(
+                    !self.occluders.is_empty(),
+                    self.probe.cone.is_some(),
+                    smell,
+                    self.probe.headings
+                ),
+            "a fold that sums headings over lanes without them"
+        );
         // A single separation query (the boids' and the 3D flockers' case) has its own
         // instances: its sums then stay in registers too. So does a perceiver that sums no
         // headings.
@@ -811,7 +857,7 @@ mod tests {
         let mut l = KinLanes::default();
         let positions: Vec<Vec3A> = points.iter().map(|&(p, _)| p.into()).collect();
         let mut extra = vec![(); positions.len()];
-        l.fill(&positions, &mut extra, |k, _| {
+        l.fill(&positions, &mut extra, true, |k, _| {
             (points[k].1.normalize_or_zero(), points[k].1)
         });
         l
@@ -853,6 +899,67 @@ mod tests {
             (sums[1].a, sums[1].b, sums[1].n),
             (Vec3::new(2.0, 0.0, 1.0), Vec3::new(4.0, 0.0, 2.0), 2)
         );
+    }
+
+    #[test]
+    fn lanes_without_headings_fold_the_same_bits_where_no_heading_is_summed() {
+        // A flat world (the boids') and a 3D one; perceivers with full-circle vision, no
+        // smell, no heading read: the fold never reads the heading lanes, so leaving them
+        // empty changes no bit.
+        let mut rng = crate::world::Rng::new(9, 0);
+        for flat in [true, false] {
+            let pts: Vec<(Vec3, Vec3)> = (0..200)
+                .map(|_| {
+                    let y = if flat { 0.0 } else { rng.range(0.0, 10.0) };
+                    let p = Vec3::new(rng.range(0.0, 10.0), y, rng.range(0.0, 10.0));
+                    let vy = if flat { 0.0 } else { rng.range(-1.0, 1.0) };
+                    (p, Vec3::new(rng.range(-1.0, 1.0), vy, 1.0))
+                })
+                .collect();
+            let positions: Vec<Vec3A> = pts.iter().map(|&(p, _)| p.into()).collect();
+            let motion = |k: usize, _: &mut ()| (pts[k].1.normalize_or_zero(), pts[k].1);
+            let (mut with, mut without) = (KinLanes::default(), KinLanes::default());
+            with.fill(&positions, &mut [(); 200], true, motion);
+            without.fill(&positions, &mut [(); 200], false, motion);
+            assert!(with.has_headings() && !without.has_headings());
+            assert!(
+                without.heading.iter().all(|c| c.is_empty()),
+                "no heading lanes kept"
+            );
+            assert_eq!(with.flat, flat);
+            assert_eq!(without.flat, flat);
+            for (t, queries) in [
+                &[GroupQuery::Separation { radius: 2.0 }][..],
+                &[
+                    GroupQuery::Separation { radius: 1.0 },
+                    GroupQuery::Mean { radius: 3.0 },
+                ][..],
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let me = 17 + 40 * t;
+                let probe = Probe {
+                    here: pts[me].0,
+                    me,
+                    vision2: 16.0,
+                    smell2: 0.0,
+                    cone: None,
+                    headings: false,
+                };
+                assert!(!needs_headings(false, false, false, probe.headings));
+                let rows = [(0, 90), (90, 200)];
+                let (mut a, mut b) = ([GroupSum::default(); 2], [GroupSum::default(); 2]);
+                let ka = fold(&with, probe, &rows, queries, &mut a);
+                let kb = fold(&without, probe, &rows, queries, &mut b);
+                assert!(ka.count > 0);
+                assert_eq!(
+                    sum_bits(&ka, &a),
+                    sum_bits(&kb, &b),
+                    "flat {flat}, {queries:?}"
+                );
+            }
+        }
     }
 
     #[test]

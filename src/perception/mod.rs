@@ -569,7 +569,7 @@ impl Perception {
             cos_mins: &self.cos_mins,
             default,
             everything: Reads::default(),
-            default_cos_min: crate::math::cos(default.vision_half_angle) - 1e-6,
+            default_cos_min: eye::cos_min(default.vision_half_angle),
         };
         let outs = Outs {
             lo: 0,
