@@ -28,8 +28,10 @@ pub struct Ctx<'a> {
     pub summaries: &'a [Summary; Category::COUNT],
     /// The neighborhood sums its species' group rules read ([`crate::perception::Reads`])...
     pub group_queries: &'a GroupQueries,
-    /// ... and its sums of them, in the same order.
-    pub group_sums: &'a [GroupSum],
+    /// ... and its sums of them, in the same order, as perception keeps them: of each query
+    /// the words it folds into ([`GroupQuery::words`]; empty where perception folded none).
+    /// [`Ctx::group`] reads one back.
+    pub group_sums: &'a [u32],
     /// Current tick.
     pub tick: u64,
     /// Time step.
@@ -46,12 +48,25 @@ impl Ctx<'_> {
             speed: self.agent.speed,
         }
     }
-    /// The agent's sums of a group query, if perception folded them.
+    /// The agent's sums of a group query, if perception folded them (only the one asked for
+    /// is read back from its words).
     #[inline]
-    pub fn group(&self, q: &GroupQuery) -> Option<&GroupSum> {
-        self.group_queries
-            .position(q)
-            .and_then(|k| self.group_sums.get(k))
+    pub fn group(&self, q: &GroupQuery) -> Option<GroupSum> {
+        if self.group_sums.is_empty() {
+            return None;
+        }
+        let mut at = 0;
+        for listed in self.group_queries.iter() {
+            let words = listed.words();
+            if listed == q {
+                return self
+                    .group_sums
+                    .get(at..at + words)
+                    .map(|w| GroupSum::unpack(q, w));
+            }
+            at += words;
+        }
+        None
     }
     /// Nearest percept of a category.
     pub fn nearest(&self, c: Category) -> Option<&Percept> {

@@ -89,6 +89,7 @@ impl GroupQuery {
 
     /// How many 4-byte words its sums take in perception's output: only the fields it folds
     /// into are kept (a separation's 16 bytes, not a [`GroupSum`]'s 48).
+    #[inline(always)]
     pub const fn words(&self) -> usize {
         match self {
             GroupQuery::Separation { .. } | GroupQuery::Headings { .. } => 4,
@@ -137,7 +138,7 @@ pub struct GroupAcc {
 
 impl GroupSum {
     /// Writes the fields `q` folds into to `out`, [`GroupQuery::words`] words, bit for bit.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn pack(&self, q: &GroupQuery, out: &mut [u32]) {
         let f = f32::to_bits;
         let (a, b, c) = (self.a, self.b, self.c);
@@ -167,7 +168,7 @@ impl GroupSum {
 
     /// The sums of `q` that [`GroupSum::pack`] wrote to `words`; the fields `q` does not fold
     /// into are zero, as its fold leaves them.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn unpack(q: &GroupQuery, words: &[u32]) -> GroupSum {
         let f = f32::from_bits;
         let v = |w: &[u32]| Vec3::new(f(w[0]), f(w[1]), f(w[2]));

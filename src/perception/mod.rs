@@ -188,10 +188,10 @@ impl Default for SummaryBuf {
     }
 }
 
-/// Room for an agent's group sums, one per query of its species (see
-/// [`Perception::group_sums_in`]); a worker keeps one from agent to agent.
+/// Room for an agent's group sums, one per query of its species, while perception folds them;
+/// a worker keeps one from agent to agent.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct GroupBuf([GroupSum; group::MAX_GROUP_QUERIES]);
+struct GroupBuf([GroupSum; group::MAX_GROUP_QUERIES]);
 
 /// Rows a task of the parallel walk takes, and rows a list of summaries or percepts holds.
 const SUMMARY_CHUNK: usize = 64;
@@ -427,30 +427,31 @@ impl Perception {
         &buf.by
     }
 
-    /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order,
-    /// read back into `buf` (rows keep only the words each query folds into).
+    /// Group sums of agent `i` as the row keeps them: of each query of its species'
+    /// [`Reads::groups`], in order, the words it folds into ([`crate::ctx::Ctx::group`] reads
+    /// one back).
     #[inline]
-    pub fn group_sums_in<'b>(&self, i: usize, buf: &'b mut GroupBuf) -> &'b [GroupSum] {
+    pub fn group_words(&self, i: usize) -> &[u32] {
         let r = self.row(i);
-        let mut words = &self.sums[self.sum_starts[r] as usize..self.sum_starts[r + 1] as usize];
+        &self.sums[self.sum_starts[r] as usize..self.sum_starts[r + 1] as usize]
+    }
+
+    /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
+    pub fn group_sums(&self, i: usize) -> Vec<GroupSum> {
+        let mut words = self.group_words(i);
         if words.is_empty() {
-            return &[];
+            return Vec::new();
         }
         let s = self.gathered[i].tag.species as usize;
         let queries = self.queries.get(s).unwrap_or(&GroupQueries::EMPTY);
-        let mut n = 0;
-        for (q, out) in queries.iter().zip(buf.0.iter_mut()) {
-            let (own, rest) = words.split_at(q.words().min(words.len()));
-            *out = GroupSum::unpack(q, own);
-            words = rest;
-            n += 1;
-        }
-        &buf.0[..n]
-    }
-
-    /// [`Perception::group_sums_in`] into a list of its own.
-    pub fn group_sums(&self, i: usize) -> Vec<GroupSum> {
-        self.group_sums_in(i, &mut GroupBuf::default()).to_vec()
+        queries
+            .iter()
+            .map(|q| {
+                let (own, rest) = words.split_at(q.words().min(words.len()));
+                words = rest;
+                GroupSum::unpack(q, own)
+            })
+            .collect()
     }
 
     /// Velocity of agent `i` at the start of the tick ([`crate::world::Agent::velocity`], bit

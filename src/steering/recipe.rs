@@ -103,7 +103,7 @@ pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
 /// built without them) over the kin among its kept percepts.
 fn group_sum<'a>(ctx: &'a Ctx, scratch: &mut Scratch, q: &GroupQuery) -> Cow<'a, GroupSum> {
     match ctx.group(q) {
-        Some(s) => Cow::Borrowed(s),
+        Some(s) => Cow::Owned(s),
         None => Cow::Owned(group::fold(scratch.kin(ctx), q)),
     }
 }

@@ -13,8 +13,7 @@ use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{
-    Category, GroupBuf, GroupQueries, GroupSum, Percept, Perception, Reads, Source, Summary,
-    SummaryBuf,
+    Category, GroupQueries, Percept, Perception, Reads, Source, Summary, SummaryBuf,
 };
 use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
@@ -41,8 +40,6 @@ pub(super) struct Worker {
     view: Dynamic,
     /// The agent's summaries, when its row holds some categories only.
     summaries: SummaryBuf,
-    /// The agent's group sums, read back from perception's rows.
-    groups: GroupBuf,
     /// Locomotion's response factors of the last agent's body (the next is most often alike).
     gains: Option<locomotion::Gains>,
 }
@@ -54,7 +51,6 @@ impl Default for Worker {
             scratch: Scratch::default(),
             view: Dynamic::from(AgentView::default()),
             summaries: SummaryBuf::default(),
-            groups: GroupBuf::default(),
             gains: None,
         }
     }
@@ -120,7 +116,7 @@ struct Seen<'a> {
     percepts: &'a [Percept],
     summaries: &'a [Summary; Category::COUNT],
     group_queries: &'a GroupQueries,
-    group_sums: &'a [GroupSum],
+    group_sums: &'a [u32],
     tick: u64,
     dt: f32,
 }
@@ -285,7 +281,6 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         scratch,
         view,
         summaries: summary_buf,
-        groups: group_buf,
         gains,
     } = w;
     scratch.reset();
@@ -302,7 +297,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let sp = &set.species[s];
     let percepts = perception.percepts(i);
     let summaries = perception.summaries_in(i, summary_buf);
-    let group_sums = perception.group_sums_in(i, group_buf);
+    let group_sums = perception.group_words(i);
     let dt = world.dt;
     let tick = world.tick;
     // What every stage reads besides the agent's record, looked up once; each stage's `Ctx`
