@@ -260,8 +260,8 @@ impl Perception {
     }
 
     /// Copies the gathered records into the agent grid's order (`near`, `tags`, `diagonals`,
-    /// and the kin kernel's lanes when `kernel`: a species may perceive by it), and works out
-    /// the slot of each agent in that order.
+    /// and the kin kernel's lanes when `kernel`: a species may perceive by it; their heading
+    /// columns only with `headings`), and works out the slot of each agent in that order.
     fn copy_by_slot(&mut self, agents: &Grid, kernel: bool, headings: bool) {
         let n = self.gathered.len();
         let entries = agents.entries();
