@@ -287,6 +287,45 @@ fn inverse_square(offset: Vec3A, d2: f32) -> Vec3A {
     offset * (1.0 / d2)
 }
 
+/// Where perception writes one agent's group sums: its row's words, query after query, each
+/// in its [`GroupQuery::words`] ([`GroupSum::pack`]).
+pub(crate) struct SumsOut<'a> {
+    queries: &'a GroupQueries,
+    words: &'a mut [u32],
+    /// The next query, and where its words start.
+    next: usize,
+    at: usize,
+}
+
+impl<'a> SumsOut<'a> {
+    /// The words of an agent whose species asks `queries`.
+    #[inline(always)]
+    pub(crate) fn new(queries: &'a GroupQueries, words: &'a mut [u32]) -> Self {
+        SumsOut {
+            queries,
+            words,
+            next: 0,
+            at: 0,
+        }
+    }
+
+    /// Writes the sums of the next query.
+    #[inline(always)]
+    pub(crate) fn push(&mut self, s: GroupSum) {
+        if let Some(q) = self.queries.get(self.next) {
+            let end = self.at + q.words();
+            s.pack(q, &mut self.words[self.at..end]);
+            (self.next, self.at) = (self.next + 1, end);
+        }
+    }
+
+    /// How many queries there are.
+    #[inline(always)]
+    pub(crate) fn len(&self) -> usize {
+        self.queries.len()
+    }
+}
+
 /// The distinct group queries of one species, in a fixed-size list (no allocation per agent).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct GroupQueries {
@@ -313,6 +352,11 @@ impl GroupQueries {
             self.len += 1;
             self.unit |= q.reads_unit();
         }
+    }
+    /// Query `k`, if listed.
+    #[inline(always)]
+    pub fn get(&self, k: usize) -> Option<&GroupQuery> {
+        self.items[..self.len].get(k).and_then(Option::as_ref)
     }
     /// Index of `q`, if listed.
     #[inline]

@@ -693,18 +693,29 @@ impl<'a> KinFold<'a> {
 
     /// The kin sums; the group sums go to `sums` (one per query, in order).
     pub fn finish(&mut self, sums: &mut [GroupSum]) -> KinSums {
+        let mut out = sums.iter_mut();
+        self.finish_with(|s| {
+            if let Some(o) = out.next() {
+                *o = s;
+            }
+        })
+    }
+
+    /// The kin sums; `put` takes the group sums, one per query, in order.
+    #[inline(always)]
+    pub fn finish_with(&mut self, mut put: impl FnMut(GroupSum)) -> KinSums {
         if self.pending > 0 {
             self.flush();
         }
-        for (s, out) in self.buf.q[..self.nq].iter().zip(sums) {
-            *out = GroupSum {
+        for s in &self.buf.q[..self.nq] {
+            put(GroupSum {
                 a: vec_of(&s.a).into(),
                 b: vec_of(&s.b).into(),
                 c: Vec3::ZERO,
                 n: s.n,
                 m: 0,
                 w: 0.0,
-            };
+            });
         }
         let sum = &self.sum;
         KinSums {

@@ -39,6 +39,7 @@ mod view;
 pub mod volume;
 mod walk;
 
+pub(crate) use group::SumsOut;
 pub use group::{GroupAcc, GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
 pub use senses::{Reads, Relations, SenseParams};
@@ -146,8 +147,6 @@ struct AgentOut<'a> {
     reach: &'a mut f32,
     /// Its group sums' words (see [`Perception::sums`]).
     sums: &'a mut [u32],
-    /// Room for its group sums while they are folded, the worker's.
-    group_buf: &'a mut GroupBuf,
     /// The kin kernel's buffers, the worker's.
     kin: &'a mut kin::KinBuf,
 }
@@ -187,11 +186,6 @@ impl Default for SummaryBuf {
         }
     }
 }
-
-/// Room for an agent's group sums, one per query of its species, while perception folds them;
-/// a worker keeps one from agent to agent.
-#[derive(Debug, Clone, Copy, Default)]
-struct GroupBuf([GroupSum; group::MAX_GROUP_QUERIES]);
 
 /// Rows a task of the parallel walk takes, and rows a list of summaries or percepts holds.
 const SUMMARY_CHUNK: usize = 64;
@@ -256,7 +250,6 @@ impl<'a> Outs<'a> {
             }
             let (mut used, mut used_percepts) = (0, 0);
             let mut kin = kin::KinBuf::default();
-            let mut group_buf = GroupBuf::default();
             let rows = self.counts.iter_mut().zip(self.reaches).zip(masks);
             let held = self.held.iter_mut().zip(self.held_at.iter_mut());
             let percepts = self.percept_at.iter_mut().zip(rooms);
@@ -281,7 +274,6 @@ impl<'a> Outs<'a> {
                         mask,
                         reach,
                         sums: own_sums,
-                        group_buf: &mut group_buf,
                         kin: &mut kin,
                     },
                 );

@@ -70,9 +70,8 @@ impl View<'_> {
             .get(s)
             .copied()
             .unwrap_or(self.default_cos_min);
-        // The group sums are folded whole, then only each query's own words are kept.
-        let groups = &rd.groups;
-        let sums = &mut out.group_buf.0[..groups.len()];
+        // Each query's group sums go straight into its own words.
+        let sums = &mut super::SumsOut::new(&rd.groups, out.sums);
         *out.count = if out.slots.is_empty() {
             perceive_one::<false>(
                 i,
@@ -104,12 +103,6 @@ impl View<'_> {
                 out.kin,
             )
         };
-        let mut words = out.sums;
-        for (q, sum) in groups.iter().zip(sums.iter()) {
-            let (own, rest) = words.split_at_mut(q.words());
-            sum.pack(q, own);
-            words = rest;
-        }
     }
 
     /// The perceiver of row `r` (its agent index), and what it reads of itself: in the grid's

@@ -12,7 +12,7 @@ use super::rows::RowMask;
 use super::view::View;
 use super::{kin, nearest, volume, Summary};
 use super::{
-    Category, Extent, GroupAcc, GroupQueries, GroupSum, Percept, Reads, Relations, SenseParams,
+    Category, Extent, GroupAcc, GroupQueries, Percept, Reads, Relations, SenseParams, SumsOut,
 };
 use super::{Sense, Source};
 use crate::frame;
@@ -39,14 +39,14 @@ fn kernel(
     (probe, occluders): (kin::Probe, &[Shape]),
     radius: f32,
     groups: &GroupQueries,
-    sums: &mut [GroupSum],
+    sums: &mut SumsOut,
     buf: &mut kin::KinBuf,
 ) -> Acc {
     let mut k = kin::KinFold::new(lanes, probe, groups.iter(), buf);
     k.occlude(occluders, view.diagonals);
     view.agents
         .for_each_row_within(probe.here, radius, |s, e| k.row(s, e));
-    let sums_k = k.finish(sums);
+    let sums_k = k.finish_with(|s| sums.push(s));
     Acc {
         pos: sums_k.pos,
         heading: sums_k.heading,
@@ -108,7 +108,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
     summary: &mut [Summary],
     mask: RowMask,
     reach: &mut f32,
-    sums: &mut [GroupSum],
+    sums: &mut SumsOut,
     buf: &mut kin::KinBuf,
 ) -> u16 {
     let p = Perceiver {
@@ -161,7 +161,7 @@ impl Perceiver<'_, '_> {
         &self,
         summary: &mut [Summary],
         mask: RowMask,
-        sums: &mut [GroupSum],
+        sums: &mut SumsOut,
         buf: &mut kin::KinBuf,
     ) -> bool {
         let (view, me, s) = (self.view, self.me, self.s);
@@ -287,7 +287,7 @@ impl Perceiver<'_, '_> {
         occ: &[Shape],
         agent_percepts: bool,
         fold: &mut Fold<'_, KEEP>,
-        sums: &mut [GroupSum],
+        sums: &mut SumsOut,
         buf: &mut kin::KinBuf,
     ) -> f32 {
         let (view, sense, radius) = (self.view, self.sense, self.radius);
@@ -325,8 +325,8 @@ impl Perceiver<'_, '_> {
             } else {
                 self.general_walk(occ, row, mates, agent_radius, agent_percepts, fold, acc)
             };
-            for (s, a) in sums.iter_mut().zip(acc.iter()) {
-                *s = (*a).into();
+            for a in acc.iter() {
+                sums.push((*a).into());
             }
             reach
         }
