@@ -52,21 +52,10 @@ impl Ctx<'_> {
     /// is read back from its words).
     #[inline]
     pub fn group(&self, q: &GroupQuery) -> Option<GroupSum> {
-        if self.group_sums.is_empty() {
-            return None;
-        }
-        let mut at = 0;
-        for listed in self.group_queries.iter() {
-            let words = listed.words();
-            if listed == q {
-                return self
-                    .group_sums
-                    .get(at..at + words)
-                    .map(|w| GroupSum::unpack(q, w));
-            }
-            at += words;
-        }
-        None
+        self.group_queries
+            .packed(self.group_sums)
+            .find(|(listed, _)| *listed == q)
+            .map(|(_, words)| GroupSum::unpack(q, words))
     }
     /// Nearest percept of a category.
     pub fn nearest(&self, c: Category) -> Option<&Percept> {

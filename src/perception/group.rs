@@ -353,6 +353,19 @@ impl GroupQueries {
             self.unit |= q.reads_unit();
         }
     }
+    /// Each query with its words in `words`, a row [`SumsOut`] wrote for these queries
+    /// (fewer words than the queries take: the queries they cover).
+    #[inline(always)]
+    pub fn packed<'q, 'w: 'q>(
+        &'q self,
+        mut words: &'w [u32],
+    ) -> impl Iterator<Item = (&'q GroupQuery, &'w [u32])> + 'q {
+        self.iter().map_while(move |q| {
+            let own = words.get(..q.words())?;
+            words = &words[q.words()..];
+            Some((q, own))
+        })
+    }
     /// Query `k`, if listed.
     #[inline(always)]
     pub fn get(&self, k: usize) -> Option<&GroupQuery> {
@@ -483,6 +496,29 @@ mod tests {
         }
         // A separation's 16 bytes, not 48.
         assert_eq!(queries.map(|q| q.words()), [4, 7, 4, 12]);
+        // One row of all four, written query after query and read back by query.
+        let mut list = GroupQueries::new();
+        queries.iter().for_each(|q| list.insert(*q));
+        let sums = queries.map(|q| {
+            let mut acc = GroupAcc::default();
+            for (offset, velocity) in neighbors {
+                acc.add(
+                    &q,
+                    &Near::new(offset, offset.length_squared(), velocity, true),
+                );
+            }
+            GroupSum::from(acc)
+        });
+        let mut row = [0u32; 27];
+        let mut out = SumsOut::new(&list, &mut row);
+        sums.iter().for_each(|s| out.push(*s));
+        let back: Vec<GroupSum> = list
+            .packed(&row)
+            .map(|(q, w)| GroupSum::unpack(q, w))
+            .collect();
+        assert_eq!(back, sums.to_vec());
+        // A row cut short reads back only the queries it covers.
+        assert_eq!(list.packed(&row[..12]).count(), 2);
     }
 
     #[test]

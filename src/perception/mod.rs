@@ -430,19 +430,15 @@ impl Perception {
 
     /// Group sums of agent `i`, one per query of its species' [`Reads::groups`], in order.
     pub fn group_sums(&self, i: usize) -> Vec<GroupSum> {
-        let mut words = self.group_words(i);
+        let words = self.group_words(i);
         if words.is_empty() {
             return Vec::new();
         }
         let s = self.gathered[i].tag.species as usize;
         let queries = self.queries.get(s).unwrap_or(&GroupQueries::EMPTY);
         queries
-            .iter()
-            .map(|q| {
-                let (own, rest) = words.split_at(q.words().min(words.len()));
-                words = rest;
-                GroupSum::unpack(q, own)
-            })
+            .packed(words)
+            .map(|(q, own)| GroupSum::unpack(q, own))
             .collect()
     }
 

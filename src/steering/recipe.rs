@@ -10,7 +10,6 @@ use crate::perception::{Category, GroupQuery, GroupSum, Percept, Sense, Source};
 use crate::species::{Recipe, RecipeNode, Target};
 use crate::world::{Mind, Rng};
 use glam::Vec3;
-use std::borrow::Cow;
 
 /// Scratch buffers reused across agents by one worker.
 #[derive(Debug, Default)]
@@ -101,11 +100,9 @@ pub fn group_query(r: &Recipe, reach: f32) -> Option<GroupQuery> {
 
 /// The agent's sums of `q`: folded by perception over every kin perceived, or (for a context
 /// built without them) over the kin among its kept percepts.
-fn group_sum<'a>(ctx: &'a Ctx, scratch: &mut Scratch, q: &GroupQuery) -> Cow<'a, GroupSum> {
-    match ctx.group(q) {
-        Some(s) => Cow::Owned(s),
-        None => Cow::Owned(group::fold(scratch.kin(ctx), q)),
-    }
+fn group_sum(ctx: &Ctx, scratch: &mut Scratch, q: &GroupQuery) -> GroupSum {
+    ctx.group(q)
+        .unwrap_or_else(|| group::fold(scratch.kin(ctx), q))
 }
 
 /// Evaluates a leaf primitive.
