@@ -10,21 +10,17 @@ use super::rows::RowMask;
 use super::walk::kernel_species;
 use super::{Perception, Reads, Relations, SenseParams};
 use crate::index::Grid;
-use crate::world::World;
+use crate::world::{Agent, World};
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// What others read of an agent at the start of the tick.
+/// What others read of an agent at the start of the tick (24 bytes: its position a tick
+/// before is held apart, only where some species reads it).
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Gathered {
     pub(super) body: Body,
     pub(super) tag: Tag,
     pub(super) diagonal: f32,
-    /// Its position a tick before (pursuers read their target's).
-    pub(super) prev_pos: Vec3,
-    /// Its heading's angles (copied to the perceivers' rows in the grid's order).
-    pub(super) yaw: f32,
-    pub(super) pitch: f32,
 }
 
 /// What a perceiver reads of itself.
@@ -82,9 +78,6 @@ const UNKNOWN: Gathered = Gathered {
         sex: crate::world::Sex::Female,
     },
     diagonal: 0.0,
-    prev_pos: Vec3::ZERO,
-    yaw: 0.0,
-    pitch: 0.0,
 };
 
 impl Perception {
@@ -158,41 +151,62 @@ impl Perception {
         self.rooms.resize(n, 0);
         self.sum_starts.resize(n + 1, 0);
         self.row_masks.resize(n, RowMask::ALL);
-        world
+        // Positions a tick before, only where some species keeps agent percepts: a pursuer
+        // reads its target's, and nothing else does (12 bytes an agent otherwise).
+        let keeps_agents = |r: &Reads| r.percepts && r.agent_percepts;
+        let prev = reads.len() < senses.len() || reads.iter().any(keeps_agents);
+        let gather = |a: &Agent, g: &mut Gathered, slots: &mut u8, sums: &mut u32| {
+            if a.species.0 as usize >= senses.len() {
+                unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            if !by_grid {
+                (*slots, *sums) = share(a.species.0 as usize);
+            }
+            *g = Gathered {
+                body: Body {
+                    heading: a.forward(),
+                    speed: a.speed,
+                },
+                tag: Tag {
+                    species: a.species.0,
+                    sex: a.attrs.sex,
+                },
+                diagonal: a.diagonal(),
+            };
+        };
+        let pass = world
             .agents
             .par_iter()
             .zip(self.gathered[..n].par_iter_mut())
             .zip(self.rooms[..n].par_iter_mut())
-            .zip(self.sum_starts[..n].par_iter_mut())
-            .with_min_len(crate::par::min_len(256))
-            .for_each(|(((a, g), slots), sums)| {
-                if a.species.0 as usize >= senses.len() {
-                    unsensed.store(true, std::sync::atomic::Ordering::Relaxed);
-                }
-                if !by_grid {
-                    (*slots, *sums) = share(a.species.0 as usize);
-                }
-                *g = Gathered {
-                    body: Body {
-                        heading: a.forward(),
-                        speed: a.speed,
-                    },
-                    tag: Tag {
-                        species: a.species.0,
-                        sex: a.attrs.sex,
-                    },
-                    diagonal: a.diagonal(),
-                    prev_pos: a.prev_pos,
-                    yaw: a.yaw,
-                    pitch: a.pitch,
-                };
-            });
+            .zip(self.sum_starts[..n].par_iter_mut());
+        if prev {
+            self.prev_pos.resize(n, Vec3::ZERO);
+            pass.zip(self.prev_pos[..n].par_iter_mut())
+                .with_min_len(crate::par::min_len(256))
+                .for_each(|((((a, g), slots), sums), p)| {
+                    gather(a, g, slots, sums);
+                    *p = a.prev_pos;
+                });
+        } else {
+            pass.with_min_len(crate::par::min_len(256))
+                .for_each(|(((a, g), slots), sums)| gather(a, g, slots, sums));
+        }
         let unsensed = unsensed.into_inner();
+        if !prev {
+            // An agent of a species without senses perceives with the defaults, which keep
+            // agent percepts (rare: a second, sequential pass).
+            self.prev_pos = if unsensed {
+                world.agents.iter().map(|a| a.prev_pos).collect()
+            } else {
+                Vec::new()
+            };
+        }
         self.by_grid = by_grid;
         self.angles.clear();
-        let gathered = &self.gathered[..];
         if by_grid {
-            // In the grid's order, each row's heading angles, and its share of the buffers.
+            // In the grid's order, each row's heading angles, and its share of the buffers (read
+            // from the agent's record: the angles, species and all in its first 64 bytes).
             self.angles.resize(n, [0.0; 2]);
             self.angles
                 .par_iter_mut()
@@ -201,11 +215,12 @@ impl Perception {
                 .zip(entries.par_iter())
                 .with_min_len(crate::par::min_len(256))
                 .for_each(|(((angles, slots), sums), &i)| {
-                    let g = &gathered[i as usize];
-                    *angles = [g.yaw, g.pitch];
-                    (*slots, *sums) = share(g.tag.species as usize);
+                    let a = &world.agents[i as usize];
+                    *angles = [a.yaw, a.pitch];
+                    (*slots, *sums) = share(a.species.0 as usize);
                 });
         }
+        let gathered = &self.gathered[..];
         // Each row's categories, by its agent's species.
         let species_of = |r: usize| {
             let i = if by_grid { entries[r] as usize } else { r };
@@ -228,7 +243,10 @@ impl Perception {
                 let smell = sense.smell_radius * sense.smell_radius > 0.0;
                 k && kin::needs_headings(false, cone, smell, r.headings)
             });
-        self.copy_by_slot(agents, kernel, headings);
+        // Whether some agent perceives by the walks, which read the grid-order bodies (`near`):
+        // one of a species the kernel does not serve, or of one without senses.
+        let walks = unsensed || self.kernel.iter().any(|&k| !k);
+        self.copy_by_slot(agents, kernel, walks, headings);
         self.cos_mins.clear();
         self.cos_mins
             .extend(senses.iter().map(|s| cos_min(s.vision_half_angle)));
@@ -259,21 +277,34 @@ impl Perception {
         self.reaches.resize(n, 0.0);
     }
 
-    /// Copies the gathered records into the agent grid's order (`near`, `tags`, `diagonals`,
-    /// and the kin kernel's lanes when `kernel`: a species may perceive by it; their heading
-    /// columns only with `headings`), and works out the slot of each agent in that order.
-    fn copy_by_slot(&mut self, agents: &Grid, kernel: bool, headings: bool) {
+    /// Copies the gathered records into the agent grid's order (`near` when `walks`: some agent
+    /// perceives by the walks; `tags`, `diagonals`, and the kin kernel's lanes when `kernel`: a
+    /// species may perceive by it; their heading columns only with `headings`), and works out
+    /// the slot of each agent in that order.
+    fn copy_by_slot(&mut self, agents: &Grid, kernel: bool, walks: bool, headings: bool) {
         let n = self.gathered.len();
         let entries = agents.entries();
         let gathered = &self.gathered[..];
         let of_slot =
             |k: usize| -> &Gathered { gathered.get(entries[k] as usize).unwrap_or(&UNKNOWN) };
-        self.near.resize(entries.len(), Body::default());
+        if walks {
+            self.near.resize(entries.len(), Body::default());
+        } else {
+            // Only the kernel reads the neighbors (16 bytes an agent otherwise).
+            self.near = Vec::new();
+        }
         // The kin kernel's lanes, when a species may perceive by it, filled in the same pass.
-        if kernel {
+        if kernel && walks {
             self.lanes
                 .fill(agents.positions(), &mut self.near, headings, |k, b| {
                     *b = of_slot(k).body;
+                    (b.heading, b.velocity())
+                });
+        } else if kernel {
+            let mut none = vec![(); entries.len()];
+            self.lanes
+                .fill(agents.positions(), &mut none, headings, |k, _| {
+                    let b = of_slot(k).body;
                     (b.heading, b.velocity())
                 });
         } else {

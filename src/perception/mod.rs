@@ -110,7 +110,8 @@ pub struct Perception {
     angles: Vec<[f32; 2]>,
     /// What a perceiver reads of each agent, gathered once per tick in the agent grid's order,
     /// so that a neighbor costs one small sequential read instead of a walk into the full agent
-    /// and two `sin_cos`.
+    /// and two `sin_cos`. Held only while some agent perceives by the walks (the kin kernel
+    /// reads its lanes).
     near: Vec<Body>,
     /// Species and sex of the same agents, in the same order.
     tags: Vec<Tag>,
@@ -123,6 +124,9 @@ pub struct Perception {
     /// wrote it, is cheaper than reading the records in the grid's order), and agents' passes
     /// read each other here.
     gathered: Vec<Gathered>,
+    /// Each agent's position a tick before, by agent index: held only while some species
+    /// keeps agent percepts (a pursuer reads its target's), empty otherwise.
+    prev_pos: Vec<Vec3>,
     /// `near` again, one array per component, for the kin kernel (filled only when a species
     /// perceives by it).
     lanes: kin::KinLanes,
@@ -457,10 +461,11 @@ impl Perception {
     }
 
     /// Position of agent `i` a tick before the start of this one
-    /// ([`crate::world::Agent::prev_pos`]).
+    /// ([`crate::world::Agent::prev_pos`]); `None` too when no species keeps agent percepts
+    /// this tick (only a percept of agent `i` leads to asking).
     #[inline]
     pub fn prev_pos(&self, i: usize) -> Option<Vec3> {
-        self.gathered.get(i).map(|g| g.prev_pos)
+        self.prev_pos.get(i).copied()
     }
 
     /// Summaries the rows may hold: those of the categories their species can perceive.
@@ -526,7 +531,7 @@ impl Perception {
         // How far beyond its range a perceiver must look for a body whose edge may be in range
         // (seed 001's "any part", `Extent::AnyPart`).
         let body_reach = diagonals.iter().fold(0.0f32, |m, &d| m.max(d)) * 0.5;
-        let lanes = (kernel && self.lanes.len() == near.len()).then_some(&self.lanes);
+        let lanes = (kernel && self.lanes.len() == agents.positions().len()).then_some(&self.lanes);
         let reach = senses
             .iter()
             .chain(unsensed.then_some(&default))

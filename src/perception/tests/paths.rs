@@ -520,3 +520,68 @@ fn an_obstacle_out_of_range_leaves_every_bit_of_the_kin_sums() {
         );
     }
 }
+
+#[test]
+fn a_world_the_kernel_serves_alone_copies_no_bodies_and_no_past_positions() {
+    // Kin-only flockers that keep no percepts perceive by the kernel alone: the grid-order
+    // bodies (`near`) and last tick's positions are not copied. Listing a second species that
+    // keeps agent percepts (with no agent of it) brings both back, and changes no bit.
+    let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
+    let mut rng = Rng::new(5, 0);
+    push_swarm(&mut w, &mut rng, 300, 15.0);
+    for a in &mut w.agents {
+        a.prev_pos = a.pos - Vec3::new(0.1, 0.0, 0.2);
+    }
+    let mut rel = Relations::new(2);
+    rel.set(0, 0, Some(Category::Kin));
+    rel.set(0, 1, Some(Category::Kin));
+    rel.set(1, 0, Some(Category::Kin));
+    rel.set(1, 1, Some(Category::Kin));
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius: 2.0 });
+    let plain = Reads {
+        percepts: false,
+        agent_percepts: false,
+        bearing_range: Some(0.0),
+        groups,
+        headings: false,
+    };
+    let sense = SenseParams {
+        vision_radius: 5.0,
+        vision_half_angle: std::f32::consts::PI,
+        ..SenseParams::default()
+    };
+    let mut ag = Grid::new();
+    ag.rebuild(w.bounds, 5.0, w.agents.iter().map(|a| a.pos));
+    let fg = Grid::new();
+    let perceive = |reads: &[Reads]| {
+        let mut p = Perception::new();
+        p.run_selective(&w, &ag, &fg, &[sense; 2], &rel, reads);
+        p
+    };
+    let alone = perceive(&[plain; 2]);
+    assert!(alone.kernel.iter().all(|&k| k));
+    assert!(alone.near.is_empty() && alone.prev_pos.is_empty());
+    assert_eq!(alone.prev_pos(3), None);
+    let beside = perceive(&[plain, Reads::default()]);
+    assert_eq!(beside.kernel, [true, false]);
+    assert_eq!(beside.near.len(), w.agents.len());
+    let mut kin = 0;
+    for (i, a) in w.agents.iter().enumerate() {
+        assert_eq!(beside.prev_pos(i), Some(a.prev_pos), "agent {i}");
+        assert_eq!(alone.summaries(i), beside.summaries(i), "agent {i}");
+        assert_eq!(alone.group_words(i), beside.group_words(i), "agent {i}");
+        kin += alone.summaries(i)[Category::Kin as usize].count;
+    }
+    assert!(kin > 300, "kin perceived: {kin}");
+    // An agent of a species without senses perceives with the defaults, which keep agent
+    // percepts: its past position is held.
+    let mut stray = w.clone();
+    stray.agents[7].species = SpeciesId(5);
+    let mut ag = Grid::new();
+    ag.rebuild(stray.bounds, 5.0, stray.agents.iter().map(|a| a.pos));
+    let mut p = Perception::new();
+    p.run_selective(&stray, &ag, &fg, &[sense; 2], &rel, &[plain; 2]);
+    assert_eq!(p.prev_pos(7), Some(stray.agents[7].prev_pos));
+    assert_eq!(p.near.len(), stray.agents.len());
+}
