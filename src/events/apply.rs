@@ -12,7 +12,7 @@ use super::{Event, MessageKind, Signal};
 use crate::decision::{scripts, Ctx};
 use crate::perception::{Category, GroupQueries, Source, Summary};
 use crate::species::{Contact, SpeciesSet};
-use crate::tick::{Pipeline, Rare};
+use crate::tick::{More, Pipeline, Rare};
 use crate::world::{HeardEvent, World};
 use rhai::{Dynamic, ImmutableString, Scope};
 
@@ -71,14 +71,14 @@ impl Pipeline {
                 continue;
             }
             let a = &mut world.agents[i];
-            let Rare {
-                transitions,
+            let Rare { transitions, more } = out.rare.take().map(|r| *r).unwrap_or_default();
+            let More {
                 contact,
                 messages,
                 payloads,
                 error,
                 explain: _,
-            } = out.rare.take().map(|r| *r).unwrap_or_default();
+            } = more.map(|m| *m).unwrap_or_default();
             for t in transitions.into_iter().flatten() {
                 self.stats.transitions += 1;
                 self.events.push(Event::Transition {

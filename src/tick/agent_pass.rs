@@ -67,10 +67,18 @@ pub(crate) struct Outcome {
     pub(crate) rare: Option<Box<Rare>>,
 }
 
-/// The parts of an outcome most agents do not have in a given tick.
+/// The parts of an outcome most agents do not have in a given tick: most that have one have a
+/// transition and nothing else (a whole school's first transitions, say), so the rest is boxed
+/// again (56 bytes an agent then, not 136).
 #[derive(Debug, Default)]
 pub(crate) struct Rare {
     pub(crate) transitions: Transitions,
+    pub(crate) more: Option<Box<More>>,
+}
+
+/// What an outcome rarely has even beside a transition.
+#[derive(Debug, Default)]
+pub(crate) struct More {
     /// Contact intent (a meal, a catch, a mating), resolved in agent order by stage 7.
     pub(crate) contact: Option<(Contact, Source)>,
     pub(crate) messages: [Option<(Signal, f32)>; 4],
@@ -561,19 +569,24 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             .map(|p| (c, p.source)),
         None => None,
     };
-    let rare = transitions.iter().any(Option::is_some)
-        || messages.iter().any(Option::is_some)
+    // A payload goes with a message.
+    let more = messages.iter().any(Option::is_some)
         || error.is_some()
         || contact.is_some()
         || explained.is_some();
+    let rare = more || transitions.iter().any(Option::is_some);
     out.rare = rare.then(|| {
         Box::new(Rare {
             transitions,
-            contact,
-            messages,
-            payloads,
-            error: error.map(Box::new),
-            explain: explained,
+            more: more.then(|| {
+                Box::new(More {
+                    contact,
+                    messages,
+                    payloads,
+                    error: error.map(Box::new),
+                    explain: explained,
+                })
+            }),
         })
     });
     out.species = me.species.0;

@@ -36,7 +36,7 @@ mod stats;
 #[cfg(test)]
 mod tests;
 use agent_pass::Worker;
-pub(crate) use agent_pass::{Outcome, Rare};
+pub(crate) use agent_pass::{More, Outcome, Rare};
 pub use explain::Explain;
 pub use reads::{bearing_range, reads};
 pub use remap::Remap;
@@ -348,7 +348,8 @@ impl Pipeline {
         self.explained.clear();
         if self.explain.on() {
             for o in &mut self.outcomes {
-                if let Some(e) = o.rare.as_mut().and_then(|r| r.explain.take()) {
+                let more = o.rare.as_mut().and_then(|r| r.more.as_mut());
+                if let Some(e) = more.and_then(|m| m.explain.take()) {
                     self.explained.extend(e.decision);
                     self.explained.extend(e.frame);
                 }

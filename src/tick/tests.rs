@@ -154,3 +154,38 @@ fn cooldowns_hold_only_started_ones_by_behavior_and_drop_those_run_out() {
         Cooldowns::from_pairs([(0, 9), (1, 8)])
     );
 }
+
+#[test]
+fn an_outcome_with_a_transition_alone_boxes_nothing_more() {
+    // Every agent starts in "drift" and soon switches to "dash": a whole school's first
+    // transitions, with no message, contact or error beside them.
+    let text = r#"(
+        name: "dasher",
+        initial: "drift",
+        behaviors: [
+            Behavior(name: "drift", priority: 2, steer: Cruise(speed: 0.5)),
+            Behavior(name: "dash", priority: 1, when: Always, steer: Cruise(speed: 2.0)),
+        ],
+    )"#;
+    let species = Species::parse("dasher.ron", text).unwrap();
+    let set = SpeciesSet::new(vec![species.into()]).unwrap();
+    let bounds = Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 40.0, 50.0));
+    let (mut p, mut w) = (Pipeline::new(Arc::new(set)), World::new(bounds, 0.05, 7));
+    for k in 0..4 {
+        p.spawn(&mut w, 0, Vec3::new(3.0 * k as f32, 10.0, 0.0), 0.0, 0.0);
+    }
+    // Ticks as `step` runs them, the outcomes looked at before stage 7 takes them.
+    let mut seen = 0;
+    for _ in 0..40 {
+        p.perceive(&mut w);
+        p.agent_pass(&mut w);
+        for rare in p.outcomes.iter().filter_map(|o| o.rare.as_deref()) {
+            assert!(rare.transitions[0].is_some());
+            assert!(rare.more.is_none());
+            seen += 1;
+        }
+        p.apply(&mut w);
+    }
+    assert_eq!(seen, 4);
+    assert_eq!(p.stats.transitions, 4);
+}
