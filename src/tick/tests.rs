@@ -177,7 +177,7 @@ fn an_outcome_with_a_transition_alone_boxes_nothing_more() {
     // Ticks as `step` runs them, the outcomes looked at before stage 7 takes them.
     let mut seen = 0;
     for _ in 0..40 {
-        p.perceive(&mut w);
+        p.perceive(&w);
         p.agent_pass(&mut w);
         for rare in p.outcomes.iter().filter_map(|o| o.rare.as_deref()) {
             assert!(rare.transitions[0].is_some());
