@@ -289,10 +289,7 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     let bs = &ctx.species.behaviors;
     let tick = ctx.tick;
     if mind.scope_entered().len() < ctx.species.depth as usize {
-        let entered = mind.entered_tick;
-        mind.rare_mut()
-            .scope_entered
-            .resize(ctx.species.depth as usize, entered);
+        mind.track_scopes(ctx.species.depth as usize, mind.entered_tick);
     }
     let cur = mind.current.min(bs.len().saturating_sub(1) as u16);
     let cur = if bs[cur as usize].compose == Compose::Leaf {

@@ -143,7 +143,7 @@ impl Pipeline {
             m.current = crate::species::validate::first_leaf(&nsp.behaviors, m.current);
             let depth = nsp.depth as usize;
             if m.scope_entered().len() != depth {
-                m.rare_mut().scope_entered.resize(depth, world.tick);
+                m.track_scopes(depth, world.tick);
             }
             let stack: Vec<u16> = m
                 .stack()

@@ -189,3 +189,16 @@ fn an_outcome_with_a_transition_alone_boxes_nothing_more() {
     assert_eq!(seen, 4);
     assert_eq!(p.stats.transitions, 4);
 }
+
+#[test]
+fn tracked_scopes_hold_just_their_room() {
+    let mut m = crate::world::Mind::new(0, 0);
+    m.track_scopes(2, 5);
+    assert_eq!(m.scope_entered(), &[5, 5]);
+    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.capacity(), 2);
+    m.track_scopes(1, 7);
+    assert_eq!(m.scope_entered(), &[5]);
+    m.track_scopes(3, 9);
+    assert_eq!(m.scope_entered(), &[5, 9, 9]);
+    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.capacity(), 3);
+}

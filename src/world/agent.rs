@@ -321,6 +321,14 @@ impl Mind {
             .as_deref_mut()
             .map_or(&mut [], |r| &mut r.scope_entered)
     }
+    /// Tracks composed behaviors `depth` deep ([`Mind::scope_entered`]): a depth added is
+    /// entered at `tick`. The list holds just that room (every fish of a composed species has
+    /// one: a list grown the usual way held twice its 24 bytes).
+    pub fn track_scopes(&mut self, depth: usize, tick: u64) {
+        let v = &mut self.rare_mut().scope_entered;
+        v.reserve_exact(depth.saturating_sub(v.len()));
+        v.resize(depth, tick);
+    }
     /// The rarely used parts, made on first use.
     pub fn rare_mut(&mut self) -> &mut MindParts {
         self.rare.0.get_or_insert_with(Default::default)
