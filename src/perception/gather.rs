@@ -330,8 +330,14 @@ impl Perception {
             });
         self.slot_of.clear();
         if agents.slots().len() == n {
-            // The grid indexes exactly these agents: its inverse is the slot of each.
-            self.slot_of.extend_from_slice(agents.slots());
+            // The grid indexes exactly these agents: its inverse is the slot of each. The walk
+            // reads the grid's own; a copy is kept only for reading rows in the grid's order
+            // after it (4 bytes an agent otherwise).
+            if self.by_grid {
+                self.slot_of.extend_from_slice(agents.slots());
+            } else {
+                self.slot_of = Vec::new();
+            }
         } else {
             self.slot_of.resize(n, u32::MAX);
             for (k, &j) in entries.iter().enumerate() {

@@ -117,7 +117,9 @@ pub struct Perception {
     tags: Vec<Tag>,
     /// Bounding-box diagonals of the same agents, in the same order (read for kept percepts).
     diagonals: Vec<f32>,
-    /// Slot of each agent in `near`, by agent index (`u32::MAX` when the grid lacks it).
+    /// Slot of each agent in the grid's order, by agent index (`u32::MAX` when the grid lacks
+    /// it). Empty when the grid indexes exactly the agents and the rows are in agent order:
+    /// the walk then reads the grid's own (`Grid::slots`).
     slot_of: Vec<u32>,
     /// What others read of each agent this tick, by agent index: the grid-order records are
     /// copied from it (reading every agent's record once, in order, on the thread that last
@@ -549,7 +551,12 @@ impl Perception {
             body_reach,
             lanes,
             kernel: &self.kernel,
-            slot_of: &self.slot_of,
+            // The grid's own inverse where no copy is kept (see `slot_of`).
+            slot_of: if self.slot_of.len() == self.gathered.len() {
+                &self.slot_of
+            } else {
+                agents.slots()
+            },
             agents,
             food,
             obstacle_grid: &self.obstacle_grid,

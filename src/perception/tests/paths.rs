@@ -524,7 +524,7 @@ fn an_obstacle_out_of_range_leaves_every_bit_of_the_kin_sums() {
 #[test]
 fn a_world_the_kernel_serves_alone_copies_no_bodies_and_no_past_positions() {
     // Kin-only flockers that keep no percepts perceive by the kernel alone: the grid-order
-    // bodies (`near`) and last tick's positions are not copied. Listing a second species that
+    // bodies (`near`), last tick's positions and the grid's inverse are not copied. Listing a second species that
     // keeps agent percepts (with no agent of it) brings both back, and changes no bit.
     let mut w = World::new(Aabb::new(Vec3::splat(-20.0), Vec3::splat(20.0)), 0.1, 2);
     let mut rng = Rng::new(5, 0);
@@ -562,6 +562,8 @@ fn a_world_the_kernel_serves_alone_copies_no_bodies_and_no_past_positions() {
     let alone = perceive(&[plain; 2]);
     assert!(alone.kernel.iter().all(|&k| k));
     assert!(alone.near.is_empty() && alone.prev_pos.is_empty());
+    // Nor the grid's inverse: the walk read the grid's own.
+    assert!(alone.slot_of.is_empty());
     assert_eq!(alone.prev_pos(3), None);
     let beside = perceive(&[plain, Reads::default()]);
     assert_eq!(beside.kernel, [true, false]);
