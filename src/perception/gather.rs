@@ -205,8 +205,9 @@ impl Perception {
         self.by_grid = by_grid;
         self.angles.clear();
         if by_grid {
-            // In the grid's order, each row's heading angles, and its share of the buffers (read
-            // from the agent's record: the angles, species and all in its first 64 bytes).
+            // In the grid's order, each row's heading angles, and its share of the buffers, read
+            // from the agent's record (as fast as from a gathered copy of the angles: reef 100k,
+            // 11.4–11.6 ticks/s against 11.0–11.3 with the copy, three rounds).
             self.angles.resize(n, [0.0; 2]);
             self.angles
                 .par_iter_mut()
