@@ -389,14 +389,14 @@ fn the_schools_best_food_is_food_a_member_perceived() {
         sim.run(2);
         let (f, o) = (&sim.agent(finder).mind, &sim.agent(other).mind);
         if food {
-            let own = f.best_food.get().expect("the finder remembers the food");
+            let own = f.best_food().expect("the finder remembers the food");
             assert!(own.distance(at) < 1e-4, "{own}");
-            assert_eq!(o.best_food.get(), None, "the other never perceived it");
-            let school = o.school_best.get().expect("the other reads the finder's");
+            assert_eq!(o.best_food(), None, "the other never perceived it");
+            let school = o.school_best().expect("the other reads the finder's");
             assert!(school.distance(at) < 1e-4, "{school}");
         } else {
             for m in [f, o] {
-                assert_eq!((m.best_food.get(), m.school_best.get()), (None, None));
+                assert_eq!((m.best_food(), m.school_best()), (None, None));
             }
         }
     }

@@ -282,7 +282,7 @@ fn dispersing_in_a_school_adopts_the_schools_best_food_position() {
         // Remembered by member 2, beyond its vision (8): kept until it gets there.
         let food = v(30.0, 20.0, 0.0);
         if member_knows {
-            sim.agent_mut(ids[2]).mind.best_food = Some(food).into();
+            sim.agent_mut(ids[2]).mind.set_best_food(Some(food));
         }
         let now = sim.world.time() as f32;
         remember(&mut sim, id, "mean_speed", MemValue::Float(0.3));

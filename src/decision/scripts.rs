@@ -142,8 +142,8 @@ fn fill_scalars(
     v.fatigue = a.drives.fatigue;
     v.state = a.drives.state;
     let point = |p: Option<glam::Vec3>| p.map_or(Dynamic::UNIT, Dynamic::from);
-    v.best_food = point(mind.best_food.get());
-    v.school_best = point(mind.school_best.get());
+    v.best_food = point(mind.best_food());
+    v.school_best = point(mind.school_best());
     if !v.behavior.ptr_eq(behavior) {
         v.behavior = behavior.clone();
     }

@@ -19,7 +19,7 @@ use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
-use crate::world::{Agent, ForwardCache, Mind, Spot, World};
+use crate::world::{Agent, ForwardCache, Mind, World};
 use crate::world::{Payload, Signal};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -161,9 +161,9 @@ impl Pipeline {
         self.known_food.clear();
         // In a world where nobody knows food (boids, flocks) there is no list at all: every
         // lookup in it is `None` either way.
-        if world.agents.iter().any(|a| a.mind.best_food.is_some()) {
+        if world.agents.iter().any(|a| a.mind.best_food().is_some()) {
             self.known_food
-                .extend(world.agents.iter().map(|a| a.mind.best_food.get()));
+                .extend(world.agents.iter().map(|a| a.mind.best_food()));
         }
         self.explain_ids.clear();
         if self.explain.on() {
@@ -245,18 +245,17 @@ fn remember_food(
         .filter(|p| p.category == Category::Food)
         .min_by(|a, b| a.dist.total_cmp(&b.dist));
     match food {
-        Some(f) => mind.best_food = Spot::new(Some(pos + f.offset)),
+        Some(f) => mind.set_best_food(Some(pos + f.offset)),
         None => {
             if mind
-                .best_food
-                .get()
+                .best_food()
                 .is_some_and(|b| b.distance_squared(pos) <= vision_radius * vision_radius)
             {
-                mind.best_food = Spot::NONE;
+                mind.set_best_food(None);
             }
         }
     }
-    mind.school_best = Spot::new(
+    mind.set_school_best(
         percepts
             .iter()
             .filter(|p| p.category == Category::Kin)

@@ -103,24 +103,15 @@ pub struct Mind {
     /// is then not held back by `min_time`.
     #[serde(default)]
     pub reached: bool,
-    /// Seed 003 foraging memory (particle-swarm style), its own best food position: where it
-    /// last perceived food (the nearest), kept until it comes within vision of the place and
-    /// perceives none.
-    #[serde(default)]
-    pub best_food: Spot,
-    /// The school's best food position: the nearest own best of the kin it perceives (from the
-    /// start of the tick); `None` when none of them knows food.
-    #[serde(default)]
-    pub school_best: Spot,
     /// What few agents use: the quiet times of messages sent on entering a behavior, a marked
-    /// station, composite behaviors' entry ticks. Held apart, so that every other agent's
-    /// record carries one pointer for it instead of 56 bytes.
+    /// station, composite behaviors' entry ticks, seed 003's foraging memory. Held apart, so
+    /// that every other agent's record carries one pointer for it instead of 80 bytes.
     #[serde(default)]
     pub rare: RareMind,
 }
 
-/// A place or none, in 12 bytes instead of an `Option<Vec3>`'s 16 (two of them in every
-/// agent's mind): none is a NaN `x`, which no place the engine remembers has (a non-finite
+/// A place or none, in 12 bytes instead of an `Option<Vec3>`'s 16 (two of them in a mind's
+/// rare parts): none is a NaN `x`, which no place the engine remembers has (a non-finite
 /// place is held as none). Read and written as an `Option<Vec3>`, serialized as one too.
 #[derive(Clone, Copy, Serialize, Deserialize)]
 #[serde(from = "Option<Vec3>", into = "Option<Vec3>")]
@@ -236,6 +227,12 @@ pub struct MindParts {
     /// Per depth of composed behaviors: the tick the composite current at that depth was
     /// entered (empty for species without composites).
     pub scope_entered: ThinVec<u64>,
+    /// Seed 003's foraging memory: its own best food position ([`Mind::best_food`]).
+    #[serde(default)]
+    pub best_food: Spot,
+    /// The school's best food position ([`Mind::school_best`]).
+    #[serde(default)]
+    pub school_best: Spot,
 }
 
 /// A mind's [`MindParts`], absent until one is set. Absent and all-default parts are equal:
@@ -279,8 +276,6 @@ impl Mind {
             script_steer: ThinVec::new(),
             script_error_reported: false,
             reached: false,
-            best_food: Spot::NONE,
-            school_best: Spot::NONE,
             rare: RareMind::default(),
         }
     }
@@ -328,6 +323,37 @@ impl Mind {
         let v = &mut self.rare_mut().scope_entered;
         v.reserve_exact(depth.saturating_sub(v.len()));
         v.resize(depth, tick);
+    }
+    /// Seed 003 foraging memory (particle-swarm style), its own best food position: where it
+    /// last perceived food (the nearest), kept until it comes within vision of the place and
+    /// perceives none.
+    #[inline]
+    pub fn best_food(&self) -> Option<Vec3> {
+        self.rare.0.as_ref().and_then(|r| r.best_food.get())
+    }
+    /// The school's best food position: the nearest own best of the kin it perceives (from the
+    /// start of the tick); `None` when none of them knows food.
+    #[inline]
+    pub fn school_best(&self) -> Option<Vec3> {
+        self.rare.0.as_ref().and_then(|r| r.school_best.get())
+    }
+    /// Sets [`Mind::best_food`] (a non-finite place is none).
+    #[inline]
+    pub fn set_best_food(&mut self, p: Option<Vec3>) {
+        self.set_spot(p, |r| &mut r.best_food);
+    }
+    /// Sets [`Mind::school_best`] (a non-finite place is none).
+    #[inline]
+    pub fn set_school_best(&mut self, p: Option<Vec3>) {
+        self.set_spot(p, |r| &mut r.school_best);
+    }
+    /// A place in the rare parts: none makes no parts (a flock that never sees food has none).
+    #[inline]
+    fn set_spot(&mut self, p: Option<Vec3>, spot: impl FnOnce(&mut MindParts) -> &mut Spot) {
+        let s = Spot::new(p);
+        if s.is_some() || self.rare.0.is_some() {
+            *spot(self.rare_mut()) = s;
+        }
     }
     /// The rarely used parts, made on first use.
     pub fn rare_mut(&mut self) -> &mut MindParts {
