@@ -234,7 +234,9 @@ impl Perception {
             .for_each(|(r, mask)| {
                 *mask = masks.get(species_of(r)).copied().unwrap_or(RowMask::ALL);
             });
-        self.size_rows(n);
+        // A row's reach only where some species' neighborhood is bounded (as `Others` says).
+        let bounded = senses.iter().any(|s| s.neighbors.is_some());
+        self.size_rows(n, bounded);
         // The kernel's heading lanes only where some kernel perceiver's fold sums headings.
         let headings = obstacles
             || self.kernel.iter().enumerate().any(|(s, &k)| {
@@ -255,8 +257,9 @@ impl Perception {
     }
 
     /// Turns every row's share of the group sums into running starts and sizes the buffers to
-    /// hold them all (the summaries and percepts are laid out by the walk).
-    fn size_rows(&mut self, n: usize) {
+    /// hold them all (the summaries and percepts are laid out by the walk); the rows' reaches
+    /// only when `bounded`.
+    fn size_rows(&mut self, n: usize, bounded: bool) {
         let running = |starts: &mut [u32]| {
             let mut total = 0;
             for v in &mut starts[..n] {
@@ -275,7 +278,11 @@ impl Perception {
         self.summary_chunks.resize_with(chunks, Vec::new);
         self.percept_at.resize(n, 0);
         self.percept_chunks.resize_with(chunks, Vec::new);
-        self.reaches.resize(n, 0.0);
+        if bounded {
+            self.reaches.resize(n, 0.0);
+        } else {
+            self.reaches = Vec::new();
+        }
     }
 
     /// Copies the gathered records into the agent grid's order (`near` when `walks`: some agent

@@ -90,7 +90,8 @@ pub struct Perception {
     /// Whether every row holds every category (while percepts are fed to agents).
     full_rows: bool,
     /// How far a bounded kin neighborhood reached this tick, by row (0 without a bound): where
-    /// the agent's next walk starts.
+    /// the agent's next walk starts. Empty while no species has a bound (4 bytes an agent
+    /// nobody reads).
     reaches: Vec<f32>,
     /// Group sums of every agent by row, `sum_starts[r]..sum_starts[r + 1]` for row `r`: of
     /// each query of its species, in order, the words it folds into ([`GroupSum::pack`]; a
@@ -256,7 +257,10 @@ impl<'a> Outs<'a> {
             }
             let (mut used, mut used_percepts) = (0, 0);
             let mut kin = kin::KinBuf::default();
-            let rows = self.counts.iter_mut().zip(self.reaches).zip(masks);
+            // Rows past the reaches held (none without a bound) write theirs to `spare`.
+            let reaches = self.reaches.iter_mut().map(Some);
+            let reaches = reaches.chain(std::iter::repeat_with(|| None));
+            let rows = self.counts.iter_mut().zip(reaches).zip(masks);
             let held = self.held.iter_mut().zip(self.held_at.iter_mut());
             let percepts = self.percept_at.iter_mut().zip(rooms);
             let all = rows.zip(held).zip(percepts);
@@ -271,6 +275,7 @@ impl<'a> Outs<'a> {
                 let need_percepts = used_percepts + room as usize;
                 room_for(kept, need_percepts, most_percepts, keep::EMPTY);
                 let row = &mut list[used..need];
+                let mut spare = 0.0;
                 f(
                     i,
                     AgentOut {
@@ -278,7 +283,7 @@ impl<'a> Outs<'a> {
                         count,
                         summary: &mut *row,
                         mask,
-                        reach,
+                        reach: reach.unwrap_or(&mut spare),
                         sums: own_sums,
                         kin: &mut kin,
                     },
@@ -311,7 +316,7 @@ impl<'a> Outs<'a> {
         let (s0, s1) = self.summaries.split_at_mut(chunks / 2);
         let (h0, h1) = self.held.split_at_mut(mid);
         let (a0, a1) = self.held_at.split_at_mut(mid);
-        let (r0, r1) = self.reaches.split_at_mut(mid);
+        let (r0, r1) = self.reaches.split_at_mut(mid.min(self.reaches.len()));
         let (m0, m1) = self.masks.split_at(mid);
         let (g0, g1) = self.sums.split_at_mut(sum_mid);
         let left = Outs {

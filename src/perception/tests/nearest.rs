@@ -51,6 +51,8 @@ fn a_bound_perceives_the_nearest_kin_and_every_predator_in_range() {
     let sense = bounded(9);
     let mut p = Perception::new();
     perceive(&w, sense, sense.query_radius(), &mut p);
+    // Each row's reach is held for the next walk.
+    assert_eq!(p.reaches.len(), w.agents.len());
     let (mut bounded_some, mut sparse_some) = (false, false);
     for (i, me) in w.agents.iter().enumerate() {
         if me.species.0 != 0 {

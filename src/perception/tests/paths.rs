@@ -562,8 +562,9 @@ fn a_world_the_kernel_serves_alone_copies_no_bodies_and_no_past_positions() {
     let alone = perceive(&[plain; 2]);
     assert!(alone.kernel.iter().all(|&k| k));
     assert!(alone.near.is_empty() && alone.prev_pos.is_empty());
-    // Nor the grid's inverse: the walk read the grid's own.
-    assert!(alone.slot_of.is_empty());
+    // Nor the grid's inverse (the walk read the grid's own), nor reaches (no species has a
+    // bounded neighborhood).
+    assert!(alone.slot_of.is_empty() && alone.reaches.is_empty());
     assert_eq!(alone.prev_pos(3), None);
     let beside = perceive(&[plain, Reads::default()]);
     assert_eq!(beside.kernel, [true, false]);
