@@ -273,15 +273,7 @@ fn a_reused_buffer_holds_no_summary_of_a_rock_that_is_gone() {
         center: Vec3::ZERO,
         radius: 2.0,
     });
-    let mut groups = GroupQueries::new();
-    groups.insert(GroupQuery::Separation { radius: 2.0 });
-    let reads = Reads {
-        percepts: false,
-        agent_percepts: false,
-        bearing_range: Some(0.0),
-        groups,
-        headings: false,
-    };
+    let reads = separation_only(2.0);
     let sense = SenseParams {
         vision_radius: 5.0,
         vision_half_angle: std::f32::consts::PI,

@@ -78,6 +78,19 @@ fn random_point(rng: &mut Rng, half: f32) -> Vec3 {
     )
 }
 
+/// What a plain flocker reads: no percepts, no headings, one separation query of `radius`.
+fn separation_only(radius: f32) -> Reads {
+    let mut groups = GroupQueries::new();
+    groups.insert(GroupQuery::Separation { radius });
+    Reads {
+        percepts: false,
+        agent_percepts: false,
+        bearing_range: Some(0.0),
+        groups,
+        headings: false,
+    }
+}
+
 fn rel() -> Relations {
     let mut r = Relations::new(2);
     r.set(0, 0, Some(Category::Kin));

@@ -268,15 +268,7 @@ fn a_row_keeps_the_categories_its_species_can_perceive_with_the_same_bits() {
     let mut w = World::new(Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)), 0.1, 1);
     let mut rng = Rng::new(11, 0);
     push_swarm(&mut w, &mut rng, 300, 12.0);
-    let mut groups = GroupQueries::new();
-    groups.insert(GroupQuery::Separation { radius: 2.0 });
-    let reads = Reads {
-        percepts: false,
-        agent_percepts: false,
-        bearing_range: Some(0.0),
-        groups,
-        headings: false,
-    };
+    let reads = separation_only(2.0);
     let sense = SenseParams {
         vision_radius: 5.0,
         vision_half_angle: 2.0,
@@ -537,15 +529,7 @@ fn a_world_the_kernel_serves_alone_copies_no_bodies_and_no_past_positions() {
     rel.set(0, 1, Some(Category::Kin));
     rel.set(1, 0, Some(Category::Kin));
     rel.set(1, 1, Some(Category::Kin));
-    let mut groups = GroupQueries::new();
-    groups.insert(GroupQuery::Separation { radius: 2.0 });
-    let plain = Reads {
-        percepts: false,
-        agent_percepts: false,
-        bearing_range: Some(0.0),
-        groups,
-        headings: false,
-    };
+    let plain = separation_only(2.0);
     let sense = SenseParams {
         vision_radius: 5.0,
         vision_half_angle: std::f32::consts::PI,
