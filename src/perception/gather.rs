@@ -234,9 +234,8 @@ impl Perception {
             .for_each(|(r, mask)| {
                 *mask = masks.get(species_of(r)).copied().unwrap_or(RowMask::ALL);
             });
-        // A row's reach only where some species' neighborhood is bounded (as `Others` says).
-        let bounded = senses.iter().any(|s| s.neighbors.is_some());
-        self.size_rows(n, bounded);
+        // A row's reach only where some species' neighborhood is bounded.
+        self.size_rows(n, super::nearest::any_bound(senses));
         // The kernel's heading lanes only where some kernel perceiver's fold sums headings.
         let headings = obstacles
             || self.kernel.iter().enumerate().any(|(s, &k)| {

@@ -43,6 +43,11 @@ pub(super) struct OtherGrid {
     points: Vec<Vec3>,
 }
 
+/// Whether some species of `senses` has a bounded kin neighborhood.
+pub(super) fn any_bound(senses: &[SenseParams]) -> bool {
+    senses.iter().any(|s| s.neighbors.is_some())
+}
+
 impl Others {
     /// Rebuilds the grids of the species with a bound from this tick's agent grid (`tags`: the
     /// species and sex of each of its slots).
@@ -56,7 +61,7 @@ impl Others {
     ) {
         self.by_species
             .resize_with(senses.len(), OtherGrid::default);
-        self.any = senses.iter().any(|s| s.neighbors.is_some());
+        self.any = any_bound(senses);
         let positions = agents.positions();
         for (s, (sense, others)) in senses.iter().zip(&mut self.by_species).enumerate() {
             others.slots.clear();
