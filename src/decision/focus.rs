@@ -25,7 +25,7 @@ pub fn narrow(
     // Where each kept percept went (u16::MAX: left out).
     let mut moved = [u16::MAX; MAX_PERCEPTS];
     for (k, p) in percepts.iter().enumerate() {
-        if focus.contains(p.category) {
+        if focus.contains(p.category()) {
             if let Some(m) = moved.get_mut(k) {
                 *m = out.len() as u16;
             }
@@ -53,16 +53,14 @@ mod tests {
     use glam::Vec3;
 
     fn p(category: Category, dist: f32) -> Percept {
-        Percept {
-            source: Source::Injected,
+        Percept::new(
+            Source::Injected,
             category,
-            sense: Sense::Vision,
-            offset: Vec3::new(0.0, 0.0, dist),
+            Sense::Vision,
+            Vec3::new(0.0, 0.0, dist),
             dist,
-            bearing: 0.0,
-            elevation: 0.0,
-            size: 1.0,
-        }
+            1.0,
+        )
     }
 
     #[test]

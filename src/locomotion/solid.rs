@@ -34,12 +34,12 @@ pub fn keep_solid(
     // world, where straight out of the wall would be undone by the clamp below.
     *pos = world.bounds.closest_point(*pos);
     for p in percepts {
-        let Source::Agent(j) = p.source else {
+        let Source::Agent(j) = p.source() else {
             continue;
         };
         // Same-species bodies keep a body width apart; any two keep apart by the smaller body
         // of the two (a predator still reaches its prey: catches reach further than that).
-        let apart = match p.category {
+        let apart = match p.category() {
             Category::Kin | Category::Mate => width,
             _ => width.min(p.size),
         };

@@ -7,16 +7,14 @@ use super::{Category, Percept, Sense, Source, Summary, MAX_PERCEPTS};
 use glam::Vec3;
 
 /// An unused percept slot.
-pub(super) const EMPTY: Percept = Percept {
-    source: Source::Food(0),
-    category: Category::Other,
-    sense: Sense::Smell,
-    offset: Vec3::ZERO,
-    dist: 0.0,
-    bearing: 0.0,
-    elevation: 0.0,
-    size: 0.0,
-};
+pub(super) const EMPTY: Percept = Percept::new(
+    Source::Food(0),
+    Category::Other,
+    Sense::Smell,
+    Vec3::ZERO,
+    0.0,
+    0.0,
+);
 
 /// The nearest percepts of one agent, as many as it has slots: appends while there is room,
 /// else replaces the farthest when nearer. The farthest slot (the first one of the largest
@@ -167,8 +165,8 @@ fn nearest_kept(slots: &[Percept]) -> [Option<(u16, f32)>; Category::COUNT] {
                 best[c] = Some((k as u16, p.dist));
             }
         };
-        offer(p.category as usize);
-        if p.category == Category::Mate {
+        offer(p.category() as usize);
+        if p.category() == Category::Mate {
             offer(Category::Kin as usize);
         }
     }

@@ -44,7 +44,7 @@ pub use group::{GroupAcc, GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
 pub use senses::{Reads, Relations, SenseParams};
 pub use strength::Strength;
-pub use types::{Category, Level, Percept, Sector, Sectors, Sense, Source, Summary};
+pub use types::{Category, Level, Percept, Sector, Sectors, Sense, Source, Summary, MAX_SOURCES};
 pub use volume::{Extent, Volume};
 
 use crate::index::{Grid, ObstacleGrid};
@@ -628,8 +628,8 @@ impl Perception {
             let at = Vec3A::from(pos + p.offset);
             let d = p.dist;
             fold.take(
-                p.category,
-                p.sense,
+                p.category(),
+                p.sense(),
                 d,
                 || d,
                 at,

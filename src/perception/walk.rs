@@ -501,7 +501,7 @@ fn bearings(slots: &mut [Percept], nearest: u32, reads: &Reads, yaw: f32, pitch:
     for (k, p) in slots.iter_mut().enumerate() {
         let wanted = match reads.bearing_range {
             None => true,
-            Some(r) => nearest & (1 << k) != 0 || p.category == Category::Obstacle || p.dist <= r,
+            Some(r) => nearest & (1 << k) != 0 || p.category() == Category::Obstacle || p.dist <= r,
         };
         if wanted {
             (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
@@ -519,14 +519,5 @@ fn percept(
     dist: f32,
     size: f32,
 ) -> Percept {
-    Percept {
-        source,
-        category,
-        sense,
-        offset,
-        dist,
-        bearing: 0.0,
-        elevation: 0.0,
-        size,
-    }
+    Percept::new(source, category, sense, offset, dist, size)
 }

@@ -410,8 +410,8 @@ impl Ctx<'_> {
         self.percepts
             .iter()
             .filter(move |p| {
-                p.category == Category::Obstacle
-                    && p.sense == Sense::Vision
+                p.category() == Category::Obstacle
+                    && p.sense() == Sense::Vision
                     && params.in_range(p.dist)
             })
             .map(|p| PressureSource {
@@ -430,7 +430,9 @@ impl Ctx<'_> {
         }
         let (yaw, pitch) = (self.agent.yaw, self.agent.pitch);
         let seen = self.percepts.iter().filter(|p| {
-            p.category == Category::Obstacle && p.sense == Sense::Vision && params.in_range(p.dist)
+            p.category() == Category::Obstacle
+                && p.sense() == Sense::Vision
+                && params.in_range(p.dist)
         });
         front_pressures(
             seen.map(|p| FrontSource::new(p.offset, p.dist, p.size, yaw, pitch)),
@@ -442,11 +444,11 @@ impl Ctx<'_> {
     pub fn moving_obstacles(&self, params: &AvoidParams, out: &mut Vec<MovingObstacle>) {
         out.clear();
         for p in self.percepts {
-            let kin = matches!(p.category, Category::Kin | Category::Mate);
+            let kin = matches!(p.category(), Category::Kin | Category::Mate);
             if kin && !params.kin || !params.in_range(p.dist) {
                 continue;
             }
-            if let (Source::Agent(j), Sense::Vision) = (p.source, p.sense) {
+            if let (Source::Agent(j), Sense::Vision) = (p.source(), p.sense()) {
                 let j = j as usize;
                 let (Some(radius), Some(velocity)) =
                     (self.perception.radius(j), self.perception.velocity(j))

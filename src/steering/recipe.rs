@@ -46,7 +46,9 @@ impl Scratch {
         if !self.kin_ready {
             self.neighbors.clear();
             for p in ctx.percepts {
-                if let (Source::Agent(j), Category::Kin | Category::Mate) = (p.source, p.category) {
+                if let (Source::Agent(j), Category::Kin | Category::Mate) =
+                    (p.source(), p.category())
+                {
                     let Some(velocity) = ctx.perception.velocity(j as usize) else {
                         continue;
                     };
@@ -137,7 +139,7 @@ fn leaf(
             s
         }
         Recipe::PredictCollision(l) => {
-            let obstacles = ctx.percepts.iter().filter_map(|p| match p.source {
+            let obstacles = ctx.percepts.iter().filter_map(|p| match p.source() {
                 Source::Obstacle(k) => {
                     let o = &ctx.world.obstacles[k as usize];
                     Some((
@@ -156,21 +158,21 @@ fn leaf(
         }
         Recipe::Chase(c) => match ctx.nearest(c.target) {
             None => Steer::None,
-            Some(p) if p.sense == Sense::Vision => {
+            Some(p) if p.sense() == Sense::Vision => {
                 goal::goal_by_vision(p.bearing, p.elevation, p.dist, c.d0, vmax, &c.rules())
             }
             Some(p) => goal::goal_by_smell(p.bearing, p.elevation, vmax, &c.rules()),
         },
         Recipe::Escape(e) => match ctx.nearest(e.from) {
             None => Steer::None,
-            Some(p) if e.paper && p.sense == Sense::Vision => {
+            Some(p) if e.paper && p.sense() == Sense::Vision => {
                 escape::escape_by_vision(p.bearing, p.elevation, p.dist, vr, vmax, &e.rules())
             }
             Some(p) if e.paper => {
                 escape::escape_by_smell(p.bearing, p.elevation, kin.speed, vmax, &e.rules())
             }
             Some(p) => escape::escape_leveled(
-                p.sense == Sense::Vision,
+                p.sense() == Sense::Vision,
                 p.bearing,
                 p.elevation,
                 kin.pitch,
@@ -190,7 +192,7 @@ fn leaf(
             None => Steer::None,
             Some(p) => {
                 let now = kin.pos + p.offset;
-                let before = match p.source {
+                let before = match p.source() {
                     Source::Agent(j) => ctx.perception.prev_pos(j as usize).unwrap_or(now),
                     _ => now,
                 };

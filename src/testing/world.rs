@@ -597,16 +597,16 @@ impl Feed {
     /// The percept it becomes for an agent heading `(yaw, pitch)`.
     pub fn percept(&self, yaw: f32, pitch: f32) -> Percept {
         let pitch = (pitch + self.elevation).clamp(-frame::PITCH_LIMIT, frame::PITCH_LIMIT);
-        Percept {
-            source: Source::Injected,
-            category: self.category,
-            sense: self.sense,
-            offset: frame::forward(yaw + self.bearing, pitch) * self.dist,
-            dist: self.dist,
-            bearing: self.bearing,
-            elevation: self.elevation,
-            size: self.size,
-        }
+        let mut p = Percept::new(
+            Source::Injected,
+            self.category,
+            self.sense,
+            frame::forward(yaw + self.bearing, pitch) * self.dist,
+            self.dist,
+            self.size,
+        );
+        (p.bearing, p.elevation) = (self.bearing, self.elevation);
+        p
     }
 }
 

@@ -242,7 +242,7 @@ fn remember_food(
 ) {
     let food = percepts
         .iter()
-        .filter(|p| p.category == Category::Food)
+        .filter(|p| p.category() == Category::Food)
         .min_by(|a, b| a.dist.total_cmp(&b.dist));
     match food {
         Some(f) => mind.set_best_food(Some(pos + f.offset)),
@@ -258,8 +258,8 @@ fn remember_food(
     mind.set_school_best(
         percepts
             .iter()
-            .filter(|p| p.category == Category::Kin)
-            .filter_map(|p| match p.source {
+            .filter(|p| p.category() == Category::Kin)
+            .filter_map(|p| match p.source() {
                 Source::Agent(j) => known_food.get(j as usize).copied().flatten(),
                 _ => None,
             })
@@ -561,11 +561,11 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         Some(c @ Contact::Eat { reach }) => ctx
             .nearest(Category::Food)
             .filter(|p| p.dist <= reach)
-            .map(|p| (c, p.source)),
+            .map(|p| (c, p.source())),
         Some(c @ Contact::Mate { reach }) => ctx
             .nearest(Category::Mate)
             .filter(|p| p.dist <= reach)
-            .map(|p| (c, p.source)),
+            .map(|p| (c, p.source())),
         None => None,
     };
     // A payload goes with a message.

@@ -417,7 +417,7 @@ fn winner<'r>(
 
 /// A percept's source and position.
 fn source(p: &Percept, ctx: &Ctx, ids: &[u32]) -> Value {
-    let (kind, id) = match p.source {
+    let (kind, id) = match p.source() {
         Source::Agent(j) => ("agent", ids.get(j as usize).map(|&i| i as i64)),
         Source::Food(k) => ("food", ctx.world.food.get(k as usize).map(|f| f.id as i64)),
         Source::Obstacle(k) => ("obstacle", Some(k as i64)),
@@ -426,7 +426,7 @@ fn source(p: &Percept, ctx: &Ctx, ids: &[u32]) -> Value {
     json!({
         "kind": kind,
         "id": id,
-        "category": format!("{:?}", p.category),
+        "category": format!("{:?}", p.category()),
         "pos": v3(ctx.agent.pos + p.offset),
         "dist": r(p.dist),
     })
@@ -450,7 +450,7 @@ fn target(
             None => (Value::Null, Value::Null),
             Some(p) => {
                 let now = ctx.agent.pos + p.offset;
-                let before = match p.source {
+                let before = match p.source() {
                     Source::Agent(j) => ctx.perception.prev_pos(j as usize).unwrap_or(now),
                     _ => now,
                 };
@@ -525,7 +525,7 @@ pub(super) fn frame(ctx: &Ctx, mind: &Mind, b: &Behavior, st: &Steering) -> Valu
     let percepts: Vec<Value> = ctx
         .percepts
         .iter()
-        .map(|p| json!({ "c": format!("{:?}", p.category), "pos": v3(ctx.agent.pos + p.offset) }))
+        .map(|p| json!({ "c": format!("{:?}", p.category()), "pos": v3(ctx.agent.pos + p.offset) }))
         .collect();
     json!({
         "type": "frame",

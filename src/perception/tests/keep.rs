@@ -9,15 +9,15 @@ fn injected_percepts_replace_an_agents_and_rebuild_its_summaries() {
     w.add_food(Vec3::new(0.0, 0.0, 3.0));
     let mut p = run_full(&w, &rel(), SenseParams::default());
     assert_eq!(p.summaries(0)[Category::Food as usize].count, 1);
-    let fed = |category, sense, offset: Vec3| Percept {
-        source: Source::Injected,
-        category,
-        sense,
-        offset,
-        dist: offset.length(),
-        bearing: 0.0,
-        elevation: 0.0,
-        size: 1.0,
+    let fed = |category, sense, offset: Vec3| {
+        Percept::new(
+            Source::Injected,
+            category,
+            sense,
+            offset,
+            offset.length(),
+            1.0,
+        )
     };
     p.inject(
         0,
@@ -95,18 +95,20 @@ fn the_nearest_of_each_category_survives_a_crowd() {
         (Category::Kin, 0.2),
     ] {
         let near = &kept[sm[c as usize].nearest.expect("kept") as usize];
-        assert_eq!(near.category, c);
+        assert_eq!(near.category(), c);
         assert!((near.dist - d).abs() < 1e-5, "{c:?} {}", near.dist);
     }
     // They took the places of the two farthest kin: the nearest 14 kin stay (0.2 … 2.8 m).
     let far_kin = kept
         .iter()
-        .filter(|q| q.category == Category::Kin)
+        .filter(|q| q.category() == Category::Kin)
         .map(|q| q.dist)
         .fold(0.0, f32::max);
     assert!((far_kin - 2.8).abs() < 1e-5, "{far_kin}");
     assert_eq!(
-        kept.iter().filter(|q| q.category == Category::Kin).count(),
+        kept.iter()
+            .filter(|q| q.category() == Category::Kin)
+            .count(),
         14
     );
 }
@@ -194,15 +196,15 @@ fn injected_percepts_keep_the_nearest_of_each_category() {
         ..SenseParams::default()
     };
     let mut p = run_full(&w, &rel(), sense);
-    let fed = |category, offset: Vec3| Percept {
-        source: Source::Injected,
-        category,
-        sense: Sense::Vision,
-        offset,
-        dist: offset.length(),
-        bearing: 0.0,
-        elevation: 0.0,
-        size: 1.0,
+    let fed = |category, offset: Vec3| {
+        Percept::new(
+            Source::Injected,
+            category,
+            Sense::Vision,
+            offset,
+            offset.length(),
+            1.0,
+        )
     };
     let mut feed: Vec<Percept> = (0..10)
         .map(|k| fed(Category::Kin, Vec3::new(0.0, 0.0, 0.3 * (k + 1) as f32)))
@@ -215,7 +217,7 @@ fn injected_percepts_keep_the_nearest_of_each_category() {
     let k = sm[Category::Predator as usize]
         .nearest
         .expect("the predator is kept") as usize;
-    assert_eq!(p.percepts(0)[k].category, Category::Predator);
+    assert_eq!(p.percepts(0)[k].category(), Category::Predator);
     let kin = sm[Category::Kin as usize].nearest.expect("kin kept") as usize;
     assert!((p.percepts(0)[kin].dist - 0.3).abs() < 1e-6);
 }
@@ -241,16 +243,14 @@ fn injecting_into_an_agent_without_slots_does_not_panic() {
         &rel(),
         &[reads, reads],
     );
-    let fed = Percept {
-        source: Source::Injected,
-        category: Category::Food,
-        sense: Sense::Vision,
-        offset: Vec3::Z,
-        dist: 1.0,
-        bearing: 0.0,
-        elevation: 0.0,
-        size: 0.0,
-    };
+    let fed = Percept::new(
+        Source::Injected,
+        Category::Food,
+        Sense::Vision,
+        Vec3::Z,
+        1.0,
+        0.0,
+    );
     p.inject(0, Vec3::ZERO, &[fed]);
     assert!(p.percepts(0).is_empty());
     let food = p.summaries(0)[Category::Food as usize];
@@ -383,7 +383,7 @@ fn few_slots_still_keep_the_nearest_of_each_category() {
             let k = sm[c as usize]
                 .nearest
                 .unwrap_or_else(|| panic!("{c:?} kept with {max_percepts} slots"));
-            assert_eq!(p.percepts(0)[k as usize].category, c);
+            assert_eq!(p.percepts(0)[k as usize].category(), c);
         }
     }
 }
@@ -427,7 +427,7 @@ fn a_species_reading_obstacles_only_keeps_no_agent_percept() {
     );
     let kept = p.percepts(0);
     assert_eq!(kept.len(), 1, "{kept:?}");
-    assert_eq!(kept[0].source, Source::Obstacle(0));
+    assert_eq!(kept[0].source(), Source::Obstacle(0));
     let sm = p.summaries(0);
     assert_eq!(sm[Category::Kin as usize].count, 12);
     assert_eq!(sm[Category::Kin as usize].nearest, None);

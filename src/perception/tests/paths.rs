@@ -235,7 +235,7 @@ fn the_grid_order_walk_perceives_what_the_agent_order_walk_does() {
     // leaves the rows after it in its list as they were.
     let j = (0..n).find(|&j| !by_grid.percepts(j).is_empty()).unwrap();
     let q = by_grid.percepts(j)[0];
-    let c = q.category as usize;
+    let c = q.category() as usize;
     fed.inject(j, w.agents[j].pos, &[]);
     assert!(fed.summaries(j).iter().all(Summary::is_none));
     assert!(fed.percepts(j).is_empty());
