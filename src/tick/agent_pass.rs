@@ -19,7 +19,7 @@ use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
 use crate::steering::recipe::{self, Scratch};
 use crate::steering::Steer;
-use crate::world::{Agent, ForwardCache, Mind, World};
+use crate::world::{Agent, ForwardCache, Mind, Spot, World};
 use crate::world::{Payload, Signal};
 use glam::Vec3;
 use rayon::prelude::*;
@@ -107,7 +107,7 @@ struct Inputs<'a> {
     /// Per species: what its behaviors read of perception.
     reads: &'a [Reads],
     /// Every agent's own best food position at the start of the tick, by agent index.
-    known_food: &'a [Option<Vec3>],
+    known_food: &'a [Spot],
     scripts_every_tick: bool,
     /// What this tick explains, and agent ids by index (for percept sources).
     explain: Explain,
@@ -163,7 +163,7 @@ impl Pipeline {
         // lookup in it is `None` either way.
         if world.agents.iter().any(|a| a.mind.best_food().is_some()) {
             self.known_food
-                .extend(world.agents.iter().map(|a| a.mind.best_food()));
+                .extend(world.agents.iter().map(|a| Spot::new(a.mind.best_food())));
         }
         self.explain_ids.clear();
         if self.explain.on() {
@@ -238,7 +238,7 @@ fn remember_food(
     pos: Vec3,
     percepts: &[Percept],
     vision_radius: f32,
-    known_food: &[Option<Vec3>],
+    known_food: &[Spot],
 ) {
     let food = percepts
         .iter()
@@ -260,7 +260,7 @@ fn remember_food(
             .iter()
             .filter(|p| p.category() == Category::Kin)
             .filter_map(|p| match p.source() {
-                Source::Agent(j) => known_food.get(j as usize).copied().flatten(),
+                Source::Agent(j) => known_food.get(j as usize).and_then(|s| s.get()),
                 _ => None,
             })
             .min_by(|a, b| a.distance_squared(pos).total_cmp(&b.distance_squared(pos))),

@@ -75,8 +75,8 @@ pub struct Pipeline {
     /// Per-agent targets of planned paths (set by the planning layer), by agent index.
     pub plan_targets: Vec<Option<Vec3>>,
     /// Every agent's own best food position at the start of the tick, by agent index (what
-    /// its kin read as the school's best, seed 003).
-    known_food: Vec<Option<Vec3>>,
+    /// its kin read as the school's best, seed 003): 12 bytes each, not an option's 16.
+    known_food: Vec<crate::world::Spot>,
     /// Percepts fed to agents instead of what they perceive (script tests), by agent id.
     pub injected: std::collections::BTreeMap<AgentId, Vec<crate::perception::Percept>>,
     /// Run every agent's scripts every tick, whatever the species' decision interval (a dry
