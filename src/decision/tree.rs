@@ -51,9 +51,7 @@ fn entered(bs: &[Behavior], mind: &Mind, i: u16) -> u64 {
     if b.compose == Compose::Leaf {
         mind.entered_tick
     } else {
-        mind.scope_entered()
-            .get(b.level as usize)
-            .copied()
+        mind.scope_entered(b.level as usize)
             .unwrap_or(mind.entered_tick)
     }
 }
@@ -135,9 +133,7 @@ fn descend(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng, mut node: u16) -> u16 {
 }
 
 fn mark(mind: &mut Mind, depth: u8, tick: u64) {
-    if let Some(e) = mind.scope_entered_mut().get_mut(depth as usize) {
-        *e = tick;
-    }
+    mind.set_scope_entered(depth as usize, tick);
 }
 
 /// Makes `leaf` current from `from`: composites above it that `from` was not inside are
@@ -288,7 +284,7 @@ fn child_of(bs: &[Behavior], scope: Option<u16>, node: u16) -> u16 {
 pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     let bs = &ctx.species.behaviors;
     let tick = ctx.tick;
-    if mind.scope_entered().len() < ctx.species.depth as usize {
+    if mind.scope_depth() < ctx.species.depth as usize {
         mind.track_scopes(ctx.species.depth as usize, mind.entered_tick);
     }
     let cur = mind.current.min(bs.len().saturating_sub(1) as u16);

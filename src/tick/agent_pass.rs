@@ -450,7 +450,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
                         }
                     }
                 }
-                ActionNode::MarkStation => mind.rare_mut().station = Some(me.pos),
+                ActionNode::MarkStation => mind.rare_mut().station = Spot::new(Some(me.pos)),
                 _ => {}
             }
         }

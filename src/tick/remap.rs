@@ -142,7 +142,7 @@ impl Pipeline {
             let leaf = |b: u16| crate::species::validate::first_leaf(&nsp.behaviors, b);
             m.current = crate::species::validate::first_leaf(&nsp.behaviors, m.current);
             let depth = nsp.depth as usize;
-            if m.scope_entered().len() != depth {
+            if m.scope_depth() != depth {
                 m.track_scopes(depth, world.tick);
             }
             let stack: Vec<u16> = m

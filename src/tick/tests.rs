@@ -114,21 +114,25 @@ fn a_mind_without_its_rare_parts_equals_one_with_them_empty() {
     assert!(made.rare.0.is_some());
     assert_eq!(plain, made);
     assert_eq!(made, plain);
-    made.rare_mut().station = Some(Vec3::X);
+    made.rare_mut().station = crate::world::Spot::new(Some(Vec3::X));
     assert_ne!(plain, made);
     assert_ne!(made, plain);
     assert_eq!(made.station(), Some(Vec3::X));
     assert_eq!(plain.station(), None);
-    assert_eq!(plain.scope_entered(), &[] as &[u64]);
+    assert_eq!((plain.scope_depth(), plain.scope_entered(0)), (0, None));
     let parts = MindParts {
-        scope_entered: thin_vec::thin_vec![4, 5],
+        scope_entered: vec![4, 5].into(),
         ..Default::default()
     };
     let deep = Mind {
         rare: RareMind(Some(Box::new(parts))),
         ..plain.clone()
     };
-    assert_eq!(deep.scope_entered(), &[4, 5]);
+    assert_eq!(deep.scope_depth(), 2);
+    assert_eq!(
+        [0, 1, 2].map(|d| deep.scope_entered(d)),
+        [Some(4), Some(5), None]
+    );
     assert_ne!(deep, plain);
 }
 
@@ -193,12 +197,23 @@ fn an_outcome_with_a_transition_alone_boxes_nothing_more() {
 #[test]
 fn tracked_scopes_hold_just_their_room() {
     let mut m = crate::world::Mind::new(0, 0);
+    let ticks = |m: &crate::world::Mind| m.rare.0.as_ref().unwrap().scope_entered.to_vec();
     m.track_scopes(2, 5);
-    assert_eq!(m.scope_entered(), &[5, 5]);
-    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.capacity(), 2);
+    assert_eq!(ticks(&m), [5, 5]);
+    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.room(), 2);
     m.track_scopes(1, 7);
-    assert_eq!(m.scope_entered(), &[5]);
+    assert_eq!(ticks(&m), [5]);
+    // One depth holds no list at all.
+    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.room(), 1);
     m.track_scopes(3, 9);
-    assert_eq!(m.scope_entered(), &[5, 9, 9]);
-    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.capacity(), 3);
+    assert_eq!(ticks(&m), [5, 9, 9]);
+    assert_eq!(m.rare.0.as_ref().unwrap().scope_entered.room(), 3);
+    m.set_scope_entered(2, 11);
+    m.set_scope_entered(3, 12);
+    assert_eq!(ticks(&m), [5, 9, 11]);
+    assert_eq!(m.scope_entered(3), None);
+    m.track_scopes(0, 13);
+    assert_eq!((m.scope_depth(), m.scope_entered(0)), (0, None));
+    m.set_scope_entered(0, 14);
+    assert_eq!(m.scope_depth(), 0);
 }

@@ -222,17 +222,127 @@ pub struct MindParts {
     /// Per declared event of the species: the tick before which entering a behavior sends no
     /// more of it (empty until the first such send).
     pub quiet_events: ThinVec<u64>,
-    /// Its station (the `MarkStation` action), which `HoldStation` returns to.
-    pub station: Option<Vec3>,
+    /// Its station (the `MarkStation` action), which `HoldStation` returns to
+    /// ([`Mind::station`]).
+    pub station: Spot,
     /// Per depth of composed behaviors: the tick the composite current at that depth was
     /// entered (empty for species without composites).
-    pub scope_entered: ThinVec<u64>,
+    pub scope_entered: ScopeTicks,
     /// Seed 003's foraging memory: its own best food position ([`Mind::best_food`]).
     #[serde(default)]
     pub best_food: Spot,
     /// The school's best food position ([`Mind::school_best`]).
     #[serde(default)]
     pub school_best: Spot,
+}
+
+/// Entry ticks of composed behaviors, by depth: the first in place and the deeper ones in a
+/// list, so that a species nesting one level (most do) holds no heap block for them beside its
+/// mind's rare parts (16 bytes in them, as a list's pointer and the first tick). Serialized as
+/// the list of ticks.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(from = "Vec<u64>", into = "Vec<u64>")]
+pub struct ScopeTicks {
+    /// Depth 0's tick; [`ScopeTicks::NONE`] when the list is empty (no tick reaches it).
+    first: u64,
+    more: ThinVec<u64>,
+}
+
+impl ScopeTicks {
+    const NONE: u64 = u64::MAX;
+
+    /// How many depths are tracked.
+    #[inline]
+    pub fn len(&self) -> usize {
+        if self.first == Self::NONE {
+            0
+        } else {
+            1 + self.more.len()
+        }
+    }
+    /// Whether none is.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.first == Self::NONE
+    }
+    /// The tick depth `d`'s composite was entered, if tracked.
+    #[inline]
+    pub fn get(&self, d: usize) -> Option<u64> {
+        match d {
+            _ if self.is_empty() => None,
+            0 => Some(self.first),
+            _ => self.more.get(d - 1).copied(),
+        }
+    }
+    /// Sets depth `d`'s tick, if tracked (else nothing).
+    #[inline]
+    pub fn set(&mut self, d: usize, tick: u64) {
+        match d {
+            _ if self.is_empty() => {}
+            0 => self.first = tick,
+            _ => {
+                if let Some(e) = self.more.get_mut(d - 1) {
+                    *e = tick;
+                }
+            }
+        }
+    }
+    /// Tracks `depth` depths: a depth added is entered at `tick`, the list beyond the first
+    /// holds just its room.
+    pub fn resize(&mut self, depth: usize, tick: u64) {
+        if depth == 0 {
+            *self = ScopeTicks::default();
+            return;
+        }
+        if self.is_empty() {
+            self.first = tick;
+        }
+        let more = depth - 1;
+        if more == 0 {
+            self.more = ThinVec::new();
+            return;
+        }
+        self.more
+            .reserve_exact(more.saturating_sub(self.more.len()));
+        self.more.resize(more, tick);
+    }
+    /// Depths held without growing: the first and the list's capacity.
+    pub fn room(&self) -> usize {
+        usize::from(!self.is_empty()) + self.more.capacity()
+    }
+    /// The ticks, depth 0 first.
+    pub fn to_vec(&self) -> Vec<u64> {
+        (0..self.len()).filter_map(|d| self.get(d)).collect()
+    }
+}
+
+impl Default for ScopeTicks {
+    fn default() -> Self {
+        ScopeTicks {
+            first: Self::NONE,
+            more: ThinVec::new(),
+        }
+    }
+}
+
+impl From<Vec<u64>> for ScopeTicks {
+    fn from(v: Vec<u64>) -> Self {
+        let mut s = ScopeTicks::default();
+        if let Some((&first, rest)) = v.split_first() {
+            // A tick of `NONE` is none: it would read as an empty list.
+            if first != Self::NONE {
+                s.first = first;
+                s.more = rest.iter().copied().collect();
+            }
+        }
+        s
+    }
+}
+
+impl From<ScopeTicks> for Vec<u64> {
+    fn from(s: ScopeTicks) -> Self {
+        s.to_vec()
+    }
 }
 
 /// A mind's [`MindParts`], absent until one is set. Absent and all-default parts are equal:
@@ -299,30 +409,34 @@ impl Mind {
     /// Its station (the `MarkStation` action), which `HoldStation` returns to.
     #[inline]
     pub fn station(&self) -> Option<Vec3> {
-        self.rare.0.as_ref().and_then(|r| r.station)
+        self.rare.0.as_ref().and_then(|r| r.station.get())
     }
     /// Per depth of composed behaviors: the tick the composite current at that depth was
-    /// entered (empty for species without composites).
+    /// entered (none for species without composites, and past the depths tracked).
     #[inline]
-    pub fn scope_entered(&self) -> &[u64] {
-        self.rare.0.as_deref().map_or(&[], |r| &r.scope_entered)
-    }
-    /// [`Mind::scope_entered`], to set an entry tick (empty without the rare parts: marking
-    /// a depth the mind does not track makes nothing).
-    #[inline]
-    pub fn scope_entered_mut(&mut self) -> &mut [u64] {
+    pub fn scope_entered(&self, depth: usize) -> Option<u64> {
         self.rare
             .0
-            .as_deref_mut()
-            .map_or(&mut [], |r| &mut r.scope_entered)
+            .as_deref()
+            .and_then(|r| r.scope_entered.get(depth))
+    }
+    /// How many depths [`Mind::scope_entered`] tracks.
+    #[inline]
+    pub fn scope_depth(&self) -> usize {
+        self.rare.0.as_deref().map_or(0, |r| r.scope_entered.len())
+    }
+    /// Sets [`Mind::scope_entered`] at `depth` (nothing for a depth the mind does not track).
+    #[inline]
+    pub fn set_scope_entered(&mut self, depth: usize, tick: u64) {
+        if let Some(r) = self.rare.0.as_deref_mut() {
+            r.scope_entered.set(depth, tick);
+        }
     }
     /// Tracks composed behaviors `depth` deep ([`Mind::scope_entered`]): a depth added is
-    /// entered at `tick`. The list holds just that room (every fish of a composed species has
-    /// one: a list grown the usual way held twice its 24 bytes).
+    /// entered at `tick`. Every fish of a composed species has them: the first depth is held
+    /// in the rare parts, deeper ones in just their room.
     pub fn track_scopes(&mut self, depth: usize, tick: u64) {
-        let v = &mut self.rare_mut().scope_entered;
-        v.reserve_exact(depth.saturating_sub(v.len()));
-        v.resize(depth, tick);
+        self.rare_mut().scope_entered.resize(depth, tick);
     }
     /// Seed 003 foraging memory (particle-swarm style), its own best food position: where it
     /// last perceived food (the nearest), kept until it comes within vision of the place and
@@ -593,10 +707,44 @@ mod tests {
             "{}",
             std::mem::size_of::<Mind>()
         );
+        // A mind's rare parts are one heap block of 96 bytes (88 and the allocator's 8),
+        // composites' first entry tick included.
+        assert!(
+            std::mem::size_of::<MindParts>() <= 88,
+            "{}",
+            std::mem::size_of::<MindParts>()
+        );
         assert!(
             std::mem::size_of::<Agent>() <= 272,
             "{}",
             std::mem::size_of::<Agent>()
         );
+    }
+
+    #[test]
+    fn scope_ticks_read_and_serialize_as_the_list_they_stand_for() {
+        for v in [vec![], vec![3], vec![3, 4], vec![3, 4, 5]] {
+            let s = ScopeTicks::from(v.clone());
+            assert_eq!(
+                (s.len(), s.is_empty(), s.to_vec()),
+                (v.len(), v.is_empty(), v.clone())
+            );
+            for d in 0..4 {
+                assert_eq!(s.get(d), v.get(d).copied());
+            }
+            let text = serde_json::to_string(&s).unwrap();
+            assert_eq!(text, serde_json::to_string(&v).unwrap());
+            assert_eq!(serde_json::from_str::<ScopeTicks>(&text).unwrap(), s);
+        }
+        // A mind's parts read back as written, station and ticks included.
+        let parts = MindParts {
+            station: Spot::new(Some(Vec3::new(1.0, 2.0, 3.0))),
+            scope_entered: vec![7, 8].into(),
+            ..MindParts::default()
+        };
+        let text = serde_json::to_string(&parts).unwrap();
+        assert!(text.contains("\"station\":[1.0,2.0,3.0]"), "{text}");
+        assert!(text.contains("\"scope_entered\":[7,8]"), "{text}");
+        assert_eq!(serde_json::from_str::<MindParts>(&text).unwrap(), parts);
     }
 }

@@ -10,7 +10,7 @@ mod signal;
 
 pub use agent::{
     Agent, AgentId, Anim, Attributes, Cooldowns, Drives, ForwardCache, MemValue, MessageKind, Mind,
-    MindParts, RareMind, Sex, SpeciesId, Spot, MEMORY_CAPACITY, STACK_CAPACITY,
+    MindParts, RareMind, ScopeTicks, Sex, SpeciesId, Spot, MEMORY_CAPACITY, STACK_CAPACITY,
 };
 pub use rng::Rng;
 pub use signal::{
