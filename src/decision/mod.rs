@@ -130,8 +130,9 @@ pub fn cond(c: &CondNode, ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> bool {
     }
 }
 
-/// One behavior change.
-#[derive(Debug, Clone, PartialEq)]
+/// One behavior change: 8 bytes, so that a whole school's first transitions (one in every
+/// agent's outcome in one tick) box 24 bytes each, and copy no shared text across threads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Transition {
     /// Behavior before.
     pub from: u16,
@@ -139,8 +140,74 @@ pub struct Transition {
     pub to: u16,
     /// Why.
     pub cause: Cause,
-    /// Text of the condition that fired.
-    pub condition: Option<Arc<str>>,
+    /// Which condition fired, of behavior [`Transition::fired_in`] (none when no condition
+    /// did); [`Transition::fired`] reads both. Its text is the species' ([`Fired::text`]),
+    /// looked up when the event is made.
+    pub which: Option<Which>,
+    /// The behavior (composed or not) whose condition fired.
+    pub fired_in: u16,
+}
+
+impl Transition {
+    /// From `from` to `to` for `cause`, `fired` the condition that fired, if any.
+    pub fn new(from: u16, to: u16, cause: Cause, fired: Option<Fired>) -> Self {
+        Transition {
+            from,
+            to,
+            cause,
+            which: fired.map(|f| f.which),
+            fired_in: fired.map_or(0, |f| f.behavior),
+        }
+    }
+    /// The condition that fired, if any.
+    pub fn fired(&self) -> Option<Fired> {
+        self.which.map(|which| Fired::new(self.fired_in, which))
+    }
+}
+
+/// Which condition of which behavior fired a transition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Fired {
+    /// The behavior holding it (composed or not).
+    pub behavior: u16,
+    /// Which of its conditions.
+    pub which: Which,
+}
+
+/// One of a behavior's conditions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Which {
+    /// Its activation condition (`when`).
+    When,
+    /// Its completion condition (`done`).
+    Done,
+    /// Its failure condition (`fail`).
+    Fail,
+}
+
+impl Fired {
+    /// The fired condition of `behavior`.
+    pub fn new(behavior: u16, which: Which) -> Self {
+        Fired { behavior, which }
+    }
+    /// Its text in species `sp` (none for a behavior it does not have).
+    pub fn text(self, sp: &crate::species::Species) -> Option<Arc<str>> {
+        let b = sp.behaviors.get(self.behavior as usize)?;
+        Some(match self.which {
+            Which::When => b.when_text.clone(),
+            Which::Done => b.done_text.clone(),
+            Which::Fail => b.fail_text.clone(),
+        })
+    }
+    /// The condition itself in species `sp`.
+    pub fn node(self, sp: &crate::species::Species) -> Option<&CondNode> {
+        let b = sp.behaviors.get(self.behavior as usize)?;
+        Some(match self.which {
+            Which::When => &b.when,
+            Which::Done => &b.done,
+            Which::Fail => &b.fail,
+        })
+    }
 }
 
 /// Up to two transitions per tick (a completion followed by a resume or start is one).
@@ -254,12 +321,12 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
             (None, None) => (ctx.species.initial, Cause::Completed),
         };
         enter(mind, to, tick);
-        out[0] = Some(Transition {
-            from: cur,
+        out[0] = Some(Transition::new(
+            cur,
             to,
             cause,
-            condition: Some(b.done_text.clone()),
-        });
+            Some(Fired::new(cur, Which::Done)),
+        ));
         return out;
     }
 
@@ -275,12 +342,12 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     if let Some(n) = best_triggered(ctx, mind, rng, max_level, cur) {
         mind.push(cur);
         enter(mind, n, tick);
-        out[0] = Some(Transition {
-            from: cur,
-            to: n,
-            cause: Cause::Interrupted,
-            condition: Some(bs[n as usize].when_text.clone()),
-        });
+        out[0] = Some(Transition::new(
+            cur,
+            n,
+            Cause::Interrupted,
+            Some(Fired::new(n, Which::When)),
+        ));
     }
     out
 }

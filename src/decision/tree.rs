@@ -18,7 +18,7 @@
 //! A species without composites never comes here ([`super::arbitrate`] keeps the flat rules'
 //! code as it was), so its runs are unchanged.
 
-use super::{can_start_node, cond, Transition, Transitions};
+use super::{can_start_node, cond, Fired, Transition, Transitions, Which};
 use crate::ctx::Ctx;
 use crate::events::Cause;
 use crate::species::validate::{ancestors, default_part};
@@ -309,21 +309,16 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
             && (t_in >= b.min_time || reached)
             && cond_of(&b.done, at, ctx, mind, rng)
         {
-            Some((Outcome::Success, b.done_text.clone()))
+            Some((Outcome::Success, Fired::new(n, Which::Done)))
         } else if b.fail != CondNode::Never && cond_of(&b.fail, at, ctx, mind, rng) {
-            Some((Outcome::Failure, b.fail_text.clone()))
+            Some((Outcome::Failure, Fired::new(n, Which::Fail)))
         } else {
             None
         };
-        if let Some((outcome, text)) = outcome {
+        if let Some((outcome, fired)) = outcome {
             let (to, cause) = finish(ctx, mind, rng, n, outcome);
             enter_leaf(bs, mind, cur, to, tick);
-            out[0] = Some(Transition {
-                from: cur,
-                to,
-                cause,
-                condition: Some(text),
-            });
+            out[0] = Some(Transition::new(cur, to, cause, Some(fired)));
             return out;
         }
     }
@@ -349,12 +344,12 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
             mind.push(cur);
             let to = descend(ctx, mind, rng, m);
             enter_leaf(bs, mind, cur, to, tick);
-            out[0] = Some(Transition {
-                from: cur,
+            out[0] = Some(Transition::new(
+                cur,
                 to,
-                cause: Cause::Interrupted,
-                condition: Some(bs[m as usize].when_text.clone()),
-            });
+                Cause::Interrupted,
+                Some(Fired::new(m, Which::When)),
+            ));
             return out;
         }
     }

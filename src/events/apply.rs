@@ -87,7 +87,10 @@ impl Pipeline {
                     from: t.from,
                     to: t.to,
                     cause: t.cause,
-                    condition: t.condition,
+                    // The species the agent decided by: stage 7 runs in the same tick.
+                    condition: t
+                        .fired()
+                        .and_then(|c| set.species.get(s).and_then(|sp| c.text(sp))),
                     stack: a.mind.stack().to_vec(),
                 });
             }

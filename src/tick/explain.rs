@@ -277,24 +277,11 @@ fn scripts(sp: &Species, mind: &Mind) -> Value {
 
 /// In a species with composed behaviors, the condition that fired may belong to a composed
 /// behavior above either end (an outer `done` or `fail`, an interrupting list member's `when`):
-/// the one on either path whose text the transition records.
+/// the one the transition records.
 fn fired_in_tree<'a>(sp: &'a Species, t: &crate::decision::Transition) -> &'a CondNode {
-    let text = t.condition.as_deref().unwrap_or("");
-    let on_path = [t.from, t.to]
-        .into_iter()
-        .flat_map(|end| crate::species::validate::ancestors(&sp.behaviors, end));
-    for i in on_path {
-        let b = &sp.behaviors[i as usize];
-        let c = match t.cause {
-            crate::events::Cause::Interrupted if &*b.when_text == text => &b.when,
-            crate::events::Cause::Interrupted => continue,
-            _ if &*b.done_text == text => &b.done,
-            _ if &*b.fail_text == text => &b.fail,
-            _ => continue,
-        };
-        return c;
-    }
-    &sp.behaviors[t.from as usize].done
+    t.fired()
+        .and_then(|c| c.node(sp))
+        .unwrap_or(&sp.behaviors[t.from as usize].done)
 }
 
 /// One decision explained: `{type: "decision", tick, id, from, to, cause, clauses, why_not,

@@ -184,13 +184,30 @@ fn an_outcome_with_a_transition_alone_boxes_nothing_more() {
         p.perceive(&w);
         p.agent_pass(&mut w);
         for rare in p.outcomes.iter().filter_map(|o| o.rare.as_deref()) {
-            assert!(rare.transitions[0].is_some());
+            let t = rare.transitions[0].expect("a transition");
             assert!(rare.more.is_none());
+            // The condition is named, not copied: its text is the species'.
+            let fired = t.fired().expect("a condition fired");
+            assert_eq!(
+                fired,
+                crate::decision::Fired::new(1, crate::decision::Which::When)
+            );
+            assert_eq!(fired.text(&p.species.species[0]).as_deref(), Some("always"));
             seen += 1;
         }
         p.apply(&mut w);
+        // ... and the event carries it.
+        for e in p.events.iter() {
+            if let crate::events::Event::Transition { condition, .. } = e {
+                assert_eq!(condition.as_deref(), Some("always"));
+            }
+        }
     }
     assert_eq!(seen, 4);
+    // A transition is 8 bytes; the box holding two and the pointer to the rest is 24 (a
+    // 32-byte heap block).
+    assert_eq!(std::mem::size_of::<crate::decision::Transition>(), 8);
+    assert!(std::mem::size_of::<super::agent_pass::Rare>() <= 24);
     assert_eq!(p.stats.transitions, 4);
 }
 
