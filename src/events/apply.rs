@@ -38,11 +38,6 @@ impl Pipeline {
     /// matings, and the script `on_event` calls they make), in agent order; then removes the
     /// dead and the eaten food and advances the clock.
     pub(crate) fn apply(&mut self, world: &mut World) {
-        // A spawn of many agents leaves a long event list behind: give the memory back once it
-        // is far larger than what ticks use.
-        if self.events.capacity() > 8 * (self.events.len() + 1024) {
-            self.events.shrink_to(2 * (self.events.len() + 1024));
-        }
         let set = self.species.clone();
         let n = world.agents.len();
         self.taken_food.clear();

@@ -340,6 +340,12 @@ impl Pipeline {
 
     /// The phases of a tick, timed.
     fn step_on(&mut self, world: &mut World) {
+        // A spawn of many agents leaves a long event list behind (a scenario's groups: an
+        // event each): give the memory back once it is far larger than what ticks use, before
+        // perception takes its own (at a million agents the two at once were the run's peak).
+        if self.events.capacity() > 8 * (self.events.len() + 1024) {
+            self.events.shrink_to(2 * (self.events.len() + 1024));
+        }
         // 1–2. Spatial index and perception.
         self.perceive(world);
         // 3–6. Per agent: drives, decision, steering, locomotion.

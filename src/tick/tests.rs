@@ -79,6 +79,25 @@ fn stage_times_are_read_per_tick() {
 }
 
 #[test]
+fn a_spawns_long_event_list_is_given_back_at_the_next_tick() {
+    let (mut p, mut w) = drifters();
+    for k in 0..20_000 {
+        p.spawn(
+            &mut w,
+            0,
+            Vec3::new((k % 100) as f32, 10.0, (k / 100) as f32 * 0.2),
+            0.0,
+            0.0,
+        );
+    }
+    assert!(p.events.capacity() >= 20_000);
+    // As a run does: the spawns' events read, then cleared before the tick.
+    p.events.clear();
+    p.step(&mut w);
+    assert!(p.events.capacity() <= 2 * (p.events.len() + 1024));
+}
+
+#[test]
 fn a_world_without_messages_contacts_or_stations_keeps_nothing_for_them() {
     let (mut p, mut w) = drifters();
     for k in 0..3 {
