@@ -456,47 +456,12 @@ mod tests {
             }
         }
         // Percepts differing in any one part differ.
-        let p = Percept::new(
-            Source::Agent(5),
-            Category::Kin,
-            Sense::Vision,
-            offset,
-            1.0,
-            1.0,
-        );
-        assert_ne!(
-            p,
-            Percept::new(
-                Source::Food(5),
-                Category::Kin,
-                Sense::Vision,
-                offset,
-                1.0,
-                1.0
-            )
-        );
-        assert_ne!(
-            p,
-            Percept::new(
-                Source::Agent(5),
-                Category::Mate,
-                Sense::Vision,
-                offset,
-                1.0,
-                1.0
-            )
-        );
-        assert_ne!(
-            p,
-            Percept::new(
-                Source::Agent(5),
-                Category::Kin,
-                Sense::Smell,
-                offset,
-                1.0,
-                1.0
-            )
-        );
+        let of = |source, category, sense| Percept::new(source, category, sense, offset, 1.0, 1.0);
+        let p = of(Source::Agent(5), Category::Kin, Sense::Vision);
+        assert_ne!(p, of(Source::Food(5), Category::Kin, Sense::Vision));
+        assert_ne!(p, of(Source::Agent(5), Category::Mate, Sense::Vision));
+        assert_ne!(p, of(Source::Agent(5), Category::Kin, Sense::Smell));
+        assert_eq!(p, of(Source::Agent(5), Category::Kin, Sense::Vision));
     }
 
     #[test]

@@ -263,7 +263,7 @@ impl Perceiver<'_, '_> {
                     Vec3A::ZERO,
                     Vec3A::ZERO,
                     |dist| {
-                        percept(
+                        Percept::new(
                             Source::Obstacle(k),
                             cat,
                             seen,
@@ -435,7 +435,7 @@ impl Perceiver<'_, '_> {
                 other.heading.into(),
                 vel,
                 |dist| {
-                    percept(
+                    Percept::new(
                         Source::Agent(entries[k]),
                         cat,
                         seen,
@@ -486,7 +486,7 @@ impl Perceiver<'_, '_> {
                         return;
                     }
                     fold.take(cat, seen, d2, dist, at, Vec3A::ZERO, Vec3A::ZERO, |dist| {
-                        percept(Source::Food(j), cat, seen, offset, dist, 0.0)
+                        Percept::new(Source::Food(j), cat, seen, offset, dist, 0.0)
                     });
                 }
             });
@@ -507,17 +507,4 @@ fn bearings(slots: &mut [Percept], nearest: u32, reads: &Reads, yaw: f32, pitch:
             (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
         }
     }
-}
-
-/// A percept without bearing and elevation (filled in for the percepts kept).
-#[inline(always)]
-fn percept(
-    source: Source,
-    category: Category,
-    sense: Sense,
-    offset: Vec3,
-    dist: f32,
-    size: f32,
-) -> Percept {
-    Percept::new(source, category, sense, offset, dist, size)
 }

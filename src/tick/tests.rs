@@ -79,6 +79,48 @@ fn stage_times_are_read_per_tick() {
 }
 
 #[test]
+fn a_fired_condition_reads_as_its_behaviors_own_text_and_node() {
+    use crate::decision::{Fired, Transition, Which};
+    let text = r#"(
+        name: "dasher",
+        initial: "drift",
+        behaviors: [
+            Behavior(name: "drift", priority: 2, steer: Cruise(speed: 0.5)),
+            Behavior(name: "dash", priority: 1, when: Above(Drive(Hunger), 0.5),
+                done: Below(Drive(Hunger), 0.2), fail: Above(Drive(Fear), 0.9),
+                steer: Cruise(speed: 2.0)),
+        ],
+    )"#;
+    let sp = Species::parse("dasher.ron", text).unwrap();
+    let b = &sp.behaviors[1];
+    for (which, want, node) in [
+        (Which::When, &b.when_text, &b.when),
+        (Which::Done, &b.done_text, &b.done),
+        (Which::Fail, &b.fail_text, &b.fail),
+    ] {
+        let f = Fired::new(1, which);
+        assert_eq!(f.text(&sp).as_deref(), Some(&**want));
+        assert_eq!(f.node(&sp), Some(node));
+    }
+    // The three texts differ, or the loop above proves little.
+    assert!(b.when_text != b.done_text && b.done_text != b.fail_text);
+    // A behavior the species does not have names nothing.
+    assert_eq!(Fired::new(9, Which::When).text(&sp), None);
+    // A transition holds the fired condition, or none.
+    let t = Transition::new(
+        1,
+        0,
+        crate::events::Cause::Completed,
+        Some(Fired::new(1, Which::Done)),
+    );
+    assert_eq!(t.fired(), Some(Fired::new(1, Which::Done)));
+    assert_eq!(
+        Transition::new(1, 0, crate::events::Cause::Script, None).fired(),
+        None
+    );
+}
+
+#[test]
 fn a_spawns_long_event_list_is_given_back_at_the_next_tick() {
     let (mut p, mut w) = drifters();
     for k in 0..20_000 {
