@@ -192,20 +192,19 @@ impl Fired {
     }
     /// Its text in species `sp` (none for a behavior it does not have).
     pub fn text(self, sp: &crate::species::Species) -> Option<Arc<str>> {
-        let b = sp.behaviors.get(self.behavior as usize)?;
-        Some(match self.which {
-            Which::When => b.when_text.clone(),
-            Which::Done => b.done_text.clone(),
-            Which::Fail => b.fail_text.clone(),
-        })
+        self.in_species(sp).map(|(_, text)| text.clone())
     }
     /// The condition itself in species `sp`.
     pub fn node(self, sp: &crate::species::Species) -> Option<&CondNode> {
+        self.in_species(sp).map(|(node, _)| node)
+    }
+    /// The condition and its text in species `sp`.
+    fn in_species(self, sp: &crate::species::Species) -> Option<(&CondNode, &Arc<str>)> {
         let b = sp.behaviors.get(self.behavior as usize)?;
         Some(match self.which {
-            Which::When => &b.when,
-            Which::Done => &b.done,
-            Which::Fail => &b.fail,
+            Which::When => (&b.when, &b.when_text),
+            Which::Done => (&b.done, &b.done_text),
+            Which::Fail => (&b.fail, &b.fail_text),
         })
     }
 }

@@ -19,6 +19,22 @@ fn drifters() -> (Pipeline, World) {
     (Pipeline::new(Arc::new(set)), World::new(bounds, 0.05, 7))
 }
 
+/// A species that drifts, and dashes under `conditions` (the dash behavior's `when`, `done`
+/// and `fail` keys).
+fn dasher(conditions: &str) -> Species {
+    let text = format!(
+        r#"(
+        name: "dasher",
+        initial: "drift",
+        behaviors: [
+            Behavior(name: "drift", priority: 2, steer: Cruise(speed: 0.5)),
+            Behavior(name: "dash", priority: 1, {conditions}, steer: Cruise(speed: 2.0)),
+        ],
+    )"#
+    );
+    Species::parse("dasher.ron", &text).unwrap()
+}
+
 #[test]
 fn a_step_appends_to_the_events_and_leaves_them() {
     let (mut p, mut w) = drifters();
@@ -81,17 +97,10 @@ fn stage_times_are_read_per_tick() {
 #[test]
 fn a_fired_condition_reads_as_its_behaviors_own_text_and_node() {
     use crate::decision::{Fired, Transition, Which};
-    let text = r#"(
-        name: "dasher",
-        initial: "drift",
-        behaviors: [
-            Behavior(name: "drift", priority: 2, steer: Cruise(speed: 0.5)),
-            Behavior(name: "dash", priority: 1, when: Above(Drive(Hunger), 0.5),
-                done: Below(Drive(Hunger), 0.2), fail: Above(Drive(Fear), 0.9),
-                steer: Cruise(speed: 2.0)),
-        ],
-    )"#;
-    let sp = Species::parse("dasher.ron", text).unwrap();
+    let sp = dasher(
+        "when: Above(Drive(Hunger), 0.5), done: Below(Drive(Hunger), 0.2), \
+         fail: Above(Drive(Fear), 0.9)",
+    );
     let b = &sp.behaviors[1];
     for (which, want, node) in [
         (Which::When, &b.when_text, &b.when),
@@ -224,15 +233,7 @@ fn cooldowns_hold_only_started_ones_by_behavior_and_drop_those_run_out() {
 fn an_outcome_with_a_transition_alone_boxes_nothing_more() {
     // Every agent starts in "drift" and soon switches to "dash": a whole school's first
     // transitions, with no message, contact or error beside them.
-    let text = r#"(
-        name: "dasher",
-        initial: "drift",
-        behaviors: [
-            Behavior(name: "drift", priority: 2, steer: Cruise(speed: 0.5)),
-            Behavior(name: "dash", priority: 1, when: Always, steer: Cruise(speed: 2.0)),
-        ],
-    )"#;
-    let species = Species::parse("dasher.ron", text).unwrap();
+    let species = dasher("when: Always");
     let set = SpeciesSet::new(vec![species.into()]).unwrap();
     let bounds = Aabb::new(Vec3::new(-50.0, 0.0, -50.0), Vec3::new(50.0, 40.0, 50.0));
     let (mut p, mut w) = (Pipeline::new(Arc::new(set)), World::new(bounds, 0.05, 7));

@@ -254,7 +254,7 @@ impl ScopeTicks {
     /// How many depths are tracked.
     #[inline]
     pub fn len(&self) -> usize {
-        if self.first == Self::NONE {
+        if self.is_empty() {
             0
         } else {
             1 + self.more.len()
@@ -312,7 +312,12 @@ impl ScopeTicks {
     }
     /// The ticks, depth 0 first.
     pub fn to_vec(&self) -> Vec<u64> {
-        (0..self.len()).filter_map(|d| self.get(d)).collect()
+        if self.is_empty() {
+            return Vec::new();
+        }
+        std::iter::once(self.first)
+            .chain(self.more.iter().copied())
+            .collect()
     }
 }
 
