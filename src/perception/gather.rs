@@ -193,6 +193,12 @@ impl Perception {
                 .for_each(|(((a, g), slots), sums)| gather(a, g, slots, sums));
         }
         let unsensed = unsensed.into_inner();
+        // Mean headings are kept where some species reads them (one without reads or senses
+        // reads everything).
+        self.keep_headings = self.full_rows
+            || unsensed
+            || reads.len() < senses.len()
+            || reads.iter().any(|r| r.headings);
         if !prev {
             // An agent of a species without senses perceives with the defaults, which keep
             // agent percepts (rare: a second, sequential pass).
@@ -275,6 +281,7 @@ impl Perception {
         self.held.resize(n, RowMask::ALL);
         self.held_at.resize(n, 0);
         self.summary_chunks.resize_with(chunks, Vec::new);
+        self.heading_chunks.resize_with(chunks, Vec::new);
         self.percept_at.resize(n, 0);
         self.percept_chunks.resize_with(chunks, Vec::new);
         if bounded {

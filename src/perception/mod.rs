@@ -52,7 +52,7 @@ use crate::world::World;
 use fold::Fold;
 use gather::{Body, Gathered, Tag};
 use glam::{Vec3, Vec3A};
-use rows::RowMask;
+use rows::{Held, RowMask};
 use view::View;
 
 /// Most percepts a species may keep per agent ([`SenseParams::max_percepts`]).
@@ -80,8 +80,13 @@ pub struct Perception {
     /// `held_at[r]` in list `r / SUMMARY_CHUNK`, those of the categories in `held[r]`: of what
     /// its species can perceive this tick (`row_masks[r]`, see [`rows`]), what it perceived.
     /// An empty summary is not kept (a reef fish perceives two or three of its five
-    /// categories at a time: 280 bytes a row otherwise).
-    summary_chunks: Vec<Vec<Summary>>,
+    /// categories at a time: 280 bytes a row otherwise), and a kept one is held without its
+    /// mean heading ([`rows::Held`]).
+    summary_chunks: Vec<Vec<Held>>,
+    /// The mean headings of the same summaries, in the same places, while some species reads
+    /// them (`keep_headings`; scripts alone do); empty otherwise (12 bytes a summary).
+    heading_chunks: Vec<Vec<Vec3>>,
+    keep_headings: bool,
     held: Vec<RowMask>,
     held_at: Vec<u16>,
     row_masks: Vec<RowMask>,
@@ -167,8 +172,11 @@ struct Outs<'a> {
     percept_at: &'a mut [u16],
     rooms: &'a [u8],
     counts: &'a mut [u16],
-    /// The summary lists of these rows, one per [`SUMMARY_CHUNK`].
-    summaries: &'a mut [Vec<Summary>],
+    /// The summary lists of these rows, one per [`SUMMARY_CHUNK`], and their mean headings'
+    /// (kept with `keep_headings` only).
+    summaries: &'a mut [Vec<Held>],
+    headings: &'a mut [Vec<Vec3>],
+    keep_headings: bool,
     held: &'a mut [RowMask],
     held_at: &'a mut [u16],
     masks: &'a [RowMask],
@@ -241,16 +249,23 @@ impl<'a> Outs<'a> {
             let lo = self.lo;
             let mut sums = self.sums;
             let list = &mut self.summaries[0];
+            let headings = &mut self.headings[0];
+            let keep_headings = self.keep_headings;
             let kept = &mut self.percepts[0];
-            // Rows are written in place, one after another, in lists that keep their room from
-            // tick to tick: at first what every row could hold. The walk writes every summary
-            // of its row, and every percept it keeps: none is cleared.
+            // Rows are written one after another, in lists that keep their room from tick to
+            // tick: at first what every row could hold. The walk writes every summary of its
+            // row (here, then what it perceived is kept in the list), and every percept it
+            // keeps in place: none is cleared.
+            let mut row = [Summary::NONE; Category::COUNT];
             let masks = self.masks;
             let rooms = self.rooms;
             let most_summaries = || masks.iter().map(|m| m.len()).sum();
             let most_percepts = || rooms.iter().map(|&r| r as usize).sum();
             if list.capacity() == 0 {
                 list.reserve_exact(most_summaries());
+            }
+            if keep_headings && headings.capacity() == 0 {
+                headings.reserve_exact(most_summaries());
             }
             if kept.capacity() == 0 {
                 kept.reserve_exact(most_percepts());
@@ -270,11 +285,9 @@ impl<'a> Outs<'a> {
                 let ng = (sum_starts[i + 1] - sum_starts[i]) as usize;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
-                let need = used + mask.len();
-                room_for(list, need, most_summaries, Summary::NONE);
                 let need_percepts = used_percepts + room as usize;
                 room_for(kept, need_percepts, most_percepts, keep::EMPTY);
-                let row = &mut list[used..need];
+                let row = &mut row[..mask.len()];
                 let mut spare = 0.0;
                 f(
                     i,
@@ -289,13 +302,31 @@ impl<'a> Outs<'a> {
                     },
                 );
                 *held = mask.compact(row);
+                let need = used + held.len();
+                let row = &row[..held.len()];
+                room_for(list, need, most_summaries, Held::NONE);
+                for (h, s) in list[used..need].iter_mut().zip(row) {
+                    *h = Held::new(s);
+                }
+                if keep_headings {
+                    room_for(headings, need, most_summaries, Vec3::ZERO);
+                    for (h, s) in headings[used..need].iter_mut().zip(row) {
+                        *h = s.mean_heading;
+                    }
+                }
                 *at = used as u16;
-                used += held.len();
+                used = need;
                 *percept_at = used_percepts as u16;
                 used_percepts += *count as usize;
             }
             list.truncate(used);
             settle(list, used, used + used / 4 + Category::COUNT, || 0);
+            if keep_headings {
+                headings.truncate(used);
+                settle(headings, used, used + used / 4 + Category::COUNT, || 0);
+            } else if headings.capacity() > 0 {
+                *headings = Vec::new();
+            }
             // Kept percepts come and go with what is near: room for up to twice what the rows
             // keep is kept (a chunk that keeps a few more next tick does not grow its list
             // again), and when it shrinks, one more row's slots. The list is not cut to
@@ -314,6 +345,7 @@ impl<'a> Outs<'a> {
         let (o0, o1) = self.rooms.split_at(mid);
         let (c0, c1) = self.counts.split_at_mut(mid);
         let (s0, s1) = self.summaries.split_at_mut(chunks / 2);
+        let (d0, d1) = self.headings.split_at_mut(chunks / 2);
         let (h0, h1) = self.held.split_at_mut(mid);
         let (a0, a1) = self.held_at.split_at_mut(mid);
         let (r0, r1) = self.reaches.split_at_mut(mid.min(self.reaches.len()));
@@ -326,6 +358,8 @@ impl<'a> Outs<'a> {
             rooms: o0,
             counts: c0,
             summaries: s0,
+            headings: d0,
+            keep_headings: self.keep_headings,
             held: h0,
             held_at: a0,
             masks: m0,
@@ -339,6 +373,8 @@ impl<'a> Outs<'a> {
             rooms: o1,
             counts: c1,
             summaries: s1,
+            headings: d1,
+            keep_headings: self.keep_headings,
             held: h1,
             held_at: a1,
             masks: m1,
@@ -394,39 +430,40 @@ impl Perception {
     /// Summaries of agent `i`, indexed by [`Category`].
     #[inline]
     pub fn summaries(&self, i: usize) -> [Summary; Category::COUNT] {
-        let (row, mask) = self.summary_row(i);
-        mask.expand(row)
+        let (row, headings, mask) = self.summary_row(i);
+        mask.expand(row, headings)
     }
 
-    /// Agent `i`'s row of summaries and the categories it holds.
+    /// Agent `i`'s row of summaries, their mean headings (none where no species reads them)
+    /// and the categories it holds.
     #[inline]
-    fn summary_row(&self, i: usize) -> (&[Summary], RowMask) {
+    fn summary_row(&self, i: usize) -> (&[Held], &[Vec3], RowMask) {
         let r = self.row(i);
         let held = self.held[r];
         let at = self.held_at[r] as usize;
-        let row = &self.summary_chunks[r / SUMMARY_CHUNK][at..at + held.len()];
-        (row, held)
+        let c = r / SUMMARY_CHUNK;
+        let row = &self.summary_chunks[c][at..at + held.len()];
+        let headings = match self.heading_chunks.get(c) {
+            Some(h) if self.keep_headings => &h[at..at + held.len()],
+            _ => &[],
+        };
+        (row, headings, held)
     }
 
-    /// [`Perception::summaries`] without a copy of what is already in place: a row of every
-    /// category is read where it is; a shorter one is written into `buf`, whose other
-    /// categories stay empty from the last agent of the same kind (a boid's pass copies its
-    /// kin summary alone).
+    /// [`Perception::summaries`] into `buf`, whose categories the row does not hold stay empty
+    /// from the last agent of the same kind (a boid's pass writes its kin summary alone).
     #[inline]
     pub fn summaries_in<'a>(
         &'a self,
         i: usize,
         buf: &'a mut SummaryBuf,
     ) -> &'a [Summary; Category::COUNT] {
-        let (row, mask) = self.summary_row(i);
-        if let Ok(full) = row.try_into() {
-            return full;
-        }
+        let (row, headings, mask) = self.summary_row(i);
         if buf.mask != mask {
             buf.by = [Summary::NONE; Category::COUNT];
             buf.mask = mask;
         }
-        mask.fill(row, &mut buf.by);
+        mask.fill(row, headings, &mut buf.by);
         &buf.by
     }
 
@@ -584,6 +621,8 @@ impl Perception {
             rooms: &self.rooms,
             counts: &mut self.counts,
             summaries: &mut self.summary_chunks,
+            headings: &mut self.heading_chunks,
+            keep_headings: self.keep_headings,
             held: &mut self.held,
             held_at: &mut self.held_at,
             masks: &self.row_masks,
@@ -649,7 +688,7 @@ impl Perception {
             &mut self.percept_chunks[c],
             &mut self.percept_at[i..end],
             old,
-            kept,
+            kept.iter().copied(),
         );
         self.counts[i] = kept.len() as u16;
         let mask = self.row_masks[i];
@@ -658,11 +697,17 @@ impl Perception {
         let held = mask.compact(&mut row[..mask.len()]);
         let old = self.held[i].len();
         let new = &row[..held.len()];
+        if self.keep_headings {
+            // Moved with the summaries (the row's starts are moved once, below).
+            let mut starts = self.held_at[i..end].to_vec();
+            let headings = new.iter().map(|s| s.mean_heading);
+            replace_row(&mut self.heading_chunks[c], &mut starts, old, headings);
+        }
         replace_row(
             &mut self.summary_chunks[c],
             &mut self.held_at[i..end],
             old,
-            new,
+            new.iter().map(Held::new),
         );
         self.held[i] = held;
     }
@@ -670,10 +715,16 @@ impl Perception {
 
 /// Replaces the `old` entries of a row by `new` in its chunk's `list`. `starts` are where that
 /// row and the rows after it in the chunk start; the later ones move by the difference.
-fn replace_row<T: Copy>(list: &mut Vec<T>, starts: &mut [u16], old: usize, new: &[T]) {
+fn replace_row<T>(
+    list: &mut Vec<T>,
+    starts: &mut [u16],
+    old: usize,
+    new: impl ExactSizeIterator<Item = T>,
+) {
     let at = starts[0] as usize;
-    list.splice(at..at + old, new.iter().copied());
+    let len = new.len();
+    list.splice(at..at + old, new);
     for a in &mut starts[1..] {
-        *a = (*a as usize + new.len()).wrapping_sub(old) as u16;
+        *a = (*a as usize + len).wrapping_sub(old) as u16;
     }
 }

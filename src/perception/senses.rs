@@ -155,8 +155,8 @@ pub struct Reads {
     pub bearing_range: Option<f32>,
     /// Neighborhood sums its group rules read.
     pub groups: GroupQueries,
-    /// Whether the mean heading of its kin is read (scripts only); without, the kin kernel
-    /// leaves it zero.
+    /// Whether the mean heading of a category is read (by a script that names it); without,
+    /// the kin kernel leaves it zero, and while no species reads it no summary keeps it.
     pub headings: bool,
 }
 

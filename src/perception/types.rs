@@ -322,7 +322,9 @@ pub struct Summary {
     pub nearest_dist: f32,
     /// Mean position (world), zero when none.
     pub centroid: Vec3,
-    /// Mean forward vector of agent percepts (not normalized), zero when none.
+    /// Mean forward vector of agent percepts (not normalized), zero when none. Scripts alone
+    /// read it: in the tick pipeline it is kept only while some species' script names it
+    /// ([`crate::script::names_heading`]), and is zero otherwise.
     pub mean_heading: Vec3,
     /// Mean velocity of agent percepts, zero when none.
     pub mean_velocity: Vec3,

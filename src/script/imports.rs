@@ -107,6 +107,8 @@ pub(crate) struct Loader<'a> {
     /// Whether an imported file raises to a power ([`super::exact_power`]): the engines that
     /// run its functions need it too.
     pub power: bool,
+    /// Whether an imported file names the mean heading ([`super::names_heading`]).
+    pub heading: bool,
     pub diags: Vec<Diagnostic>,
 }
 
@@ -129,6 +131,7 @@ impl<'a> Loader<'a> {
             stack: vec![own],
             files: Vec::new(),
             power: false,
+            heading: false,
             diags: Vec::new(),
         }
     }
@@ -286,6 +289,7 @@ impl<'a> Loader<'a> {
         let known = self.register(&mut engine, path, &text);
         self.stack.pop();
         self.power |= super::exact_power(&mut engine, &text);
+        self.heading |= super::names_heading(&text);
         if self.power {
             engine.set_fast_operators(false);
         }

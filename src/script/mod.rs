@@ -84,6 +84,8 @@ pub struct Script {
     pub functions: Vec<(String, usize)>,
     /// Its functions that are evaluated natively ([`native`]), by name.
     natives: Vec<(String, native::Native)>,
+    /// Whether it or a file it imports names a category's mean heading ([`names_heading`]).
+    reads_heading: bool,
 }
 
 impl std::fmt::Debug for Script {
@@ -171,6 +173,14 @@ pub fn new_engine(limits: &SandboxLimits) -> Engine {
     register_api(&mut e);
     math::register(&mut e);
     e
+}
+
+/// Whether `text` names a category's mean heading (the `mean_heading` property). Only a
+/// script that names it can read it (`eval` is off and a property is read by its name), so
+/// perception keeps the mean headings only for species whose scripts do (12 bytes a summary).
+/// A comment naming it counts too: the test errs on keeping.
+pub fn names_heading(text: &str) -> bool {
+    text.contains("mean_heading")
 }
 
 /// Readies `engine` for compiling and running `text`: where the text raises a number to a
@@ -279,6 +289,7 @@ impl Script {
             .collect();
         functions.sort();
         let natives = native::compile_all(&ast);
+        let reads_heading = names_heading(text) || loader.heading;
         Ok(Script {
             engine,
             ast,
@@ -287,7 +298,13 @@ impl Script {
             imports,
             functions,
             natives,
+            reads_heading,
         })
+    }
+
+    /// Whether it may read a category's mean heading ([`names_heading`]).
+    pub fn reads_heading(&self) -> bool {
+        self.reads_heading
     }
 
     /// The compiled script (for load-time checks of what it writes).

@@ -28,7 +28,7 @@ pub fn reads(sp: &Species) -> Reads {
         agent_percepts: unlisted || kinds == Kinds::All,
         bearing_range: Some(bearing_range(sp)),
         groups,
-        headings: sp.script.is_some(),
+        headings: sp.script.as_ref().is_some_and(|s| s.reads_heading()),
     }
 }
 
@@ -311,6 +311,34 @@ mod tests {
         // Strength reads the nearest distance of the summary: no percepts kept.
         let sp = species(&text("Above(Strength(Kin), 0.5)", "Never")).unwrap();
         assert!(!reads(&sp).percepts);
+    }
+
+    #[test]
+    fn mean_headings_are_read_only_by_a_script_that_names_them() {
+        // The shipped reef fish's script reads no mean heading: its summaries keep none.
+        let root = normalize(Path::new("behaviors"));
+        let file = root.join("reef_fish.ron");
+        let text = std::fs::read_to_string(&file).unwrap();
+        let limits = Default::default();
+        let reef = load_species_str(&file, &text, &root, &limits).unwrap();
+        assert!(reef.script.is_some() && !reads(&reef).headings);
+        // A script naming it, or a module it imports that does, reads it.
+        let dir = tempfile::tempdir().unwrap();
+        let heading = "fn h(c) { c.mean_heading.x }";
+        std::fs::write(dir.path().join("m.rhai"), heading).unwrap();
+        let scripts = [
+            (heading, true),
+            ("import \"m\" as m;\nfn h(c) { m::h(c) }", true),
+            ("fn h(c) { c.mean_velocity.x }", false),
+        ];
+        for (script, named) in scripts {
+            std::fs::write(dir.path().join("s.rhai"), script).unwrap();
+            let file = dir.path().join("fish.ron");
+            let text = flock("(w: 1.0, steer: Cohesion(k: 1.0))", "")
+                .replace("script: None", "script: Some(\"s.rhai\")");
+            let sp = load_species_str(&file, &text, dir.path(), &limits).unwrap();
+            assert_eq!(reads(&sp).headings, named, "{script}");
+        }
     }
 
     #[test]

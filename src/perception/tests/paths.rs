@@ -415,6 +415,72 @@ fn rows_of_what_a_species_can_perceive_lose_nothing() {
 }
 
 #[test]
+fn mean_headings_are_kept_only_where_a_species_reads_them() {
+    // Fish and predators on the general path: every summary is the same whether its species
+    // reads mean headings or not, but for the heading itself, zero where nobody reads it.
+    let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 2);
+    let mut rng = Rng::new(9, 1);
+    for k in 0..200 {
+        let species = u16::from(k % 20 == 0);
+        let mut a = agent(
+            k,
+            species,
+            random_point(&mut rng, 15.0),
+            rng.range(-3.0, 3.0),
+        );
+        a.pitch = rng.range(-0.5, 0.5);
+        a.speed = rng.range(0.5, 2.0);
+        w.agents.push(a);
+    }
+    let sense = SenseParams {
+        vision_radius: 6.0,
+        ..SenseParams::default()
+    };
+    let mut ag = Grid::new();
+    ag.rebuild(
+        w.bounds,
+        sense.query_radius(),
+        w.agents.iter().map(|a| a.pos),
+    );
+    let perceive = |headings: [bool; 2]| {
+        let reads = headings.map(|headings| Reads {
+            headings,
+            ..Reads::default()
+        });
+        let mut p = Perception::new();
+        p.run_selective(&w, &ag, &Grid::new(), &[sense; 2], &rel(), &reads);
+        p
+    };
+    let (none, fish, all) = (
+        perceive([false, false]),
+        perceive([true, false]),
+        perceive([true, true]),
+    );
+    assert!(none.heading_chunks.iter().all(|h| h.capacity() == 0));
+    let mut turned = 0;
+    for i in 0..w.agents.len() {
+        let full = all.summaries(i);
+        for p in [&none, &fish] {
+            let kept = p.keep_headings;
+            for (a, b) in p.summaries(i).iter().zip(&full) {
+                let heading = if kept { b.mean_heading } else { Vec3::ZERO };
+                assert_eq!(
+                    *a,
+                    Summary {
+                        mean_heading: heading,
+                        ..*b
+                    },
+                    "agent {i}"
+                );
+            }
+        }
+        turned += full.iter().filter(|s| s.mean_heading != Vec3::ZERO).count();
+    }
+    assert!(turned > 100, "{turned}");
+    assert!(fish.keep_headings && !none.keep_headings);
+}
+
+#[test]
 fn an_obstacle_out_of_range_leaves_every_bit_of_the_kin_sums() {
     // The obstacle grid lists a rock for every cell its bounding sphere, grown by the reach,
     // touches: most agents it lists it for are out of its range. Those perceive exactly what
