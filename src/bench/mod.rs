@@ -609,18 +609,20 @@ pub fn decide_timed(w: &BenchWorld, passes: u64, scripted: bool) -> (f64, u64) {
                     Scope::new(),
                     Mind::new(0, 0),
                     Dynamic::from(crate::script::AgentView::default()),
+                    crate::perception::PerceptBuf::default(),
                 )
             },
-            |(scope, mind, this), i| {
+            |(scope, mind, this, percepts), i| {
                 let a = &world.agents[i];
                 let sp = &set.species[a.species.0 as usize];
                 let summaries = perception.summaries(i);
+                let percepts = perception.percepts_in(i, percepts);
                 let ctx = Ctx {
                     world,
                     perception,
                     species: sp,
                     agent: a,
-                    percepts: perception.percepts(i),
+                    percepts,
                     summaries: &summaries,
                     // Decisions read no group sums.
                     group_queries: &crate::perception::GroupQueries::EMPTY,

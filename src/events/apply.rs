@@ -291,14 +291,14 @@ impl Pipeline {
         let (summaries, percepts) = if i < self.perception.len() {
             (self.perception.summaries(i), self.perception.percepts(i))
         } else {
-            ([Summary::NONE; Category::COUNT], &[][..])
+            ([Summary::NONE; Category::COUNT], Vec::new())
         };
         let ctx = Ctx {
             world,
             perception: &self.perception,
             species: sp,
             agent: &agent,
-            percepts,
+            percepts: &percepts,
             summaries: &summaries,
             group_queries: &GroupQueries::EMPTY,
             group_sums: &[],

@@ -162,7 +162,7 @@ mod tests {
         p.run(&w, &ag, &Grid::new(), &[sense], &rel);
         assert_eq!(p.percepts(0).len(), at.len() - 1);
         let mut pos = w.agents[0].pos;
-        keep_solid(&mut pos, 0, &w.agents[0], p.percepts(0), &w, &p);
+        keep_solid(&mut pos, 0, &w.agents[0], &p.percepts(0), &w, &p);
         pos
     }
 

@@ -126,12 +126,8 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
 
     /// Writes the summaries (means, and the nearest among the kept percepts: the first of the
     /// smallest distance, mates also counting as kin), with the nearest of each category put
-    /// back among the kept; returns the kept percepts and a bit mask of the slots that are some
-    /// category's nearest.
-    pub(super) fn finish(
-        &mut self,
-        summary: &mut [Summary; Category::COUNT],
-    ) -> (&'a mut [Percept], u32) {
+    /// back among the kept; returns the kept percepts (a summary's `nearest` names its slot).
+    pub(super) fn finish(&mut self, summary: &mut [Summary; Category::COUNT]) -> &'a mut [Percept] {
         self.sums_into(summary);
         // Taken, not moved out of `self`: the fold stays where it is (no copy of its
         // candidates).
@@ -142,15 +138,11 @@ impl<'a, const KEEP: bool> Fold<'a, KEEP> {
             // Nothing kept without `KEEP`.
             (0, [None; Category::COUNT])
         };
-        let mut nearest = 0u32;
         for (sm, b) in summary.iter_mut().zip(best) {
             divide_means(sm);
             sm.nearest = b.map(|b| b.0);
-            if let Some((k, _)) = b {
-                nearest |= 1 << k;
-            }
         }
-        (&mut slots[..len], nearest)
+        &mut slots[..len]
     }
 
     /// Notes one percept of category `cat` at squared distance `key` (distance `dist()`),

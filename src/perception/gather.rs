@@ -28,7 +28,6 @@ pub(super) struct Gathered {
 pub(super) struct Me {
     pub(super) pos: Vec3,
     pub(super) yaw: f32,
-    pub(super) pitch: f32,
     /// Forward unit vector.
     pub(super) heading: Vec3,
     pub(super) tag: Tag,
@@ -209,7 +208,28 @@ impl Perception {
             };
         }
         self.by_grid = by_grid;
+        // What kept percepts are read back with (`Perception::percepts_in`).
+        self.fed.clear();
+        self.bearing_ranges.clear();
+        self.bearing_ranges.extend(
+            (0..senses.len().max(reads.len()))
+                .map(|s| reads.get(s).unwrap_or(&everything).bearing_range),
+        );
+        self.obstacle_sizes.clear();
+        self.obstacle_sizes
+            .extend(world.obstacles.iter().map(|o| o.shape.diagonal()));
+        let keeps_percepts =
+            unsensed || reads.len() < senses.len() || (0..senses.len()).any(|s| share(s).0 > 0);
         self.angles.clear();
+        if !by_grid && keeps_percepts {
+            // In agent order, each row's heading angles, only for the bearings of its percepts.
+            self.angles.resize(n, [0.0; 2]);
+            self.angles
+                .par_iter_mut()
+                .zip(world.agents.par_iter())
+                .with_min_len(crate::par::min_len(1024))
+                .for_each(|(angles, a)| *angles = [a.yaw, a.pitch]);
+        }
         if by_grid {
             // In the grid's order, each row's heading angles, and its share of the buffers, read
             // from the agent's record (as fast as from a gathered copy of the angles: reef 100k,

@@ -172,3 +172,25 @@ fn nearest_kept(slots: &[Percept]) -> [Option<(u16, f32)>; Category::COUNT] {
     }
     best
 }
+
+/// Bearing and elevation (a pure function of the offset and the perceiver's yaw and pitch) for
+/// the percepts kept, or only for those the species reads: within its bearing range `range`,
+/// obstacles, and each category's nearest (`nearest`: a bit per slot). `None`: every one.
+#[inline(always)]
+pub(super) fn bearings(
+    slots: &mut [Percept],
+    nearest: u32,
+    range: Option<f32>,
+    yaw: f32,
+    pitch: f32,
+) {
+    for (k, p) in slots.iter_mut().enumerate() {
+        let wanted = match range {
+            None => true,
+            Some(r) => nearest & (1 << k) != 0 || p.category() == Category::Obstacle || p.dist <= r,
+        };
+        if wanted {
+            (p.bearing, p.elevation) = crate::frame::bearing_elevation(yaw, pitch, p.offset);
+        }
+    }
+}

@@ -44,6 +44,7 @@ pub use group::{GroupAcc, GroupQueries, GroupQuery, GroupSum};
 pub use occlusion::Occluders;
 pub use senses::{Reads, Relations, SenseParams};
 pub use strength::Strength;
+use types::Stored;
 pub use types::{Category, Level, Percept, Sector, Sectors, Sense, Source, Summary, MAX_SOURCES};
 pub use volume::{Extent, Volume};
 
@@ -71,8 +72,17 @@ pub struct Perception {
     /// `r`'s `counts[r]` are at `percept_at[r]` in list `r / SUMMARY_CHUNK`. A row has room for
     /// `rooms[r]` (its species' slots) while it is walked, and keeps only what it kept: a flocker
     /// with 8 slots and a rock now and then keeps a quarter of a percept on average (320 bytes a
-    /// row otherwise).
-    percept_chunks: Vec<Vec<Percept>>,
+    /// row otherwise). Each is held in 20 bytes ([`Stored`]): its size and bearing are read back
+    /// by [`Perception::percepts_in`].
+    percept_chunks: Vec<Vec<Stored>>,
+    /// The percepts fed to rows this tick (script tests) as they were given, by row: their
+    /// bearings and sizes are their own, not worked out from the world.
+    fed: Vec<(usize, Vec<Percept>)>,
+    /// Per species, the distance within which its agent percepts get their bearing
+    /// ([`Reads::bearing_range`]) this tick.
+    bearing_ranges: Vec<Option<f32>>,
+    /// Each obstacle's size (its shape's diagonal) this tick, by index.
+    obstacle_sizes: Vec<f32>,
     percept_at: Vec<u16>,
     rooms: Vec<u8>,
     counts: Vec<u16>,
@@ -111,8 +121,10 @@ pub struct Perception {
     /// the walk are then next to each other in space, and their neighborhoods are read from
     /// cache.
     by_grid: bool,
-    /// Yaw and pitch of the agent of each row, when the rows are in the grid's order (the rest
-    /// of what a perceiver reads of itself is in `near`, `tags` and the grid's positions).
+    /// Yaw and pitch of the agent of each row at the start of the tick: when the rows are in
+    /// the grid's order (the rest of what a perceiver reads of itself is in `near`, `tags` and
+    /// the grid's positions), and in agent order while some row may keep percepts (their
+    /// bearings are worked out from it when read).
     angles: Vec<[f32; 2]>,
     /// What a perceiver reads of each agent, gathered once per tick in the agent grid's order,
     /// so that a neighbor costs one small sequential read instead of a walk into the full agent
@@ -168,7 +180,7 @@ struct AgentOut<'a> {
 struct Outs<'a> {
     lo: usize,
     /// The percept lists of these rows, one per [`SUMMARY_CHUNK`].
-    percepts: &'a mut [Vec<Percept>],
+    percepts: &'a mut [Vec<Stored>],
     percept_at: &'a mut [u16],
     rooms: &'a [u8],
     counts: &'a mut [u16],
@@ -182,6 +194,17 @@ struct Outs<'a> {
     masks: &'a [RowMask],
     reaches: &'a mut [f32],
     sums: &'a mut [u32],
+}
+
+/// Room for an agent's percepts (see [`Perception::percepts_in`]); a worker keeps one from
+/// agent to agent.
+#[derive(Debug, Clone)]
+pub struct PerceptBuf([Percept; MAX_PERCEPTS]);
+
+impl Default for PerceptBuf {
+    fn default() -> Self {
+        PerceptBuf([keep::EMPTY; MAX_PERCEPTS])
+    }
 }
 
 /// Room for an agent's summaries by category (see [`Perception::summaries_in`]); a worker
@@ -254,9 +277,10 @@ impl<'a> Outs<'a> {
             let kept = &mut self.percepts[0];
             // Rows are written one after another, in lists that keep their room from tick to
             // tick: at first what every row could hold. The walk writes every summary of its
-            // row (here, then what it perceived is kept in the list), and every percept it
-            // keeps in place: none is cleared.
+            // row and every percept it keeps here (none is cleared), then what it perceived is
+            // kept in the lists.
             let mut row = [Summary::NONE; Category::COUNT];
+            let mut slots = [keep::EMPTY; MAX_PERCEPTS];
             let masks = self.masks;
             let rooms = self.rooms;
             let most_summaries = || masks.iter().map(|m| m.len()).sum();
@@ -285,14 +309,12 @@ impl<'a> Outs<'a> {
                 let ng = (sum_starts[i + 1] - sum_starts[i]) as usize;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
-                let need_percepts = used_percepts + room as usize;
-                room_for(kept, need_percepts, most_percepts, keep::EMPTY);
                 let row = &mut row[..mask.len()];
                 let mut spare = 0.0;
                 f(
                     i,
                     AgentOut {
-                        slots: &mut kept[used_percepts..need_percepts],
+                        slots: &mut slots[..room as usize],
                         count,
                         summary: &mut *row,
                         mask,
@@ -316,8 +338,13 @@ impl<'a> Outs<'a> {
                 }
                 *at = used as u16;
                 used = need;
+                let need = used_percepts + *count as usize;
+                room_for(kept, need, most_percepts, Stored::new(&keep::EMPTY));
+                for (p, s) in kept[used_percepts..need].iter_mut().zip(&slots) {
+                    *p = Stored::new(s);
+                }
                 *percept_at = used_percepts as u16;
-                used_percepts += *count as usize;
+                used_percepts = need;
             }
             list.truncate(used);
             settle(list, used, used + used / 4 + Category::COUNT, || 0);
@@ -329,9 +356,8 @@ impl<'a> Outs<'a> {
             }
             // Kept percepts come and go with what is near: room for up to twice what the rows
             // keep is kept (a chunk that keeps a few more next tick does not grow its list
-            // again), and when it shrinks, one more row's slots. The list is not cut to
-            // what the rows keep: each row's slots are then there already next tick (rows are
-            // read by `percept_at` and `counts`, never by the list's length).
+            // again), and when it shrinks, one more row's slots.
+            kept.truncate(used_percepts);
             let widest = || rooms.iter().max().map_or(0, |&r| r as usize);
             let most = 2 * used_percepts + MAX_PERCEPTS;
             settle(kept, used_percepts, most, widest);
@@ -412,12 +438,57 @@ impl Perception {
     }
 
     /// Percepts of agent `i`: the nearest [`SenseParams::max_percepts`], and the nearest of each
-    /// category; none when its species reads no individual percept.
+    /// category; none when its species reads no individual percept. A copy: see
+    /// [`Perception::percepts_in`].
+    pub fn percepts(&self, i: usize) -> Vec<Percept> {
+        let mut buf = PerceptBuf::default();
+        self.percepts_in(i, &mut buf).to_vec()
+    }
+
+    /// [`Perception::percepts`] into `buf`. Each is read back from its 20 bytes: its size is
+    /// its source's (the agent's as perception saw it, an obstacle's, 0 for food), and its
+    /// bearing and elevation are worked out from its offset and the perceiver's heading at the
+    /// start of the tick where the species reads them (within [`Reads::bearing_range`], every
+    /// obstacle, each category's nearest; 0 elsewhere), as the walk would have.
     #[inline]
-    pub fn percepts(&self, i: usize) -> &[Percept] {
+    pub fn percepts_in<'a>(&self, i: usize, buf: &'a mut PerceptBuf) -> &'a [Percept] {
         let r = self.row(i);
+        let n = self.counts[r] as usize;
+        if n == 0 {
+            return &[];
+        }
+        if !self.fed.is_empty() {
+            if let Some((_, fed)) = self.fed.iter().find(|(f, _)| *f == r) {
+                buf.0[..fed.len()].copy_from_slice(fed);
+                return &buf.0[..fed.len()];
+            }
+        }
         let at = self.percept_at[r] as usize;
-        &self.percept_chunks[r / SUMMARY_CHUNK][at..at + self.counts[r] as usize]
+        let stored = &self.percept_chunks[r / SUMMARY_CHUNK][at..at + n];
+        let out = &mut buf.0[..n];
+        for (p, s) in out.iter_mut().zip(stored) {
+            let size = match s.source() {
+                Source::Agent(j) => self.gathered.get(j as usize).map_or(0.0, |g| g.diagonal),
+                Source::Obstacle(k) => self.obstacle_sizes.get(k as usize).copied().unwrap_or(0.0),
+                Source::Food(_) | Source::Injected => 0.0,
+            };
+            *p = s.percept(size);
+        }
+        // The slots that are some category's nearest, as the summaries name them.
+        let (row, _, _) = self.summary_row(i);
+        let nearest = row
+            .iter()
+            .filter_map(Held::nearest)
+            .fold(0u32, |m, k| m | 1 << k);
+        let species = if self.by_grid {
+            self.tags[r].species
+        } else {
+            self.gathered[r].tag.species
+        };
+        let range = self.bearing_ranges.get(species as usize).copied().flatten();
+        let [yaw, pitch] = self.angles[r];
+        keep::bearings(out, nearest, range, yaw, pitch);
+        out
     }
 
     /// Obstacles (indices into `World::obstacles`, active or not) that may be near `p`: every
@@ -678,7 +749,7 @@ impl Perception {
             );
         }
         let mut by = [Summary::NONE; Category::COUNT];
-        let kept = fold.finish(&mut by).0;
+        let kept = fold.finish(&mut by);
         // The row's percepts and summaries replace its old ones in its chunk's lists; the rows
         // after it in the lists move by the difference.
         let c = i / SUMMARY_CHUNK;
@@ -688,9 +759,12 @@ impl Perception {
             &mut self.percept_chunks[c],
             &mut self.percept_at[i..end],
             old,
-            kept.iter().copied(),
+            kept.iter().map(Stored::new),
         );
         self.counts[i] = kept.len() as u16;
+        // Read back as given (their bearings and sizes are their own).
+        self.fed.retain(|(r, _)| *r != i);
+        self.fed.push((i, kept.to_vec()));
         let mask = self.row_masks[i];
         let mut row = [Summary::NONE; Category::COUNT];
         mask.keep(&by, &mut row[..mask.len()]);

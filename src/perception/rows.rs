@@ -47,13 +47,19 @@ impl Held {
         }
     }
 
+    /// Index of the nearest percept, if any.
+    #[inline(always)]
+    pub(super) fn nearest(&self) -> Option<u16> {
+        (self.nearest != u16::MAX).then_some(self.nearest)
+    }
+
     /// The summary it holds, with mean heading `heading`.
     #[inline(always)]
     pub(super) fn summary(&self, heading: Vec3) -> Summary {
         Summary {
             count: self.count,
             seen: self.seen,
-            nearest: (self.nearest != u16::MAX).then_some(self.nearest),
+            nearest: self.nearest(),
             nearest_dist: self.nearest_dist,
             centroid: self.centroid,
             mean_heading: heading,

@@ -110,11 +110,10 @@ impl View<'_> {
     #[inline(always)]
     fn perceiver(&self, r: usize) -> (usize, Me) {
         if self.by_grid {
-            let [yaw, pitch] = self.angles[r];
+            let [yaw, _] = self.angles[r];
             let me = Me {
                 pos: self.agents.positions()[r].into(),
                 yaw,
-                pitch,
                 heading: self.near[r].heading,
                 tag: self.tags[r],
             };
@@ -124,7 +123,6 @@ impl View<'_> {
             let me = Me {
                 pos: a.pos,
                 yaw: a.yaw,
-                pitch: a.pitch,
                 heading: self.gathered[r].body.heading,
                 tag: self.gathered[r].tag,
             };

@@ -15,7 +15,6 @@ use super::{
     Category, Extent, GroupAcc, GroupQueries, Percept, Reads, Relations, SenseParams, SumsOut,
 };
 use super::{Sense, Source};
-use crate::frame;
 use crate::world::Shape;
 use glam::{Vec3, Vec3A};
 
@@ -144,8 +143,8 @@ pub(super) fn perceive_one<const KEEP: bool>(
         Ok(row) => row,
         Err(_) => &mut full,
     };
-    let (slots, nearest) = fold.finish(by);
-    bearings(slots, nearest, reads, me.yaw, me.pitch);
+    // Bearings are worked out where the percepts are read (`Perception::percepts_in`).
+    let slots = fold.finish(by);
     let len = slots.len() as u16;
     if summary.len() < Category::COUNT {
         mask.keep(&full, summary);
@@ -490,21 +489,5 @@ impl Perceiver<'_, '_> {
                     });
                 }
             });
-    }
-}
-
-/// Bearing and elevation (a pure function of the offset) for the percepts kept, or only for
-/// those the species reads: within its bearing range, obstacles, and each category's nearest
-/// (`nearest`: a bit per slot).
-#[inline(always)]
-fn bearings(slots: &mut [Percept], nearest: u32, reads: &Reads, yaw: f32, pitch: f32) {
-    for (k, p) in slots.iter_mut().enumerate() {
-        let wanted = match reads.bearing_range {
-            None => true,
-            Some(r) => nearest & (1 << k) != 0 || p.category() == Category::Obstacle || p.dist <= r,
-        };
-        if wanted {
-            (p.bearing, p.elevation) = frame::bearing_elevation(yaw, pitch, p.offset);
-        }
     }
 }

@@ -13,7 +13,7 @@ use crate::diag::Diagnostic;
 use crate::drives::{self, Stimuli};
 use crate::locomotion::{self, anim, Motion};
 use crate::perception::{
-    Category, GroupQueries, Percept, Perception, Reads, Source, Summary, SummaryBuf,
+    Category, GroupQueries, Percept, PerceptBuf, Perception, Reads, Source, Summary, SummaryBuf,
 };
 use crate::script::AgentView;
 use crate::species::{ActionNode, Contact, Species, SpeciesSet};
@@ -40,6 +40,8 @@ pub(super) struct Worker {
     view: Dynamic,
     /// The agent's summaries, when its row holds some categories only.
     summaries: SummaryBuf,
+    /// The agent's percepts.
+    percepts: PerceptBuf,
     /// Locomotion's response factors of the last agent's body (the next is most often alike).
     gains: Option<locomotion::Gains>,
 }
@@ -51,6 +53,7 @@ impl Default for Worker {
             scratch: Scratch::default(),
             view: Dynamic::from(AgentView::default()),
             summaries: SummaryBuf::default(),
+            percepts: PerceptBuf::default(),
             gains: None,
         }
     }
@@ -288,6 +291,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
         scratch,
         view,
         summaries: summary_buf,
+        percepts: percept_buf,
         gains,
     } = w;
     scratch.reset();
@@ -302,7 +306,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     let s = agent.species.0 as usize;
     let group_queries = reads.get(s).map_or(&GroupQueries::EMPTY, |r| &r.groups);
     let sp = &set.species[s];
-    let percepts = perception.percepts(i);
+    let percepts = perception.percepts_in(i, percept_buf);
     let summaries = perception.summaries_in(i, summary_buf);
     let group_sums = perception.group_words(i);
     let dt = world.dt;

@@ -433,3 +433,122 @@ fn a_species_reading_obstacles_only_keeps_no_agent_percept() {
     assert_eq!(sm[Category::Kin as usize].nearest, None);
     assert_eq!(sm[Category::Obstacle as usize].nearest, Some(0));
 }
+
+#[test]
+fn kept_percepts_read_back_their_sizes_and_the_bearings_their_species_reads() {
+    // Fish (bearings within 2 m), their predators (every bearing), food and rocks; agents of
+    // several sizes and headings. A kept percept is held without its size and bearing: both
+    // read back as the walk would have made them, in the grid's order and in agent order (a
+    // kin-only species the kernel serves sends the walk to agent order).
+    for kernel in [false, true] {
+        let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 3);
+        let mut rng = Rng::new(13, 2);
+        for k in 0..240 {
+            let species = if k % 30 == 0 {
+                1
+            } else if kernel && k % 3 == 0 {
+                2
+            } else {
+                0
+            };
+            let mut a = agent(
+                k,
+                species,
+                random_point(&mut rng, 12.0),
+                rng.range(-3.0, 3.0),
+            );
+            a.pitch = rng.range(-0.6, 0.6);
+            a.size = Vec3::new(
+                rng.range(0.1, 1.0),
+                rng.range(0.1, 1.0),
+                rng.range(0.5, 2.0),
+            );
+            w.agents.push(a);
+        }
+        for _ in 0..30 {
+            w.add_food(random_point(&mut rng, 12.0));
+        }
+        for _ in 0..4 {
+            w.add_obstacle(Shape::Sphere {
+                center: random_point(&mut rng, 12.0),
+                radius: rng.range(0.5, 2.0),
+            });
+        }
+        let species = if kernel { 3 } else { 2 };
+        let mut rel = Relations::new(species);
+        rel.set(0, 0, Some(Category::Kin));
+        rel.set(0, 1, Some(Category::Predator));
+        rel.set(1, 0, Some(Category::Food));
+        rel.set_eats_items(0, true);
+        if kernel {
+            for s in 0..3 {
+                rel.set(2, s, Some(Category::Kin));
+            }
+        }
+        let sense = SenseParams {
+            vision_radius: 6.0,
+            max_percepts: 8,
+            ..SenseParams::default()
+        };
+        let reads = [
+            Reads {
+                bearing_range: Some(2.0),
+                ..Reads::default()
+            },
+            Reads::default(),
+            separation_only(1.0),
+        ];
+        let mut ag = Grid::new();
+        ag.rebuild(
+            w.bounds,
+            sense.query_radius(),
+            w.agents.iter().map(|a| a.pos),
+        );
+        let mut fg = Grid::new();
+        fg.rebuild(w.bounds, sense.query_radius(), w.food.iter().map(|f| f.pos));
+        let mut p = Perception::new();
+        let senses = [sense; 3];
+        p.run_selective(&w, &ag, &fg, &senses[..species], &rel, &reads[..species]);
+        assert_eq!(p.by_grid, !kernel);
+        let (mut with, mut without, mut sources) = (0, 0, [0; 3]);
+        for (i, a) in w.agents.iter().enumerate() {
+            let nearest: Vec<u16> = p.summaries(i).iter().filter_map(|s| s.nearest).collect();
+            let range = reads[a.species.0 as usize].bearing_range;
+            for (k, q) in p.percepts(i).iter().enumerate() {
+                let size = match q.source() {
+                    Source::Agent(j) => w.agents[j as usize].diagonal(),
+                    Source::Obstacle(j) => w.obstacles[j as usize].shape.diagonal(),
+                    _ => 0.0,
+                };
+                sources[match q.source() {
+                    Source::Agent(_) => 0,
+                    Source::Food(_) => 1,
+                    _ => 2,
+                }] += 1;
+                assert_eq!(q.size.to_bits(), size.to_bits(), "agent {i}: {q:?}");
+                let wanted = range.is_none_or(|r| {
+                    nearest.contains(&(k as u16))
+                        || q.category() == Category::Obstacle
+                        || q.dist <= r
+                });
+                let (b, e) = if wanted {
+                    crate::frame::bearing_elevation(a.yaw, a.pitch, q.offset)
+                } else {
+                    (0.0, 0.0)
+                };
+                assert_eq!(
+                    [q.bearing, q.elevation].map(f32::to_bits),
+                    [b, e].map(f32::to_bits),
+                    "agent {i}: {q:?}"
+                );
+                if wanted {
+                    with += 1;
+                } else {
+                    without += 1;
+                }
+            }
+        }
+        assert!(with > 100 && without > 100, "{with} {without}");
+        assert!(sources.iter().all(|&n| n > 10), "{sources:?}");
+    }
+}
