@@ -480,11 +480,8 @@ impl Perception {
             .iter()
             .filter_map(Held::nearest)
             .fold(0u32, |m, k| m | 1 << k);
-        let species = if self.by_grid {
-            self.tags[r].species
-        } else {
-            self.gathered[r].tag.species
-        };
+        // By agent (the agent pass reads `gathered` in its order already).
+        let species = self.gathered[i].tag.species;
         let range = self.bearing_ranges.get(species as usize).copied().flatten();
         let [yaw, pitch] = self.angles[r];
         keep::bearings(out, nearest, range, yaw, pitch);
