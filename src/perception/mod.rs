@@ -77,7 +77,7 @@ pub struct Perception {
     percept_chunks: Vec<Vec<Stored>>,
     /// The percepts fed to rows this tick (script tests) as they were given, by row: their
     /// bearings and sizes are their own, not worked out from the world.
-    fed: Vec<(usize, Vec<Percept>)>,
+    fed: std::collections::BTreeMap<usize, Vec<Percept>>,
     /// Per species, the distance within which its agent percepts get their bearing
     /// ([`Reads::bearing_range`]) this tick.
     bearing_ranges: Vec<Option<f32>>,
@@ -458,7 +458,7 @@ impl Perception {
             return &[];
         }
         if !self.fed.is_empty() {
-            if let Some((_, fed)) = self.fed.iter().find(|(f, _)| *f == r) {
+            if let Some(fed) = self.fed.get(&r) {
                 buf.0[..fed.len()].copy_from_slice(fed);
                 return &buf.0[..fed.len()];
             }
@@ -760,8 +760,7 @@ impl Perception {
         );
         self.counts[i] = kept.len() as u16;
         // Read back as given (their bearings and sizes are their own).
-        self.fed.retain(|(r, _)| *r != i);
-        self.fed.push((i, kept.to_vec()));
+        self.fed.insert(i, kept.to_vec());
         let mask = self.row_masks[i];
         let mut row = [Summary::NONE; Category::COUNT];
         mask.keep(&by, &mut row[..mask.len()]);

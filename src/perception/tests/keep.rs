@@ -9,27 +9,27 @@ fn injected_percepts_replace_an_agents_and_rebuild_its_summaries() {
     w.add_food(Vec3::new(0.0, 0.0, 3.0));
     let mut p = run_full(&w, &rel(), SenseParams::default());
     assert_eq!(p.summaries(0)[Category::Food as usize].count, 1);
+    // A fed percept's bearing, elevation and size are its own, whatever its offset says.
     let fed = |category, sense, offset: Vec3| {
-        Percept::new(
+        let mut p = Percept::new(
             Source::Injected,
             category,
             sense,
             offset,
             offset.length(),
-            1.0,
-        )
+            1.5,
+        );
+        (p.bearing, p.elevation) = (0.25, -0.125);
+        p
     };
-    p.inject(
-        0,
-        Vec3::new(1.0, 0.0, 0.0),
-        &[
-            fed(Category::Predator, Sense::Smell, Vec3::new(0.0, 0.0, 12.0)),
-            fed(Category::Mate, Sense::Vision, Vec3::new(0.0, 0.0, 2.0)),
-            fed(Category::Kin, Sense::Vision, Vec3::new(0.0, 0.0, 4.0)),
-        ],
-    );
+    let percepts = [
+        fed(Category::Predator, Sense::Smell, Vec3::new(0.0, 0.0, 12.0)),
+        fed(Category::Mate, Sense::Vision, Vec3::new(0.0, 0.0, 2.0)),
+        fed(Category::Kin, Sense::Vision, Vec3::new(0.0, 0.0, 4.0)),
+    ];
+    p.inject(0, Vec3::new(1.0, 0.0, 0.0), &percepts);
     let sm = p.summaries(0);
-    assert_eq!(p.percepts(0).len(), 3);
+    assert_eq!(p.percepts(0), percepts);
     assert_eq!(
         sm[Category::Food as usize].count,
         0,
