@@ -88,15 +88,12 @@ fn divide_means(sm: &mut Summary) {
     }
 }
 
-/// Writes the kin kernel's sums `acc` as the kin summary of `row` (of the categories in `mask`,
-/// kin among them); the row's others are cleared.
+/// Writes the kin kernel's sums `acc` as the kin summary in `by`; the other categories of
+/// `mask` (the row's) are cleared.
 #[inline(always)]
-pub(super) fn kin_only(row: &mut [Summary], mask: RowMask, acc: &Acc) {
-    if row.len() > 1 {
-        row.fill(Summary::NONE);
-    }
-    let k = mask.slot(Category::Kin).unwrap_or(0);
-    let sm = &mut row[k];
+pub(super) fn kin_only(by: &mut [Summary; Category::COUNT], mask: RowMask, acc: &Acc) {
+    mask.clear_but(Category::Kin, by);
+    let sm = &mut by[Category::Kin as usize];
     *sm = acc.summary();
     divide_means(sm);
 }

@@ -165,8 +165,8 @@ pub struct Perception {
 struct AgentOut<'a> {
     slots: &'a mut [Percept],
     count: &'a mut u16,
-    /// Its summaries, of the categories in `mask`.
-    summary: &'a mut [Summary],
+    /// Its summaries by category: those of the categories in `mask` are written.
+    summary: &'a mut [Summary; Category::COUNT],
     mask: RowMask,
     reach: &'a mut f32,
     /// Its group sums' words (see [`Perception::sums`]).
@@ -309,35 +309,35 @@ impl<'a> Outs<'a> {
                 let ng = (sum_starts[i + 1] - sum_starts[i]) as usize;
                 let (own_sums, rest) = std::mem::take(&mut sums).split_at_mut(ng);
                 sums = rest;
-                let row = &mut row[..mask.len()];
                 let mut spare = 0.0;
                 f(
                     i,
                     AgentOut {
                         slots: &mut slots[..room as usize],
                         count,
-                        summary: &mut *row,
+                        summary: &mut row,
                         mask,
                         reach: reach.unwrap_or(&mut spare),
                         sums: own_sums,
                         kin: &mut kin,
                     },
                 );
-                *held = mask.compact(row);
-                let need = used + held.len();
-                let row = &row[..held.len()];
-                room_for(list, need, most_summaries, Held::NONE);
-                for (h, s) in list[used..need].iter_mut().zip(row) {
-                    *h = Held::new(s);
-                }
+                // What it perceived of its categories is kept, in their order.
+                let most = used + mask.len();
+                room_for(list, most, most_summaries, Held::NONE);
                 if keep_headings {
-                    room_for(headings, need, most_summaries, Vec3::ZERO);
-                    for (h, s) in headings[used..need].iter_mut().zip(row) {
-                        *h = s.mean_heading;
-                    }
+                    room_for(headings, most, most_summaries, Vec3::ZERO);
                 }
+                let mut k = used;
+                *held = mask.perceived(&row, |s| {
+                    list[k] = Held::new(s);
+                    if keep_headings {
+                        headings[k] = s.mean_heading;
+                    }
+                    k += 1;
+                });
                 *at = used as u16;
-                used = need;
+                used = k;
                 let need = used_percepts + *count as usize;
                 room_for(kept, need, most_percepts, Stored::new(&keep::EMPTY));
                 for (p, s) in kept[used_percepts..need].iter_mut().zip(&slots) {
@@ -763,10 +763,13 @@ impl Perception {
         self.fed.insert(i, kept.to_vec());
         let mask = self.row_masks[i];
         let mut row = [Summary::NONE; Category::COUNT];
-        mask.keep(&by, &mut row[..mask.len()]);
-        let held = mask.compact(&mut row[..mask.len()]);
+        let mut k = 0;
+        let held = mask.perceived(&by, |s| {
+            row[k] = *s;
+            k += 1;
+        });
         let old = self.held[i].len();
-        let new = &row[..held.len()];
+        let new = &row[..k];
         if self.keep_headings {
             // Moved with the summaries (the row's starts are moved once, below).
             let mut starts = self.held_at[i..end].to_vec();

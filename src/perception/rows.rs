@@ -125,8 +125,8 @@ impl RowMask {
     }
 
     /// Where category `c`'s summary is in the row, if it holds it.
-    #[inline]
-    pub(super) fn slot(self, c: Category) -> Option<usize> {
+    #[cfg(test)]
+    fn slot(self, c: Category) -> Option<usize> {
         let c = c as usize;
         self.has(c)
             .then(|| (self.0 & ((1u8 << c) - 1)).count_ones() as usize)
@@ -156,38 +156,47 @@ impl RowMask {
         }
     }
 
-    /// Moves the summaries of `row` (a row of this mask) that are not empty to its front, in
-    /// order, and returns the mask of those (an empty summary, bit for bit
-    /// [`Summary::NONE`], is what a row that does not hold the category reads).
-    #[inline]
-    pub(super) fn compact(self, row: &mut [Summary]) -> RowMask {
-        let (mut m, mut held, mut k) = (self.0, 0u8, 0);
-        for j in 0..row.len() {
-            let c = m.trailing_zeros();
-            m &= m.wrapping_sub(1);
-            if !row[j].is_none() {
-                if k != j {
-                    row[k] = row[j];
-                }
-                k += 1;
+    /// Calls `put` with each summary of `by` (by category) that this mask holds and that is
+    /// not empty, in category order, and returns the mask of those: what the row keeps (an
+    /// empty summary, bit for bit [`Summary::NONE`], is what a row that does not hold the
+    /// category reads).
+    #[inline(always)]
+    pub(super) fn perceived(
+        self,
+        by: &[Summary; Category::COUNT],
+        mut put: impl FnMut(&Summary),
+    ) -> RowMask {
+        let (mut m, mut held) = (self.0, 0u8);
+        while m != 0 {
+            let c = m.trailing_zeros() as usize;
+            m &= m - 1;
+            if let Some(s) = by.get(c).filter(|s| !s.is_none()) {
+                put(s);
                 held |= 1 << c;
             }
         }
         RowMask(held)
     }
-    /// Keeps, of the summaries `by`, those the row holds. The others are empty: the mask
-    /// holds every category the walks can fold for the row's species.
-    #[inline]
-    pub(super) fn keep(self, by: &[Summary; Category::COUNT], row: &mut [Summary]) {
-        let mut k = 0;
-        for (c, s) in by.iter().enumerate() {
-            if self.has(c) {
-                row[k] = *s;
-                k += 1;
-            } else {
-                debug_assert_eq!(s.count, 0, "a {:?} percept", Category::ALL[c]);
+
+    /// Clears this mask's categories in `by` but `keep`.
+    #[inline(always)]
+    pub(super) fn clear_but(self, keep: Category, by: &mut [Summary; Category::COUNT]) {
+        let mut m = self.0 & !(1 << keep as u8);
+        while m != 0 {
+            let c = m.trailing_zeros() as usize;
+            m &= m - 1;
+            if let Some(s) = by.get_mut(c) {
+                *s = Summary::NONE;
             }
         }
+    }
+
+    /// Whether every category of `by` outside this mask is empty: the walks can fold only the
+    /// categories a row holds.
+    pub(super) fn holds_all_perceived(self, by: &[Summary; Category::COUNT]) -> bool {
+        by.iter()
+            .enumerate()
+            .all(|(c, s)| self.has(c) || s.count == 0)
     }
 }
 
@@ -210,10 +219,20 @@ mod tests {
         let mut by = [Summary::NONE; Category::COUNT];
         by[Category::Kin as usize].count = 4;
         by[Category::Obstacle as usize].count = 1;
-        let mut row = [Summary::NONE; 3];
-        m.keep(&by, &mut row);
-        assert_eq!(row[1].count, 4);
-        assert_eq!(m.expand(&held(&row), &[]), by);
+        let mut row = Vec::new();
+        let kept = m.perceived(&by, |s| row.push(*s));
+        assert_eq!(kept.slot(Category::Kin), Some(0));
+        assert_eq!(kept.slot(Category::Obstacle), Some(1));
+        assert_eq!([row[0].count, row[1].count], [4, 1]);
+        assert_eq!(kept.expand(&held(&row), &[]), by);
+        assert!(m.holds_all_perceived(&by));
+        // A mask clears its other categories, and sees a category it does not hold.
+        let mut cleared = by;
+        m.clear_but(Category::Kin, &mut cleared);
+        assert_eq!(cleared[Category::Kin as usize].count, 4);
+        assert!(cleared[Category::Obstacle as usize].is_none());
+        by[Category::Food as usize].count = 1;
+        assert!(!m.holds_all_perceived(&by));
         // Mates are kin of the other sex, and summed as kin too; items make food.
         rel.set_mates(0, true);
         rel.set_eats_items(0, true);
@@ -227,27 +246,28 @@ mod tests {
     }
 
     #[test]
-    fn a_compacted_row_keeps_what_was_perceived_in_order() {
-        let mut row = [Summary::NONE; Category::COUNT];
-        row[1].count = 2;
-        row[4].count = 5;
+    fn a_row_keeps_what_was_perceived_in_order() {
+        let mut by = [Summary::NONE; Category::COUNT];
+        by[1].count = 2;
+        by[4].count = 5;
         // An empty summary with another bit pattern (−0 in a sum) is kept, not lost.
-        row[2].inv_dist_sum = -0.0;
-        let held = RowMask::ALL.compact(&mut row);
+        by[2].inv_dist_sum = -0.0;
+        let mut row = Vec::new();
+        let held = RowMask::ALL.perceived(&by, |s| row.push(*s));
         assert_eq!(held.len(), 3);
         assert_eq!([row[0].count, row[2].count], [2, 5]);
         assert!(row[1].inv_dist_sum.is_sign_negative());
-        let by = held.expand(&self::held(&row[..3]), &[]);
-        assert_eq!([by[1].count, by[4].count], [2, 5]);
-        assert!(by[2].inv_dist_sum.is_sign_negative());
-        assert!(by[0].is_none() && by[3].is_none() && by[5].is_none());
-        // In a row of fewer categories, each keeps its own.
+        let back = held.expand(&self::held(&row), &[]);
+        assert_eq!([back[1].count, back[4].count], [2, 5]);
+        assert!(back[2].inv_dist_sum.is_sign_negative());
+        assert!(back[0].is_none() && back[3].is_none() && back[5].is_none());
+        // A row of fewer categories keeps only its own.
         let m = RowMask(0b10_1010);
-        let mut row = [Summary::NONE; 3];
-        row[2].count = 1;
-        let held = m.compact(&mut row);
-        assert_eq!(held, RowMask(0b10_0000));
-        assert_eq!(held.expand(&self::held(&row[..1]), &[])[5].count, 1);
+        let mut row = Vec::new();
+        let held = m.perceived(&by, |s| row.push(*s));
+        assert_eq!(held, RowMask(0b00_0010));
+        assert_eq!(row.len(), 1);
+        assert_eq!(held.expand(&self::held(&row), &[])[1].count, 2);
     }
 
     fn held(row: &[Summary]) -> Vec<Held> {

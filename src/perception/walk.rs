@@ -104,7 +104,7 @@ pub(super) fn perceive_one<const KEEP: bool>(
     cos_min: f32,
     reads: &Reads,
     slots: &mut [Percept],
-    summary: &mut [Summary],
+    summary: &mut [Summary; Category::COUNT],
     mask: RowMask,
     reach: &mut f32,
     sums: &mut SumsOut,
@@ -137,18 +137,10 @@ pub(super) fn perceive_one<const KEEP: bool>(
     if view.relations.eats_items(p.s) {
         p.food(occ, agent_percepts, &mut fold);
     }
-    // A row of every category is written in place; a shorter one keeps its categories.
-    let mut full = [Summary::NONE; Category::COUNT];
-    let by: &mut [Summary; Category::COUNT] = match (&mut *summary).try_into() {
-        Ok(row) => row,
-        Err(_) => &mut full,
-    };
     // Bearings are worked out where the percepts are read (`Perception::percepts_in`).
-    let slots = fold.finish(by);
-    let len = slots.len() as u16;
-    if summary.len() < Category::COUNT {
-        mask.keep(&full, summary);
-    }
+    let len = fold.finish(summary).len() as u16;
+    // The walks fold only what the row's categories hold.
+    debug_assert!(mask.holds_all_perceived(summary), "{mask:?}: {summary:?}");
     len
 }
 
@@ -158,7 +150,7 @@ impl Perceiver<'_, '_> {
     #[inline(always)]
     fn kernel_alone(
         &self,
-        summary: &mut [Summary],
+        summary: &mut [Summary; Category::COUNT],
         mask: RowMask,
         sums: &mut SumsOut,
         buf: &mut kin::KinBuf,
