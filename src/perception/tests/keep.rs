@@ -498,14 +498,7 @@ fn kept_percepts_read_back_their_sizes_and_the_bearings_their_species_reads() {
             Reads::default(),
             separation_only(1.0),
         ];
-        let mut ag = Grid::new();
-        ag.rebuild(
-            w.bounds,
-            sense.query_radius(),
-            w.agents.iter().map(|a| a.pos),
-        );
-        let mut fg = Grid::new();
-        fg.rebuild(w.bounds, sense.query_radius(), w.food.iter().map(|f| f.pos));
+        let (ag, fg) = grids(&w, sense.query_radius());
         let mut p = Perception::new();
         let senses = [sense; 3];
         p.run_selective(&w, &ag, &fg, &senses[..species], &rel, &reads[..species]);

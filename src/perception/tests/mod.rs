@@ -32,9 +32,20 @@ pub(crate) fn agent(id: u32, species: u16, pos: Vec3, yaw: f32) -> Agent {
 /// Adds `n` agents of species 0 at random points within `spread` of the origin, each with a
 /// random yaw, pitch and speed (drawn from `rng` in that order).
 pub(crate) fn push_swarm(w: &mut World, rng: &mut Rng, n: u32, spread: f32) {
+    push_school(w, rng, n, spread, |_| 0);
+}
+
+/// [`push_swarm`] with agent `k` of species `species(k)`.
+pub(crate) fn push_school(
+    w: &mut World,
+    rng: &mut Rng,
+    n: u32,
+    spread: f32,
+    species: impl Fn(u32) -> u16,
+) {
     for k in 0..n {
         let pos = random_point(rng, spread);
-        let mut a = agent(k, 0, pos, rng.range(-3.0, 3.0));
+        let mut a = agent(k, species(k), pos, rng.range(-3.0, 3.0));
         a.pitch = rng.range(-0.5, 0.5);
         a.speed = rng.range(0.0, 2.0);
         w.agents.push(a);
@@ -53,20 +64,18 @@ fn run_full(world: &World, rel: &Relations, sense: SenseParams) -> Perception {
 }
 
 fn run_with(world: &World, rel: &Relations, sense: SenseParams, mut p: Perception) -> Perception {
-    let mut ag = Grid::new();
-    ag.rebuild(
-        world.bounds,
-        sense.query_radius(),
-        world.agents.iter().map(|a| a.pos),
-    );
-    let mut fg = Grid::new();
-    fg.rebuild(
-        world.bounds,
-        sense.query_radius(),
-        world.food.iter().map(|f| f.pos),
-    );
+    let (ag, fg) = grids(world, sense.query_radius());
     p.run(world, &ag, &fg, &[sense, sense], rel);
     p
+}
+
+/// The agent and food grids of `world`, of cells `cell`.
+fn grids(world: &World, cell: f32) -> (Grid, Grid) {
+    let mut ag = Grid::new();
+    ag.rebuild(world.bounds, cell, world.agents.iter().map(|a| a.pos));
+    let mut fg = Grid::new();
+    fg.rebuild(world.bounds, cell, world.food.iter().map(|f| f.pos));
+    (ag, fg)
 }
 
 /// A point drawn uniformly in the cube `[-half, half]³`.

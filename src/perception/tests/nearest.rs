@@ -8,18 +8,7 @@ use super::*;
 fn school() -> World {
     let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 2);
     let mut rng = Rng::new(11, 0);
-    for k in 0..612 {
-        let species = if k % 51 == 50 { 1 } else { 0 };
-        let mut a = agent(
-            k,
-            species,
-            random_point(&mut rng, 12.0),
-            rng.range(-3.0, 3.0),
-        );
-        a.pitch = rng.range(-0.5, 0.5);
-        a.speed = rng.range(0.0, 2.0);
-        w.agents.push(a);
-    }
+    push_school(&mut w, &mut rng, 612, 12.0, |k| u16::from(k % 51 == 50));
     w
 }
 

@@ -420,28 +420,12 @@ fn mean_headings_are_kept_only_where_a_species_reads_them() {
     // reads mean headings or not, but for the heading itself, zero where nobody reads it.
     let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 2);
     let mut rng = Rng::new(9, 1);
-    for k in 0..200 {
-        let species = u16::from(k % 20 == 0);
-        let mut a = agent(
-            k,
-            species,
-            random_point(&mut rng, 15.0),
-            rng.range(-3.0, 3.0),
-        );
-        a.pitch = rng.range(-0.5, 0.5);
-        a.speed = rng.range(0.5, 2.0);
-        w.agents.push(a);
-    }
+    push_school(&mut w, &mut rng, 200, 15.0, |k| u16::from(k % 20 == 0));
     let sense = SenseParams {
         vision_radius: 6.0,
         ..SenseParams::default()
     };
-    let mut ag = Grid::new();
-    ag.rebuild(
-        w.bounds,
-        sense.query_radius(),
-        w.agents.iter().map(|a| a.pos),
-    );
+    let (ag, _) = grids(&w, sense.query_radius());
     let perceive = |headings: [bool; 2]| {
         let reads = headings.map(|headings| Reads {
             headings,
