@@ -192,12 +192,10 @@ impl Perception {
                 .for_each(|(((a, g), slots), sums)| gather(a, g, slots, sums));
         }
         let unsensed = unsensed.into_inner();
-        // Mean headings are kept where some species reads them (one without reads or senses
-        // reads everything).
-        self.keep_headings = self.full_rows
-            || unsensed
-            || reads.len() < senses.len()
-            || reads.iter().any(|r| r.headings);
+        // A species without reads or senses reads everything (`Reads::default`).
+        let reads_all = unsensed || reads.len() < senses.len();
+        // Mean headings are kept where some species reads them.
+        self.keep_headings = self.full_rows || reads_all || reads.iter().any(|r| r.headings);
         if !prev {
             // An agent of a species without senses perceives with the defaults, which keep
             // agent percepts (rare: a second, sequential pass).
@@ -218,8 +216,7 @@ impl Perception {
         self.obstacle_sizes.clear();
         self.obstacle_sizes
             .extend(world.obstacles.iter().map(|o| o.shape.diagonal()));
-        let keeps_percepts =
-            unsensed || reads.len() < senses.len() || (0..senses.len()).any(|s| share(s).0 > 0);
+        let keeps_percepts = reads_all || (0..senses.len()).any(|s| share(s).0 > 0);
         self.angles.clear();
         if !by_grid && keeps_percepts {
             // In agent order, each row's heading angles, only for the bearings of its percepts.

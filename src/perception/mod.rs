@@ -475,7 +475,7 @@ impl Perception {
             *p = s.percept(size);
         }
         // The slots that are some category's nearest, as the summaries name them.
-        let (row, _, _) = self.summary_row(i);
+        let (row, _, _) = self.summary_row_at(r);
         let nearest = row
             .iter()
             .filter_map(Held::nearest)
@@ -506,7 +506,12 @@ impl Perception {
     /// and the categories it holds.
     #[inline]
     fn summary_row(&self, i: usize) -> (&[Held], &[Vec3], RowMask) {
-        let r = self.row(i);
+        self.summary_row_at(self.row(i))
+    }
+
+    /// [`Perception::summary_row`] of row `r`.
+    #[inline]
+    fn summary_row_at(&self, r: usize) -> (&[Held], &[Vec3], RowMask) {
         let held = self.held[r];
         let at = self.held_at[r] as usize;
         let c = r / SUMMARY_CHUNK;

@@ -145,15 +145,22 @@ impl RowMask {
     /// as they are). `headings`: their mean headings, or none kept (zero).
     #[inline]
     pub(super) fn fill(self, row: &[Held], headings: &[Vec3], by: &mut [Summary; Category::COUNT]) {
-        let mut m = self.0;
-        for (k, s) in row.iter().enumerate() {
-            let c = m.trailing_zeros() as usize;
-            if c >= Category::COUNT {
-                break;
-            }
+        for (k, (s, c)) in row.iter().zip(self.categories()).enumerate() {
             by[c] = s.summary(headings.get(k).copied().unwrap_or(Vec3::ZERO));
-            m &= m - 1;
         }
+    }
+
+    /// The categories it holds, in order, as indices.
+    #[inline(always)]
+    fn categories(self) -> impl Iterator<Item = usize> {
+        let mut m = self.0 & RowMask::ALL.0;
+        std::iter::from_fn(move || {
+            (m != 0).then(|| {
+                let c = m.trailing_zeros() as usize;
+                m &= m - 1;
+                c
+            })
+        })
     }
 
     /// Calls `put` with each summary of `by` (by category) that this mask holds and that is
@@ -166,12 +173,10 @@ impl RowMask {
         by: &[Summary; Category::COUNT],
         mut put: impl FnMut(&Summary),
     ) -> RowMask {
-        let (mut m, mut held) = (self.0, 0u8);
-        while m != 0 {
-            let c = m.trailing_zeros() as usize;
-            m &= m - 1;
-            if let Some(s) = by.get(c).filter(|s| !s.is_none()) {
-                put(s);
+        let mut held = 0u8;
+        for c in self.categories() {
+            if !by[c].is_none() {
+                put(&by[c]);
                 held |= 1 << c;
             }
         }
@@ -181,13 +186,8 @@ impl RowMask {
     /// Clears this mask's categories in `by` but `keep`.
     #[inline(always)]
     pub(super) fn clear_but(self, keep: Category, by: &mut [Summary; Category::COUNT]) {
-        let mut m = self.0 & !(1 << keep as u8);
-        while m != 0 {
-            let c = m.trailing_zeros() as usize;
-            m &= m - 1;
-            if let Some(s) = by.get_mut(c) {
-                *s = Summary::NONE;
-            }
+        for c in self.categories().filter(|&c| c != keep as usize) {
+            by[c] = Summary::NONE;
         }
     }
 
