@@ -196,7 +196,7 @@ pub(super) fn nearest_kin(
         let mut found = false;
         // Neighbors move little in a tick: a little beyond last tick's reach mostly suffices.
         let start = if hint > 0.0 {
-            hint * 1.1
+            hint * 1.02
         } else {
             radius * FIRST_BOX
         };
@@ -227,14 +227,12 @@ pub(super) fn nearest_kin(
             // Too few: a wider box, walked whole (rare once the hint is known).
             h = (h * GROWTH).min(radius);
         }
-        if keys.len() > n {
-            // Distance first, then slot: the `n` nearest with ties in the grid's order.
-            keys.select_nth_unstable(n - 1);
-            keys.truncate(n);
-        }
-        // Nearest first: the kept percepts fill with the nearest at once, and the rest are
-        // turned away by one compare each.
+        // Distance first, then slot (keys are unique): the `n` nearest with ties in the grid's
+        // order, nearest first, so the kept percepts fill with the nearest at once and the rest
+        // are turned away by one compare each. The candidates are few (a little over `n` once
+        // the hint is known): sorting them all costs less than selecting, then sorting `n`.
         keys.sort_unstable();
+        keys.truncate(n);
         let reach = match keys.last() {
             Some(&c) if found => f32::from_bits((c >> 32) as u32).sqrt(),
             _ => radius,
