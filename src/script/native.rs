@@ -514,6 +514,54 @@ fn arith(op: Arith, a: Val, b: Val) -> Result<Val, Overflow> {
     }))
 }
 
+/// Every property native evaluation may read, as it reads in `v` (tests: a view filled for
+/// native evaluation must read as the full view does).
+#[cfg(test)]
+pub(crate) fn every_property(v: &AgentView) -> Vec<Val> {
+    use Prop::*;
+    // A property added to `Prop` must be listed here (the match has no wildcard).
+    let listed = |p: Prop| match p {
+        Id | Tick | Time | Dt | Speed | MaxSpeed | State | TimeInBehavior | StackDepth | Age
+        | Mass | Kind | Hunger | Libido | Fear | Fatigue | InSquad | IsLeader | AtGoal
+        | SlotDist | Count(_) | Seen(_) | Exists(_) | NearestDist(_) | NearestBearing(_)
+        | NearestElevation(_) | NearestStrength(_) => p,
+    };
+    let mut all = vec![
+        Id,
+        Tick,
+        Time,
+        Dt,
+        Speed,
+        MaxSpeed,
+        State,
+        TimeInBehavior,
+        StackDepth,
+        Age,
+        Mass,
+        Kind,
+        Hunger,
+        Libido,
+        Fear,
+        Fatigue,
+        InSquad,
+        IsLeader,
+        AtGoal,
+        SlotDist,
+    ];
+    for c in 0..Category::COUNT as u8 {
+        all.extend([
+            Count(c),
+            Seen(c),
+            Exists(c),
+            NearestDist(c),
+            NearestBearing(c),
+            NearestElevation(c),
+            NearestStrength(c),
+        ]);
+    }
+    all.into_iter().map(|p| listed(p).read(v)).collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
