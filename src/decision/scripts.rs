@@ -348,10 +348,13 @@ pub fn write_back(view: &AgentView, agent: &mut Agent) {
 mod tests {
     use super::*;
     use crate::bench::{world_of, Workload};
-    use crate::perception::{Category, GroupQueries, PerceptBuf};
+    use crate::perception::{Category, GroupQueries, PerceptBuf, Strength};
+    use crate::scenario::{Overrides, Run, Scenario};
     use crate::script::native::every_property;
+    use crate::species::Species;
 
-    /// A view whose every scalar and category field holds a value no agent has.
+    /// A view whose every field native evaluation reads holds a value no agent has (the squad
+    /// none: the squad world below has one for every member).
     fn stale() -> AgentView {
         let mut v = AgentView {
             id: -7,
@@ -376,30 +379,28 @@ mod tests {
         for c in v.cats.iter_mut() {
             (c.count, c.seen) = (1_000_007, 1_000_007);
             (c.nearest_dist, c.nearest_bearing, c.nearest_elevation) = (-7.5, -7.5, -7.5);
+            c.strength = Strength {
+                power: 7.0,
+                near: 7.0,
+            };
         }
         v
     }
 
-    #[test]
-    fn a_view_filled_for_native_slots_reads_as_the_full_view() {
-        // Reef fish: every slot native. After a few ticks they perceive kin, food, rocks and
-        // sharks, so each category's nearest is read from real percepts.
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("behaviors");
-        let mut b = world_of(Workload::Reef, 300, &dir).unwrap();
-        for _ in 0..5 {
-            b.run.step();
-        }
-        let world = &b.run.sim.world;
-        let set = b.run.sim.pipeline.species.clone();
-        let perception = b.run.sim.pipeline.perception();
+    /// For every agent of `sim` whose species `fill` takes: its view filled by `fill` over a
+    /// stale one reads every native property as the full view does. Returns how many agents,
+    /// category nearests and squad members it compared.
+    fn compare(
+        sim: &crate::sim::Sim,
+        fill: impl Fn(&Species, &mut AgentView, &Ctx, &Mind) -> bool,
+    ) -> (usize, usize, usize) {
+        let (world, perception) = (&sim.world, sim.pipeline.perception());
+        let set = sim.pipeline.species.clone();
         let (name, behavior) = (ImmutableString::from("s"), ImmutableString::from("b"));
         let mut buf = PerceptBuf::default();
-        let (mut checked, mut with_nearest) = (0, 0);
+        let (mut agents, mut nearest, mut in_squad) = (0, 0, 0);
         for (i, a) in world.agents.iter().enumerate() {
             let sp = &set.species[a.species.0 as usize];
-            if !sp.scripts_native {
-                continue;
-            }
             let summaries = perception.summaries(i);
             let ctx = Ctx {
                 world,
@@ -413,14 +414,17 @@ mod tests {
                 tick: world.tick,
                 dt: world.dt,
             };
+            let mut native = stale();
+            if !fill(sp, &mut native, &ctx, &a.mind) {
+                continue;
+            }
             let mut full = AgentView::default();
             fill_view(&mut full, &ctx, &a.mind, &name, &behavior);
-            let mut native = stale();
-            fill_for_slots(&mut native, &ctx, &a.mind, &name, &behavior);
             let (f, n) = (every_property(&full), every_property(&native));
             assert_eq!(format!("{f:?}"), format!("{n:?}"), "agent {i}");
-            checked += 1;
-            with_nearest += summaries.iter().filter(|s| s.nearest.is_some()).count();
+            agents += 1;
+            nearest += summaries.iter().filter(|s| s.nearest.is_some()).count();
+            in_squad += full.squad.is_some() as usize;
             // The stale view reads differently, so the comparison can fail: the 16 scalars
             // before the squad's four, and of each category (7 properties from 20 on) its
             // count, seen and nearest distance.
@@ -431,9 +435,45 @@ mod tests {
                 (0..Category::COUNT).flat_map(|c| [0, 1, 3].map(|p| 20 + 7 * c + p));
             assert!(of_categories.all(differs), "agent {i}");
         }
-        assert!(
-            checked > 200 && with_nearest > 200,
-            "{checked} {with_nearest}"
-        );
+        (agents, nearest, in_squad)
+    }
+
+    #[test]
+    fn a_view_filled_for_native_slots_reads_as_the_full_view() {
+        // Reef fish: every slot native, filled as the agent pass fills them. After a few ticks
+        // they perceive kin, food, rocks and sharks, so each category's nearest is read from
+        // real percepts.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("behaviors");
+        let mut b = world_of(Workload::Reef, 300, &dir).unwrap();
+        for _ in 0..5 {
+            b.run.step();
+        }
+        let (agents, nearest, _) = compare(&b.run.sim, |sp, v, ctx, mind| {
+            let name = ImmutableString::from("s");
+            sp.scripts_native && {
+                fill_for_slots(v, ctx, mind, &name, &name);
+                true
+            }
+        });
+        assert!(agents > 200 && nearest > 200, "{agents} {nearest}");
+        // Squad members (their `on_tick` is interpreted, so the pass fills them whole): the
+        // native fill alone gives their squad properties too.
+        let sc = Scenario::load(std::path::Path::new("scenarios/squad_march.ron")).unwrap();
+        let o = Overrides {
+            seed: None,
+            duration: Some(5.0),
+            set: Vec::new(),
+        };
+        let mut run = Run::new(sc, o);
+        for _ in 0..5 {
+            run.step();
+        }
+        let (agents, _, in_squad) = compare(&run.sim, |sp, v, ctx, mind| {
+            sp.script.is_some() && {
+                fill_native(v, ctx, mind);
+                true
+            }
+        });
+        assert!(agents >= 4 && in_squad == agents, "{agents} {in_squad}");
     }
 }
