@@ -96,6 +96,7 @@ struct Perceiver<'p, 'a> {
 /// Perceives for agent `i`: fills its slots, summaries and group sums; returns the number of
 /// percepts kept.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub(super) fn perceive_one<const KEEP: bool>(
     i: usize,
     me: &Me,

@@ -4,7 +4,9 @@
 //! reads its own record and perception's copy of the others from the start of the tick, then
 //! rewrites only its own record and its [`Outcome`] slot; what reaches beyond the agent is
 //! applied in agent order by stage 7 (`events/apply.rs`), so results do not depend on the
-//! thread count.
+//! thread count. An agent of a species with one behavior and nothing to decide (a boid) takes
+//! a shorter pass with the same result ([`pass_lone`]: no arbitration, its mind left in its
+//! record).
 
 use super::explain::{self, Explain};
 use super::Pipeline;
@@ -236,6 +238,7 @@ impl Pipeline {
 /// its vision radius and no food is perceived (eaten or gone). The school's best is the own
 /// best of a perceived kin nearest to it (their values from the start of the tick); none when
 /// no perceived kin knows food, so a school without food has no foraging target.
+#[inline(always)]
 fn remember_food(
     mind: &mut Mind,
     pos: Vec3,
@@ -297,10 +300,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     scratch.reset();
     scratch.set_velocity(perception.velocity(i));
     scratch.plan_target = plan_targets.get(i).copied().flatten();
-    // The mind is out of the record until the end of the pass (the record is read through
-    // `Ctx` meanwhile); the random stream is the pass's own copy.
-    let mut mind = std::mem::take(&mut agent.mind);
-    let mind = &mut mind;
+    // The random stream is the pass's own copy, written back at the end.
     let mut rng = agent.rng;
     let rng = &mut rng;
     let s = agent.species.0 as usize;
@@ -328,28 +328,15 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     // 3. Drives, in the agent's own record (what others read of it is perception's copy from
     // the start of the tick).
     let me = agent;
-    if sp.drives.native {
-        let stim = |c: Category| {
-            drives::stimulus(summaries[c as usize].nearest_dist, sp.senses.smell_radius)
-        };
-        let stimuli = Stimuli {
-            food: stim(Category::Food),
-            mate: stim(Category::Mate),
-        };
-        // Every predator perceived, not only the kept percepts.
-        let sm = &summaries[Category::Predator as usize];
-        let predators = drives::PredatorSums {
-            count: sm.count,
-            nearest: sm.nearest_dist,
-            inv_dist_sum: sm.inv_dist_sum,
-        };
-        drives::update(&mut me.drives, &sp.drives.params, stimuli, &predators, dt);
-    } else {
-        me.drives.since_meal += dt;
-        me.drives.since_mating += dt;
-        let q = &sp.drives.params;
-        me.drives.state = drives::internal_state(me.drives.since_meal, q.s_max, q.delta);
+    update_drives(me, sp, summaries, dt);
+    if lone(sp) && !explain.on() {
+        pass_lone(&seen, i, me, out, rng, scratch, known_food, gains);
+        return;
     }
+    // The mind is out of the record until the end of the pass (the record is read through
+    // `Ctx` meanwhile).
+    let mut mind = std::mem::take(&mut me.mind);
+    let mind = &mut mind;
     remember_food(mind, me.pos, percepts, sp.senses.vision_radius, known_food);
     let mut error = None;
     let mut messages: [Option<(Signal, f32)>; 4] = [None; 4];
@@ -519,47 +506,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     });
 
     // 6. Locomotion and animation.
-    let mut motion = Motion {
-        pos: me.pos,
-        yaw: me.yaw,
-        pitch: me.pitch,
-        speed: me.speed,
-        yaw_rate: me.yaw_rate,
-        pitch_rate: me.pitch_rate,
-    };
-    // A behavior may turn faster or slower than the body does by default.
-    let body = &sp.body.limits;
-    let limits = &match sp
-        .behaviors
-        .get(mind.current as usize)
-        .and_then(|b| b.response)
-    {
-        Some(response) => locomotion::BodyLimits { response, ..*body },
-        None => *body,
-    };
-    let info = locomotion::step(
-        &mut motion,
-        steer,
-        limits,
-        &sp.body.locomotion,
-        world.current,
-        dt,
-        gains,
-    );
-    locomotion::solid::keep_solid(&mut motion.pos, i, me, percepts, world, perception);
-    let mut an = me.anim;
-    let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
-    anim::advance(
-        &mut an,
-        &sp.body.anim,
-        motion.speed,
-        sp.body.size.z,
-        accel,
-        info.dyaw,
-        limits.max_turn,
-        dt,
-    );
-
+    let moved = move_body(&seen, i, me, steer, b.response, gains);
     // Contact intent (resolved in agent order by stage 7).
     let contact = match b.contact {
         Some(c @ Contact::Eat { reach }) => ctx
@@ -596,18 +543,185 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
     out.behavior = mind.current;
 
     // The agent's new state, in its own record.
-    let a = me;
-    a.prev_pos = a.pos;
-    a.pos = world.bounds.closest_point(motion.pos);
-    a.yaw = motion.yaw;
-    a.pitch = motion.pitch;
-    a.speed = motion.speed;
-    a.yaw_rate = motion.yaw_rate;
-    a.pitch_rate = motion.pitch_rate;
-    a.forward_cache = ForwardCache::new(a.yaw, a.pitch, info.forward);
-    a.anim = an;
+    moved.write(me, world);
     // Swapped, not taken: the placeholder goes out with this pass, and no second empty mind
     // is made.
-    std::mem::swap(&mut a.mind, mind);
-    a.rng = *rng;
+    std::mem::swap(&mut me.mind, mind);
+    me.rng = *rng;
+}
+
+/// Drives (stage 3), in the agent's own record: seed 000 §2's when the species' are native,
+/// else only the times since the last meal and mating and seed 003's internal state.
+#[inline(always)]
+fn update_drives(me: &mut Agent, sp: &Species, summaries: &[Summary; Category::COUNT], dt: f32) {
+    if sp.drives.native {
+        let stim = |c: Category| {
+            drives::stimulus(summaries[c as usize].nearest_dist, sp.senses.smell_radius)
+        };
+        let stimuli = Stimuli {
+            food: stim(Category::Food),
+            mate: stim(Category::Mate),
+        };
+        // Every predator perceived, not only the kept percepts.
+        let sm = &summaries[Category::Predator as usize];
+        let predators = drives::PredatorSums {
+            count: sm.count,
+            nearest: sm.nearest_dist,
+            inv_dist_sum: sm.inv_dist_sum,
+        };
+        drives::update(&mut me.drives, &sp.drives.params, stimuli, &predators, dt);
+    } else {
+        me.drives.since_meal += dt;
+        me.drives.since_mating += dt;
+        let q = &sp.drives.params;
+        me.drives.state = drives::internal_state(me.drives.since_meal, q.s_max, q.delta);
+    }
+}
+
+/// Whether every agent of `sp` has one behavior, always the current one, and nothing to decide:
+/// no script slot or `on_tick`, one behavior that never ends (arbitration then leaves it as it
+/// is, [`decision::arbitrate`]), no focus and no contact (a boid, a plain flocker). Its pass
+/// skips the decision stage's machinery ([`pass_lone`]).
+#[inline(always)]
+pub(super) fn lone(sp: &Species) -> bool {
+    let scripted = sp.script.is_some() && (!sp.slots.is_empty() || sp.has_on_tick);
+    match &sp.behaviors[..] {
+        [only] => {
+            !scripted
+                && sp.depth == 0
+                && matches!(only.done, crate::species::CondNode::Never)
+                && only.focus.is_none()
+                && only.contact.is_none()
+        }
+        _ => false,
+    }
+}
+
+/// Stages 4–6 for an agent of a [`lone`] species, drives done, when nothing is explained: what
+/// [`pass_one`] does for it, without taking its mind out of the record. Arbitration would only
+/// set the current behavior to the one there is; no transition, message, contact or error
+/// comes of it.
+#[allow(clippy::too_many_arguments)]
+fn pass_lone(
+    seen: &Seen,
+    i: usize,
+    me: &mut Agent,
+    out: &mut Outcome,
+    rng: &mut crate::world::Rng,
+    scratch: &mut Scratch,
+    known_food: &[Spot],
+    gains: &mut Option<locomotion::Gains>,
+) {
+    let sp = seen.species;
+    remember_food(
+        &mut me.mind,
+        me.pos,
+        seen.percepts,
+        sp.senses.vision_radius,
+        known_food,
+    );
+    me.mind.current = 0;
+    let b = &sp.behaviors[0];
+    let ctx = seen.ctx(me);
+    let mut steer = recipe::evaluate(&b.steer, &ctx, &me.mind, rng, scratch, 0);
+    if !steer.is_finite() {
+        steer = me.mind.last_steer;
+    }
+    if steer.is_none() {
+        steer = Steer::keep(&ctx.kin());
+    }
+    let moved = move_body(seen, i, me, steer, b.response, gains);
+    out.rare = None;
+    out.species = me.species.0;
+    out.behavior = 0;
+    me.mind.last_steer = steer;
+    moved.write(me, seen.world);
+    me.rng = *rng;
+}
+
+/// What stage 6 made of an agent's body this tick, written into its record by [`Moved::write`].
+struct Moved {
+    motion: Motion,
+    forward: Vec3,
+    anim: crate::world::Anim,
+}
+
+impl Moved {
+    /// The agent's new position, heading, speeds, forward vector and animation, in its record.
+    #[inline(always)]
+    fn write(&self, a: &mut Agent, world: &World) {
+        let m = &self.motion;
+        a.prev_pos = a.pos;
+        a.pos = world.bounds.closest_point(m.pos);
+        a.yaw = m.yaw;
+        a.pitch = m.pitch;
+        a.speed = m.speed;
+        a.yaw_rate = m.yaw_rate;
+        a.pitch_rate = m.pitch_rate;
+        a.forward_cache = ForwardCache::new(a.yaw, a.pitch, self.forward);
+        a.anim = self.anim;
+    }
+}
+
+/// Stage 6 for agent `i` under `steer`: locomotion (turning as fast as the behavior's
+/// `response` says, else as the body does), solid bodies and animation, from its record as it
+/// stands.
+#[inline(always)]
+fn move_body(
+    seen: &Seen,
+    i: usize,
+    me: &Agent,
+    steer: Steer,
+    response: Option<f32>,
+    gains: &mut Option<locomotion::Gains>,
+) -> Moved {
+    let (sp, world, dt) = (seen.species, seen.world, seen.dt);
+    let mut motion = Motion {
+        pos: me.pos,
+        yaw: me.yaw,
+        pitch: me.pitch,
+        speed: me.speed,
+        yaw_rate: me.yaw_rate,
+        pitch_rate: me.pitch_rate,
+    };
+    // A behavior may turn faster or slower than the body does by default.
+    let body = &sp.body.limits;
+    let limits = &match response {
+        Some(response) => locomotion::BodyLimits { response, ..*body },
+        None => *body,
+    };
+    let info = locomotion::step(
+        &mut motion,
+        steer,
+        limits,
+        &sp.body.locomotion,
+        world.current,
+        dt,
+        gains,
+    );
+    locomotion::solid::keep_solid(
+        &mut motion.pos,
+        i,
+        me,
+        seen.percepts,
+        world,
+        seen.perception,
+    );
+    let mut anim = me.anim;
+    let accel = if dt > 0.0 { info.dspeed / dt } else { 0.0 };
+    anim::advance(
+        &mut anim,
+        &sp.body.anim,
+        motion.speed,
+        sp.body.size.z,
+        accel,
+        info.dyaw,
+        limits.max_turn,
+        dt,
+    );
+    Moved {
+        motion,
+        forward: info.forward,
+        anim,
+    }
 }

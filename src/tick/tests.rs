@@ -296,3 +296,78 @@ fn tracked_scopes_hold_just_their_room() {
     m.set_scope_entered(0, 14);
     assert_eq!(m.scope_depth(), 0);
 }
+
+/// Ticks of a world of one lone species (one behavior and nothing to decide) that forages with
+/// native drives, turns at its own response and wanders: every agent's record and every event
+/// of each tick, as text (floats in their round-trip form, so equal text is equal bits).
+fn lone_trace(explain: Explain) -> Vec<String> {
+    let text = r#"(
+        name: "grazer",
+        senses: (vision_radius: 6.0, vision_half_angle: 2.0, smell_radius: 9.0, max_percepts: 6),
+        relations: (eats_items: true),
+        initial: "graze",
+        behaviors: [
+            Behavior(
+                name: "graze",
+                priority: 1,
+                response: Some(0.3),
+                steer: Priority([
+                    AvoidStatic(),
+                    Contain(),
+                    Blend([
+                        (w: 1.0, steer: Separation(k: 1.0, radius: 1.5)),
+                        (w: 0.5, steer: Alignment(k: 0.3)),
+                        (w: 0.6, steer: Chase(target: Food)),
+                        (w: 0.4, steer: Wander(cruise: 0.5)),
+                    ]),
+                ]),
+            ),
+        ],
+    )"#;
+    let species = Species::parse("grazer.ron", text).unwrap();
+    assert!(super::agent_pass::lone(&species) && species.drives.native);
+    let set = SpeciesSet::new(vec![species.into()]).unwrap();
+    let bounds = Aabb::new(Vec3::new(-20.0, 0.0, -20.0), Vec3::new(20.0, 10.0, 20.0));
+    let (mut p, mut w) = (Pipeline::new(Arc::new(set)), World::new(bounds, 0.05, 11));
+    p.explain = explain;
+    let mut draw = crate::world::Rng::new(5, 0);
+    for _ in 0..80 {
+        let at = Vec3::new(
+            draw.range(-8.0, 8.0),
+            draw.range(2.0, 8.0),
+            draw.range(-8.0, 8.0),
+        );
+        p.spawn(&mut w, 0, at, draw.range(-3.0, 3.0), 0.0);
+    }
+    for _ in 0..30 {
+        w.add_food(Vec3::new(
+            draw.range(-15.0, 15.0),
+            1.0,
+            draw.range(-15.0, 15.0),
+        ));
+    }
+    let mut out = Vec::new();
+    for _ in 0..60 {
+        p.step(&mut w);
+        out.push(format!("{:?} {:?}", w.agents, p.events));
+    }
+    out
+}
+
+#[test]
+fn a_lone_species_pass_is_the_general_pass_bit_for_bit() {
+    // Explaining every agent sends each through the general pass (arbitration, the mind out
+    // of the record); without, a lone species takes its own.
+    let lone = lone_trace(Explain::default());
+    let every = Explain {
+        every: 1,
+        only: None,
+    };
+    let general = lone_trace(every);
+    for (k, (a, b)) in lone.iter().zip(&general).enumerate() {
+        assert!(a == b, "tick {k} differs");
+    }
+    // Grazers remembered food they perceived: the foraging memory is compared too.
+    let last = lone.last().unwrap();
+    assert!(last.contains("best_food: Some("), "no food known");
+}
