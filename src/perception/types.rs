@@ -204,16 +204,19 @@ impl What {
 
     #[inline(always)]
     fn category(self) -> Category {
-        // Only `new` writes the field, from a category: it is one of the six. A match, so
-        // that `as usize` and compares with a constant compile to the bits themselves.
-        match self.0 & 7 {
-            0 => Category::Food,
-            1 => Category::Predator,
-            2 => Category::Kin,
-            3 => Category::Mate,
-            4 => Category::Obstacle,
-            _ => Category::Other,
-        }
+        // Only `new` writes the field, from a category: it is one of the six. A table of all
+        // eight values: one load, no compare (a reef fish decodes about a hundred a tick).
+        const BY_BITS: [Category; 8] = [
+            Category::Food,
+            Category::Predator,
+            Category::Kin,
+            Category::Mate,
+            Category::Obstacle,
+            Category::Other,
+            Category::Other,
+            Category::Other,
+        ];
+        BY_BITS[(self.0 & 7) as usize]
     }
 
     #[inline(always)]
