@@ -76,6 +76,20 @@ pub(super) fn kernel_species(
         && kin::supports(&reads.groups)
 }
 
+/// What [`Perceiver::general_walk`] classifies and senses each candidate with.
+struct Walk<'w> {
+    /// Obstacles that may hide a candidate.
+    occ: &'w [Shape],
+    /// What each species is to the perceiver.
+    row: &'w [Option<Category>],
+    /// Whether kin of the other sex are mates.
+    mates: bool,
+    /// Whether agents are kept as percepts (else only summed).
+    agent_percepts: bool,
+    /// The perceiver's own grid slot.
+    me_slot: usize,
+}
+
 /// One perceiver and what it perceives with, for its walks.
 struct Perceiver<'p, 'a> {
     view: &'p View<'a>,
@@ -386,64 +400,24 @@ impl Perceiver<'_, '_> {
         fold: &mut Fold<'_, KEEP>,
         sums: &mut [GroupAcc],
     ) -> f32 {
-        let (view, eye, sense) = (self.view, &self.eye, self.sense);
-        let groups = &self.reads.groups;
-        let (here, my_sex) = (self.me.pos, self.me.tag.sex);
-        let here_a = Vec3A::from(here);
-        let entries = view.agents.entries();
+        let (view, sense) = (self.view, self.sense);
+        let here = self.me.pos;
         let me_slot = self.me_slot();
-        let mut visit = |k: usize, pos: Vec3A, d2: f32| {
-            if k == me_slot {
-                return;
-            }
-            let tag = view.tags[k];
-            let Some(mut cat) = row.get(tag.species as usize).copied().flatten() else {
-                return;
-            };
-            if cat == Category::Kin && mates && tag.sex != my_sex {
-                cat = Category::Mate;
-            }
-            let offset_a = pos - here_a;
-            let offset = Vec3::from(offset_a);
-            let radius = || view.diagonals[k] * 0.5;
-            let Some(seen) = sense_point(here, offset, d2, eye, sense, occ, radius) else {
-                return;
-            };
-            let other = &view.near[k];
-            let vel = Vec3A::from(other.velocity());
-            if matches!(cat, Category::Kin | Category::Mate) {
-                groups.add(sums, offset_a, d2, vel);
-            }
-            // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
-            let dist = || d2.sqrt();
-            if !agent_percepts {
-                fold.sum(cat, seen, d2, dist, pos, other.heading.into(), vel);
-                return;
-            }
-            fold.take(
-                cat,
-                seen,
-                d2,
-                dist,
-                pos,
-                other.heading.into(),
-                vel,
-                |dist| {
-                    Percept::new(
-                        Source::Agent(entries[k]),
-                        cat,
-                        seen,
-                        offset,
-                        dist,
-                        view.diagonals[k],
-                    )
-                },
-            );
+        let walk = Walk {
+            occ,
+            row,
+            mates,
+            agent_percepts,
+            me_slot,
         };
+        // Each walk below takes a closure of its own around the same inlined body: one body
+        // shared by the three would be a call per candidate (a reef fish's walk takes some 16).
         match (sense.neighbors, view.others.of(self.s)) {
             (Some(n), Some(others)) => {
                 // A bounded kin neighborhood: the others within range, then the nearest `n` kin.
-                others.for_each_within(here, agent_radius, &mut visit);
+                others.for_each_within(here, agent_radius, |k, pos, d2| {
+                    self.visit(&walk, fold, sums, k, pos, d2)
+                });
                 let is_kin = |k: usize| view.is_kin(row, k);
                 let q = nearest::KinQuery {
                     here,
@@ -452,13 +426,80 @@ impl Perceiver<'_, '_> {
                     n: n as usize,
                 };
                 let hint = view.others.hint(self.i);
-                nearest::nearest_kin(view.agents, q, hint, is_kin, visit)
+                nearest::nearest_kin(view.agents, q, hint, is_kin, |k, pos, d2| {
+                    self.visit(&walk, fold, sums, k, pos, d2)
+                })
             }
             _ => {
-                view.agents.for_each_slot_within(here, agent_radius, visit);
+                view.agents
+                    .for_each_slot_within(here, agent_radius, |k, pos, d2| {
+                        self.visit(&walk, fold, sums, k, pos, d2)
+                    });
                 0.0
             }
         }
+    }
+
+    /// One candidate of [`Self::general_walk`]: the agent in grid slot `k` at `pos`, at squared
+    /// distance `d2`.
+    #[inline(always)]
+    fn visit<const KEEP: bool>(
+        &self,
+        walk: &Walk,
+        fold: &mut Fold<'_, KEEP>,
+        sums: &mut [GroupAcc],
+        k: usize,
+        pos: Vec3A,
+        d2: f32,
+    ) {
+        let (view, eye, sense) = (self.view, &self.eye, self.sense);
+        if k == walk.me_slot {
+            return;
+        }
+        let tag = view.tags[k];
+        let Some(mut cat) = walk.row.get(tag.species as usize).copied().flatten() else {
+            return;
+        };
+        if cat == Category::Kin && walk.mates && tag.sex != self.me.tag.sex {
+            cat = Category::Mate;
+        }
+        let here = self.me.pos;
+        let offset_a = pos - Vec3A::from(here);
+        let offset = Vec3::from(offset_a);
+        let radius = || view.diagonals[k] * 0.5;
+        let Some(seen) = sense_point(here, offset, d2, eye, sense, walk.occ, radius) else {
+            return;
+        };
+        let other = &view.near[k];
+        let vel = Vec3A::from(other.velocity());
+        if matches!(cat, Category::Kin | Category::Mate) {
+            self.reads.groups.add(sums, offset_a, d2, vel);
+        }
+        // `offset.length()`, bit for bit: the grid measured `offset.length_squared()`.
+        let dist = || d2.sqrt();
+        if !walk.agent_percepts {
+            fold.sum(cat, seen, d2, dist, pos, other.heading.into(), vel);
+            return;
+        }
+        fold.take(
+            cat,
+            seen,
+            d2,
+            dist,
+            pos,
+            other.heading.into(),
+            vel,
+            |dist| {
+                Percept::new(
+                    Source::Agent(view.agents.entries()[k]),
+                    cat,
+                    seen,
+                    offset,
+                    dist,
+                    view.diagonals[k],
+                )
+            },
+        );
     }
 
     /// Folds the food items within range into `fold`: offered as percepts when `keep`, else
