@@ -305,12 +305,12 @@ pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
         let reached = b.compose == Compose::Leaf && mind.reached;
         // Success first: a strike whose catch made its prey vanish succeeded, though it no
         // longer perceives prey.
-        let outcome = if b.done != CondNode::Never
+        let outcome = if !matches!(b.done, CondNode::Never)
             && (t_in >= b.min_time || reached)
             && cond_of(&b.done, at, ctx, mind, rng)
         {
             Some((Outcome::Success, Fired::new(n, Which::Done)))
-        } else if b.fail != CondNode::Never && cond_of(&b.fail, at, ctx, mind, rng) {
+        } else if !matches!(b.fail, CondNode::Never) && cond_of(&b.fail, at, ctx, mind, rng) {
             Some((Outcome::Failure, Fired::new(n, Which::Fail)))
         } else {
             None
