@@ -131,7 +131,7 @@ fn reads_percepts(sp: &Species) -> Kinds {
     }
     sp.behaviors
         .iter()
-        .map(|b| cond(&b.when).max(cond(&b.done)))
+        .map(|b| cond(&b.when).max(cond(&b.done)).max(cond(&b.fail)))
         .fold(kinds, Kinds::max)
 }
 
@@ -216,6 +216,7 @@ pub fn bearing_range(sp: &Species) -> f32 {
     let behaviors = sp.behaviors.iter().map(|b| {
         cond(&b.when, sp)
             .max(cond(&b.done, sp))
+            .max(cond(&b.fail, sp))
             .max(recipe(&b.steer))
     });
     let named = sp.recipes.iter().map(recipe);
@@ -311,6 +312,42 @@ mod tests {
         // Strength reads the nearest distance of the summary: no percepts kept.
         let sp = species(&text("Above(Strength(Kin), 0.5)", "Never")).unwrap();
         assert!(!reads(&sp).percepts);
+    }
+
+    #[test]
+    fn a_step_failing_on_a_percept_keeps_what_its_failure_reads() {
+        // A sequence's steps end on `fail` too: what it reads counts as what `done` reads.
+        let text = |fail: &str| {
+            format!(
+                r#"Species(
+    name: "fish",
+    script: None,
+    drives: (native: false),
+    avoid: (range: Some(2.5)),
+    initial: "rest",
+    behaviors: [
+        Behavior(name: "rest", priority: 2, steer: Stop),
+        Behavior(
+            name: "patrol",
+            priority: 1,
+            when: TimeIn(5.0),
+            sequence: [
+                Behavior(name: "out", done: TimeIn(1.0), fail: {fail}, steer: Stop),
+                Behavior(name: "back", done: TimeIn(1.0), steer: Stop),
+            ],
+        ),
+    ],
+)"#
+            )
+        };
+        let plain = reads(&species(&text("TimeIn(3.0)")).unwrap());
+        assert!(!plain.percepts);
+        assert_eq!(plain.bearing_range, Some(0.0));
+        let sector = reads(&species(&text("InSector(Kin, [Front])")).unwrap());
+        assert!(sector.percepts && sector.agent_percepts);
+        let traffic = reads(&species(&text("Not(TrafficNear)")).unwrap());
+        assert!(traffic.agent_percepts);
+        assert_eq!(traffic.bearing_range, Some(2.5));
     }
 
     #[test]
