@@ -165,10 +165,17 @@ impl Pipeline {
         self.outcomes.resize_with(n, Outcome::default);
         self.known_food.clear();
         // In a world where nobody knows food (boids, flocks) there is no list at all: every
-        // lookup in it is `None` either way.
-        if world.agents.iter().any(|a| a.mind.best_food().is_some()) {
+        // lookup in it is `None` either way. Both walks read every record: in parallel, as
+        // the pass itself (one thread alone took 0.18 ms a tick of a 10k reef's 4.4).
+        let knows = |a: &Agent| a.mind.best_food().is_some();
+        let min = crate::par::min_len(1024);
+        if world.agents.par_iter().with_min_len(min).any(knows) {
+            self.known_food.resize(n, Spot::NONE);
             self.known_food
-                .extend(world.agents.iter().map(|a| Spot::new(a.mind.best_food())));
+                .par_iter_mut()
+                .zip(world.agents.par_iter())
+                .with_min_len(min)
+                .for_each(|(k, a)| *k = Spot::new(a.mind.best_food()));
         }
         self.explain_ids.clear();
         if self.explain.on() {
