@@ -416,7 +416,7 @@ impl Perceiver<'_, '_> {
             (Some(n), Some(others)) => {
                 // A bounded kin neighborhood: the others within range, then the nearest `n` kin.
                 others.for_each_within(here, agent_radius, |k, pos, d2| {
-                    self.visit(&walk, fold, sums, k, pos, d2)
+                    self.visit(&walk, None, fold, sums, k, pos, d2)
                 });
                 let is_kin = |k: usize| view.is_kin(row, k);
                 let q = nearest::KinQuery {
@@ -426,14 +426,15 @@ impl Perceiver<'_, '_> {
                     n: n as usize,
                 };
                 let hint = view.others.hint(self.i);
+                // Each of them is kin: `is_kin` said so.
                 nearest::nearest_kin(view.agents, q, hint, is_kin, |k, pos, d2| {
-                    self.visit(&walk, fold, sums, k, pos, d2)
+                    self.visit(&walk, Some(Category::Kin), fold, sums, k, pos, d2)
                 })
             }
             _ => {
                 view.agents
                     .for_each_slot_within(here, agent_radius, |k, pos, d2| {
-                        self.visit(&walk, fold, sums, k, pos, d2)
+                        self.visit(&walk, None, fold, sums, k, pos, d2)
                     });
                 0.0
             }
@@ -441,11 +442,13 @@ impl Perceiver<'_, '_> {
     }
 
     /// One candidate of [`Self::general_walk`]: the agent in grid slot `k` at `pos`, at squared
-    /// distance `d2`.
+    /// distance `d2`; `known`: what the row makes it, when the walk already looked.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn visit<const KEEP: bool>(
         &self,
         walk: &Walk,
+        known: Option<Category>,
         fold: &mut Fold<'_, KEEP>,
         sums: &mut [GroupAcc],
         k: usize,
@@ -457,7 +460,8 @@ impl Perceiver<'_, '_> {
             return;
         }
         let tag = view.tags[k];
-        let Some(mut cat) = walk.row.get(tag.species as usize).copied().flatten() else {
+        let Some(mut cat) = known.or_else(|| walk.row.get(tag.species as usize).copied().flatten())
+        else {
             return;
         };
         if cat == Category::Kin && walk.mates && tag.sex != self.me.tag.sex {
