@@ -327,3 +327,32 @@ fn a_reload_keeps_each_agent_in_its_part_where_the_names_still_match() {
     assert_eq!(remap.fell_back_total(), 1);
     assert_eq!(sim.behavior(id), "idle");
 }
+
+#[test]
+fn a_flat_list_ends_a_behavior_on_its_failure_and_starts_what_it_names() {
+    // No composed behavior: the flat rules alone would read neither `fail` nor `on_failure`.
+    let (sp, _dir) = probe_species(
+        r#"
+Species(
+    name: "probe",
+    drives: (native: false),
+    initial: "cruise",
+    behaviors: [
+        Behavior(name: "cruise", priority: 2, fail: TimeIn(0.5), on_failure: "rest", steer: Cruise(speed: 0.5), min_time: 0.0),
+        Behavior(name: "rest", priority: 2, done: TimeIn(0.5), on_success: "cruise", steer: Stop, min_time: 0.0),
+    ],
+)
+"#,
+    );
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-100.0), Vec3::splat(100.0)));
+    let id = sim.spawn("probe", Vec3::ZERO, 0.0);
+    sim.run(5);
+    assert_eq!(sim.behavior(id), "cruise");
+    sim.run(10);
+    assert_eq!(sim.behavior(id), "rest");
+    assert_eq!(last(&sim, id), t("cruise", "rest", Cause::Failed, &[]));
+    sim.run(15);
+    assert_eq!(sim.behavior(id), "cruise");
+    let c = sim.last_change(id);
+    assert_eq!((c.from.as_str(), c.to.as_str()), ("rest", "cruise"));
+}

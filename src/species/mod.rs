@@ -270,7 +270,9 @@ pub struct Species {
     pub initial_node: u16,
     /// The species' own list (behaviors not inside another).
     pub roots: Vec<u16>,
-    /// Nesting levels holding composed behaviors (0: none, the flat rules of seed 000 §3).
+    /// Nesting levels holding composed behaviors (0: none, the flat rules of seed 000 §3); at
+    /// least 1 where some behavior ends on a failure or names what follows it (`fail`,
+    /// `on_success`, `on_failure`), which only the composed rules read.
     pub depth: u8,
     /// Named recipes (for scripts).
     pub recipes: Vec<RecipeNode>,

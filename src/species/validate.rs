@@ -445,12 +445,18 @@ impl Builder<'_> {
             roots: (0..behaviors.len() as u16)
                 .filter(|&i| behaviors[i as usize].parent.is_none())
                 .collect(),
+            // A flat list whose behaviors end on failure or name what follows them needs the
+            // composed rules, which alone read `fail`, `on_success` and `on_failure` (for a
+            // flat list they are seed 000 §3's flat rules otherwise).
             depth: behaviors
                 .iter()
                 .filter(|b| b.compose != Compose::Leaf)
                 .map(|b| b.level + 1)
                 .max()
-                .unwrap_or(0),
+                .unwrap_or(0)
+                .max(u8::from(behaviors.iter().any(|b| {
+                    b.fail != CondNode::Never || b.on_success.is_some() || b.on_failure.is_some()
+                }))),
             behaviors,
             initial_node,
             recipes,
