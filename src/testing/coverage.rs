@@ -145,9 +145,23 @@ fn possible_in(sp: &Species, members: &[usize], initial: usize) -> Vec<Possible>
         !(completes_first && shared)
     };
     let stackable = |i: usize| members.iter().any(|&x| x != i && interrupts(i, x));
+    // How a behavior leaves for what the list's rules choose: its completion, or its failure
+    // where no `on_failure` names what follows (the rules then choose as after a completion).
+    let ends = |i: usize| {
+        let b = &bs[i];
+        let mut v = Vec::new();
+        if b.done != CondNode::Never {
+            v.extend(disjuncts(&b.done));
+        }
+        if b.fail != CondNode::Never && b.on_failure.is_none() {
+            v.extend(disjuncts(&b.fail));
+        }
+        v
+    };
     let mut out = Vec::new();
     for &from in members {
-        let completes = bs[from].done != CondNode::Never;
+        let ending = ends(from);
+        let completes = !ending.is_empty();
         for &to in members {
             if from == to {
                 continue;
@@ -155,11 +169,11 @@ fn possible_in(sp: &Species, members: &[usize], initial: usize) -> Vec<Possible>
             if interrupts(from, to) {
                 out.push((from as u16, to as u16, Cause::Interrupted));
             }
-            let compatible = !disjuncts(&bs[from].done)
+            let compatible = !ending
                 .iter()
                 .all(|d| conjuncts(&bs[to].when).iter().any(|c| contradicts(c, d)));
-            let starts = (triggers(to) && compatible)
-                || (to == initial && bs[initial].done != CondNode::Never);
+            let starts =
+                (triggers(to) && compatible) || (to == initial && !ends(initial).is_empty());
             if completes && starts {
                 out.push((from as u16, to as u16, Cause::Completed));
             }
@@ -389,6 +403,25 @@ mod tests {
         assert!(p.contains(&(1, 3, Completed)));
         assert!(p.contains(&(3, 1, Completed)));
         assert!(p.contains(&(3, 0, Interrupted)));
+    }
+
+    #[test]
+    fn a_behavior_that_ends_only_by_failing_leaves_for_what_the_rules_choose() {
+        use Cause::*;
+        // `dash` (3) never completes; it fails after a while, and no `on_failure` names what
+        // follows: the list's rules choose, as after a completion.
+        let dash = r#"Behavior(name: "dash", priority: 2, when: Sees(Kin), fail: TimeIn(2.0), steer: Stop)"#;
+        let p = possible(&species(&format!("{THREE} {dash}")));
+        assert!(p.contains(&(3, 1, Completed)), "{p:?}");
+        assert!(p.contains(&(3, 0, Completed)), "{p:?}");
+        // The initial behavior never completes: it waits on the stack and resumes.
+        assert!(p.contains(&(3, 2, Resumed)), "{p:?}");
+        // Named, the failure leads there alone.
+        let named = dash.replace("steer: Stop", "on_failure: \"idle\", steer: Stop");
+        let p = possible(&species(&format!("{THREE} {named}")));
+        assert!(!p.contains(&(3, 1, Completed)), "{p:?}");
+        assert!(!p.contains(&(3, 2, Resumed)), "{p:?}");
+        assert!(p.contains(&(3, 2, Failed)), "{p:?}");
     }
 
     #[test]
