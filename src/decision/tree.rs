@@ -280,7 +280,8 @@ fn child_of(bs: &[Behavior], scope: Option<u16>, node: u16) -> u16 {
     at
 }
 
-/// One step of arbitration for an agent of a species with composed behaviors.
+/// One step of arbitration for an agent of a species with composed behaviors, or whose flat
+/// list names failures or what follows a behavior ([`crate::species::Species::depth`]).
 pub fn arbitrate(ctx: &Ctx, mind: &mut Mind, rng: &mut Rng) -> Transitions {
     let bs = &ctx.species.behaviors;
     let tick = ctx.tick;
