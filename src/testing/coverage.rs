@@ -145,12 +145,13 @@ fn possible_in(sp: &Species, members: &[usize], initial: usize) -> Vec<Possible>
         !(completes_first && shared)
     };
     let stackable = |i: usize| members.iter().any(|&x| x != i && interrupts(i, x));
-    // How a behavior leaves for what the list's rules choose: its completion, or its failure
-    // where no `on_failure` names what follows (the rules then choose as after a completion).
+    // How a behavior leaves for what the list's rules choose: its completion or its failure,
+    // where no `on_success` or `on_failure` names what follows (the rules then choose, a
+    // failure as after a completion).
     let ends = |i: usize| {
         let b = &bs[i];
         let mut v = Vec::new();
-        if b.done != CondNode::Never {
+        if b.done != CondNode::Never && b.on_success.is_none() {
             v.extend(disjuncts(&b.done));
         }
         if b.fail != CondNode::Never && b.on_failure.is_none() {
@@ -406,7 +407,7 @@ mod tests {
     }
 
     #[test]
-    fn a_behavior_that_ends_only_by_failing_leaves_for_what_the_rules_choose() {
+    fn a_behavior_leaves_for_what_the_rules_choose_unless_its_outcome_names_what_follows() {
         use Cause::*;
         // `dash` (3) never completes; it fails after a while, and no `on_failure` names what
         // follows: the list's rules choose, as after a completion.
@@ -422,6 +423,15 @@ mod tests {
         assert!(!p.contains(&(3, 1, Completed)), "{p:?}");
         assert!(!p.contains(&(3, 2, Resumed)), "{p:?}");
         assert!(p.contains(&(3, 2, Failed)), "{p:?}");
+        // So does a success that names what follows.
+        let named = dash.replace(
+            "fail: TimeIn(2.0)",
+            "done: TimeIn(2.0), on_success: \"idle\"",
+        );
+        let p = possible(&species(&format!("{THREE} {named}")));
+        assert!(!p.contains(&(3, 1, Completed)), "{p:?}");
+        assert!(!p.contains(&(3, 0, Completed)), "{p:?}");
+        assert!(p.contains(&(3, 2, Succeeded)), "{p:?}");
     }
 
     #[test]
