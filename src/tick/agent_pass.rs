@@ -488,12 +488,7 @@ fn pass_one(inp: &Inputs, i: usize, agent: &mut Agent, out: &mut Outcome, w: &mu
             s
         }
     };
-    if error.is_some() || !steer.is_finite() {
-        steer = mind.last_steer;
-    }
-    if steer.is_none() {
-        steer = Steer::keep(&ctx.kin());
-    }
+    steer = settled(steer, error.is_some(), &mind.last_steer, &ctx);
     mind.last_steer = steer;
     let explained_frame = explain.frame(tick, me.id.0).then(|| {
         let st = explain::Steering {
@@ -630,13 +625,8 @@ fn pass_lone(
     me.mind.current = 0;
     let b = &sp.behaviors[0];
     let ctx = seen.ctx(me);
-    let mut steer = recipe::evaluate(&b.steer, &ctx, &me.mind, rng, scratch, 0);
-    if !steer.is_finite() {
-        steer = me.mind.last_steer;
-    }
-    if steer.is_none() {
-        steer = Steer::keep(&ctx.kin());
-    }
+    let steer = recipe::evaluate(&b.steer, &ctx, &me.mind, rng, scratch, 0);
+    let steer = settled(steer, false, &me.mind.last_steer, &ctx);
     let moved = move_body(seen, i, me, steer, b.response, gains);
     out.rare = None;
     out.species = me.species.0;
@@ -644,6 +634,20 @@ fn pass_lone(
     me.mind.last_steer = steer;
     moved.write(me, seen.world);
     me.rng = *rng;
+}
+
+/// The steering stage 6 takes: `steer`, or the last tick's (`last`) where this tick's failed (a
+/// script error, `failed`, or a value that is not finite), or keeping on as the agent goes
+/// where it has none. Shared by both passes.
+#[inline(always)]
+fn settled(mut steer: Steer, failed: bool, last: &Steer, ctx: &Ctx) -> Steer {
+    if failed || !steer.is_finite() {
+        steer = *last;
+    }
+    if steer.is_none() {
+        steer = Steer::keep(&ctx.kin());
+    }
+    steer
 }
 
 /// What stage 6 made of an agent's body this tick, written into its record by [`Moved::write`].
