@@ -11,6 +11,7 @@
 //! side, and floats are written in their shortest round-trip form so a re-read gives the exact
 //! bits. Parquet would be smaller but costs a heavy dependency for little gain at these sizes.
 
+mod decimal;
 mod json;
 pub mod schema;
 
@@ -110,7 +111,14 @@ fn csv_writer(capacity: usize, file: File) -> csv::Writer<File> {
         .from_writer(file)
 }
 
-/// One field, in Rust's shortest round-trip form for floats (a re-read gives the same bits).
+/// One float field, in Rust's shortest round-trip form (a re-read gives the same bits).
+fn float_field(w: &mut csv::Writer<File>, buf: &mut String, v: f32) -> csv::Result<()> {
+    buf.clear();
+    decimal::push_f32(buf, v);
+    w.write_field(buf.as_bytes())
+}
+
+/// One field as `Display` writes it.
 fn field(
     w: &mut csv::Writer<File>,
     buf: &mut String,
@@ -261,7 +269,7 @@ impl Recorder {
                 field(traj, buf, a.id.0)?;
                 traj.write_field(&sp.name)?;
                 for v in [a.pos.x, a.pos.y, a.pos.z, f.x, f.y, f.z, a.speed] {
-                    field(traj, buf, v)?;
+                    float_field(traj, buf, v)?;
                 }
                 traj.write_field(sp.behavior_name(a.mind.current))?;
                 field(traj, buf, a.mind.depth)?;
@@ -272,7 +280,7 @@ impl Recorder {
                     a.anim.phase,
                     crate::locomotion::anim::bend(&a.anim, &sp.body.anim),
                 ] {
-                    field(traj, buf, v)?;
+                    float_field(traj, buf, v)?;
                 }
                 traj.write_record(None::<&[u8]>)?;
             }
@@ -288,7 +296,7 @@ impl Recorder {
                 field(food, buf, w.tick)?;
                 field(food, buf, f.id)?;
                 for v in [f.pos.x, f.pos.y, f.pos.z] {
-                    field(food, buf, v)?;
+                    float_field(food, buf, v)?;
                 }
                 food.write_record(None::<&[u8]>)?;
             }
