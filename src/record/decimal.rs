@@ -6,8 +6,9 @@
 //! The two pick the same digits but for one case: a float exactly halfway between the two
 //! nearest shortest candidates (3065919.25 between 3065919.2 and 3065919.3), where `ryu` takes
 //! the even one and `Display` the one further from zero. Such a float's exact decimal form has
-//! one digit more than the shortest (its last a 5); those, and every float whose exact form is
-//! that short, are written by `Display` itself. A test compares every `f32` bit pattern
+//! one digit more than the shortest (its last a 5): every float whose exact form has at most
+//! two digits more than the shortest, and every integer of 2^24 or more (rare in a recording,
+//! and never a tie), is written by `Display` itself. A test compares every `f32` bit pattern
 //! (`cargo test --release -- --ignored every_f32`, about five minutes on two cores) and a
 //! sample of them in every run.
 
@@ -26,7 +27,8 @@ pub fn push_f32(out: &mut String, v: f32) {
 }
 
 /// The binary digits after the point of `v`'s exact value (`v = m · 2^−k`, `m` odd); `None`
-/// for an integer of 2^24 or more (one digit more than the shortest is then possible too).
+/// for an integer of 2^24 or more, left to `Display` (none is a tie, but the check above
+/// would not show it).
 fn exact_fraction_bits(v: f32) -> Option<u32> {
     let bits = v.to_bits();
     let field = (bits >> 23) & 0xff;
@@ -74,8 +76,8 @@ fn layout(out: &mut String, s: &str, fraction_bits: Option<u32>) -> bool {
     let trailing = digits.iter().rev().take_while(|&&d| d == b'0').count();
     let digits = &digits[..digits.len() - trailing];
     // The exact value's significant digits: its `k` binary digits after the point are `k`
-    // decimal ones (2^−k ends in 5), and `point` (± 1 where the shortest digits rounded up to
-    // a power of ten) before them.
+    // decimal ones (2^−k ends in 5), and `point` (one more where the shortest digits rounded
+    // up to a power of ten) before them.
     match fraction_bits {
         Some(k) if k as i64 + point as i64 > digits.len() as i64 + 2 => {}
         Some(0) => {}
@@ -165,7 +167,7 @@ mod tests {
         }
     }
 
-    /// Every `f32` (about four minutes in a release build on two cores).
+    /// Every `f32` (about five minutes in a release build on two cores).
     #[test]
     #[ignore]
     fn every_f32_is_written_as_display_writes_it() {
