@@ -159,6 +159,7 @@ fn possible_in(sp: &Species, members: &[usize], initial: usize) -> Vec<Possible>
         }
         v
     };
+    let initial_ends = !ends(initial).is_empty();
     let mut out = Vec::new();
     for &from in members {
         let ending = ends(from);
@@ -173,8 +174,7 @@ fn possible_in(sp: &Species, members: &[usize], initial: usize) -> Vec<Possible>
             let compatible = !ending
                 .iter()
                 .all(|d| conjuncts(&bs[to].when).iter().any(|c| contradicts(c, d)));
-            let starts =
-                (triggers(to) && compatible) || (to == initial && !ends(initial).is_empty());
+            let starts = (triggers(to) && compatible) || (to == initial && initial_ends);
             if completes && starts {
                 out.push((from as u16, to as u16, Cause::Completed));
             }
