@@ -6,9 +6,9 @@
 //! The two pick the same digits but for one case: a float exactly halfway between the two
 //! nearest shortest candidates (3065919.25 between 3065919.2 and 3065919.3), where `ryu` takes
 //! the even one and `Display` the one further from zero. Such a float's exact decimal form has
-//! one digit more than the shortest (its last a 5): every float whose exact form has at most
-//! two digits more than the shortest, and every integer of 2^24 or more (rare in a recording,
-//! and never a tie), is written by `Display` itself. A test compares every `f32` bit pattern
+//! one digit more than the shortest (its last a 5): every float with digits after the point
+//! whose exact form has at most two digits more than the shortest is written by `Display`
+//! itself. An integer is never such a tie. A test compares every `f32` bit pattern
 //! (`cargo test --release -- --ignored every_f32`, about five minutes on two cores) and a
 //! sample of them in every run.
 
@@ -26,10 +26,9 @@ pub fn push_f32(out: &mut String, v: f32) {
     }
 }
 
-/// The binary digits after the point of `v`'s exact value (`v = m · 2^−k`, `m` odd); `None`
-/// for an integer of 2^24 or more, left to `Display` (none is a tie, but the check above
-/// would not show it).
-fn exact_fraction_bits(v: f32) -> Option<u32> {
+/// The binary digits after the point of `v`'s exact value (`v = m · 2^−k`, `m` odd; 0 for an
+/// integer).
+fn exact_fraction_bits(v: f32) -> u32 {
     let bits = v.to_bits();
     let field = (bits >> 23) & 0xff;
     let mantissa = bits & 0x7f_ffff;
@@ -39,20 +38,15 @@ fn exact_fraction_bits(v: f32) -> Option<u32> {
         (mantissa | 0x80_0000, field as i32 - 150)
     };
     if m == 0 {
-        return Some(0);
+        return 0;
     }
-    let e = e + m.trailing_zeros() as i32;
-    match e {
-        ..0 => Some((-e) as u32),
-        _ if v.abs() < 16_777_216.0 => Some(0),
-        _ => None,
-    }
+    (-(e + m.trailing_zeros() as i32)).max(0) as u32
 }
 
 /// Lays out `ryu`'s form of a finite float (`-1.5e-7`, `123.0`, `0.001`) as `Display` does;
 /// `false` (nothing written) where `Display` may pick other digits (see the module's header),
 /// given the binary digits after the point of the float's exact value.
-fn layout(out: &mut String, s: &str, fraction_bits: Option<u32>) -> bool {
+fn layout(out: &mut String, s: &str, fraction_bits: u32) -> bool {
     let (negative, s) = match s.strip_prefix('-') {
         Some(rest) => (true, rest),
         None => (false, s),
@@ -78,10 +72,9 @@ fn layout(out: &mut String, s: &str, fraction_bits: Option<u32>) -> bool {
     // The exact value's significant digits: its `k` binary digits after the point are `k`
     // decimal ones (2^−k ends in 5), and `point` (one more where the shortest digits rounded
     // up to a power of ten) before them.
-    match fraction_bits {
-        Some(k) if k as i64 + point as i64 > digits.len() as i64 + 2 => {}
-        Some(0) => {}
-        _ => return false,
+    let k = fraction_bits as i64;
+    if k > 0 && k + point as i64 <= digits.len() as i64 + 2 {
+        return false;
     }
     if negative {
         out.push('-');
