@@ -266,3 +266,35 @@ fn a_reload_carries_memory_to_the_new_declaration() {
     assert!(sim.script_errors().is_empty(), "{:?}", sim.script_errors());
     assert!(matches!(sim.agent(id).memory[2].1, MemValue::Int(n) if n > 7));
 }
+
+#[test]
+fn conditions_read_each_agents_own_blackboard_when_every_slot_is_native() {
+    // `startled` reads only the blackboard: evaluated natively, with no `on_tick`, so the
+    // pass fills the view with the agent's scalars and its blackboard alone. Agents take
+    // turns in one worker's view: one that remembers the key must not lend it to the next.
+    let memory = r#"memory: { "spooked": Bool(None), "level": Int(0) },"#;
+    let script = "fn startled() { this.has(\"spooked\") && this[\"level\"] > 1 }\n";
+    let ron = species(memory);
+    let dir = folder(&[("minnow.ron", &ron), ("minnow.rhai", script)]);
+    let sp = load(&dir.path().join("minnow.ron"), dir.path());
+    assert!(sp.scripts_native && sp.natives_read_memory);
+    let mut sim = Sim::new(vec![sp], Aabb::new(Vec3::splat(-50.0), Vec3::splat(50.0)));
+    let ids: Vec<_> = (0..6)
+        .map(|k| sim.spawn("minnow", Vec3::new(k as f32 * 20.0 - 50.0, 0.0, 0.0), 0.0))
+        .collect();
+    // Every other minnow is spooked at level 2; the others remember nothing or level 1 only.
+    for (k, &id) in ids.iter().enumerate() {
+        let m = &mut sim.agent_mut(id).memory;
+        m.clear();
+        if k % 2 == 0 {
+            m.push(("level".into(), MemValue::Int(2)));
+            m.push(("spooked".into(), MemValue::Bool(true)));
+        } else if k % 4 == 1 {
+            m.push(("level".into(), MemValue::Int(1)));
+        }
+    }
+    sim.run(2);
+    assert!(sim.script_errors().is_empty(), "{:?}", sim.script_errors());
+    let darting: Vec<bool> = ids.iter().map(|&id| sim.behavior(id) == "dart").collect();
+    assert_eq!(darting, [true, false, true, false, true, false]);
+}

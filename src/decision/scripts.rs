@@ -85,6 +85,9 @@ pub fn fill_for_slots(
 ) {
     if ctx.species.scripts_native {
         fill_native(v, ctx, mind);
+        if ctx.species.natives_read_memory {
+            crate::script::memory::copy_blackboard(&mut v.memory, &ctx.agent.memory);
+        }
     } else {
         fill_view(v, ctx, mind, species_name, behavior);
     }

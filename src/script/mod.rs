@@ -84,6 +84,8 @@ pub struct Script {
     pub functions: Vec<(String, usize)>,
     /// Its functions that are evaluated natively ([`native`]), by name.
     natives: Vec<(String, native::Native)>,
+    /// The modules its engine holds, by alias (what native evaluation may call into).
+    modules: Vec<(String, rhai::Shared<rhai::Module>)>,
     /// Whether it or a file it imports names a category's mean heading ([`names_heading`]).
     reads_heading: bool,
 }
@@ -288,7 +290,14 @@ impl Script {
             .map(|f| (f.name.to_string(), f.params.len()))
             .collect();
         functions.sort();
-        let natives = native::compile_all(&ast);
+        let modules: Vec<_> = known
+            .nested
+            .iter()
+            .map(|(alias, _, m)| (alias.clone(), m.clone()))
+            .collect();
+        // Without the species' blackboard declaration: functions that read the blackboard are
+        // taken once it is known ([`Script::declare_memory`]).
+        let natives = native::compile_all(&ast, &modules, None);
         let reads_heading = names_heading(text) || loader.heading;
         Ok(Script {
             engine,
@@ -298,6 +307,7 @@ impl Script {
             imports,
             functions,
             natives,
+            modules,
             reads_heading,
         })
     }
@@ -315,7 +325,13 @@ impl Script {
     /// Binds the blackboard to the species' declaration: reads and writes of keys it does not
     /// declare, and writes of another type, become script errors ([`memory::register`]).
     pub fn declare_memory(&mut self, spec: Arc<memory::MemorySpec>) {
+        self.natives = native::compile_all(&self.ast, &self.modules, Some(&spec));
         memory::register(&mut self.engine, spec);
+    }
+
+    /// Whether a natively evaluated function reads the blackboard (the view must hold it).
+    pub fn natives_read_memory(&self) -> bool {
+        self.natives.iter().any(|(_, f)| f.reads_memory())
     }
 
     /// The function `name` (without parameters) compiled for native evaluation, when its body

@@ -9,22 +9,30 @@
 //! before.
 //!
 //! The forms: bool, integer and float literals; `this.p` and `this.<category>.p` for the
-//! scalar properties in [`Prop`]; `!`, unary `-`; `+ - * /`; `== != < <= > >=`; `&&` and `||`.
-//! Each is typed at load (bool, int or float, as the getters return them), and a function
-//! whose operands would not fit (`true > 1`, a property that is not a scalar) stays with the
-//! interpreter, which reports the error as it always did.
+//! scalar properties in [`Prop`]; `!`, unary `-`; `+ - * /`; `== != < <= > >=`; `&&` and `||`;
+//! the blackboard's `this.has("k")` and `this["k"]` for a key the species declares as a bool,
+//! int or float; and calls of functions with parameters whose body is itself one such
+//! expression over its parameters, defined in the script (`helper(this.hunger)`) or in a
+//! module it imports (`school::may_school(this.hunger, this.fatigue)`): the arguments are
+//! evaluated first, left to right, then the body, as the interpreter calls them. Each is typed
+//! at load (bool, int or float, as the getters return them and the blackboard declares), and a
+//! function whose operands would not fit (`true > 1`, a property that is not a scalar) stays
+//! with the interpreter, which reports the error as it always did.
 //!
 //! Results are the interpreter's, bit for bit: the same getters are read from the same view,
 //! integer operands are converted `as f32` where Rhai converts them, float comparisons use
 //! Rhai's relative-epsilon forms (its checked build compares `x < y` as
 //! `(y − x) / max(|x|, |y|) > ε`), and integer arithmetic is checked: an overflow or a
-//! division by zero hands the call back to the interpreter, which raises the error. A test
+//! division by zero hands the call back to the interpreter, which raises the error. So does a
+//! blackboard key that is not set (the interpreter reads it as `()`). A test
 //! draws thousands of views and compares every form against the interpreter's result. A build
 //! whose Rhai compares floats exactly (its `unchecked` feature) evaluates nothing natively.
 
+use super::memory::{MemType, MemorySpec};
 use super::view::{nearest_strength, AgentView, CategoryView};
 use crate::perception::Category;
-use rhai::{ASTFlags, Dynamic, Expr, Stmt, AST, FLOAT, INT};
+use crate::world::MemValue;
+use rhai::{ASTFlags, Dynamic, Expr, ImmutableString, Module, Shared, Stmt, AST, FLOAT, INT};
 
 /// A value of a natively evaluated expression.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -229,6 +237,14 @@ enum Arith {
 enum Node {
     Lit(Val),
     Prop(Prop),
+    /// `this.has("k")`.
+    Has(Box<str>),
+    /// `this["k"]`, of the declared type.
+    Mem(Box<str>),
+    /// The value of a parameter of the function being evaluated.
+    Arg(u8),
+    /// A call: its arguments, then the callee's body over them.
+    Call(Box<(Vec<Node>, Node)>),
     Not(Box<Node>),
     Neg(Box<Node>),
     Cmp(Cmp, Box<[Node; 2]>),
@@ -237,43 +253,104 @@ enum Node {
     Or(Vec<Node>),
 }
 
+/// Parameters a called function may have (more: the call stays with the interpreter).
+const MAX_PARAMS: usize = 8;
+
+/// Calls nested within one natively evaluated function (deeper: the interpreter's).
+const MAX_DEPTH: u8 = 4;
+
 /// A script function compiled for native evaluation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Native {
     root: Node,
+    /// Whether it reads the blackboard (the view must then hold it).
+    memory: bool,
 }
 
-/// Integer arithmetic overflowed or divided by zero: the interpreter raises that error.
+/// What native evaluation leaves to the interpreter: integer arithmetic that overflowed or
+/// divided by zero (the interpreter raises that error), a blackboard key that is not set.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Overflow;
+pub struct HandBack;
 
 impl Native {
     /// Evaluates the function for the agent `v`.
     #[inline]
-    pub fn eval(&self, v: &AgentView) -> Result<Val, Overflow> {
-        eval(&self.root, v)
+    pub fn eval(&self, v: &AgentView) -> Result<Val, HandBack> {
+        eval(&self.root, v, &[])
+    }
+
+    /// Whether it reads the agent's blackboard.
+    pub fn reads_memory(&self) -> bool {
+        self.memory
     }
 }
 
+/// Modules a script imports, by alias, as its engine holds them.
+pub type Modules = [(String, Shared<Module>)];
+
 /// The functions of `ast` that can be evaluated natively, by name (none when this build's
-/// Rhai compares floats exactly: see [`checked_floats`]).
-pub fn compile_all(ast: &AST) -> Vec<(String, Native)> {
+/// Rhai compares floats exactly: see [`checked_floats`]). `modules`: what it imports;
+/// `memory`: its species' blackboard declaration (without one, no function that reads the
+/// blackboard is taken: the declaration decides which keys may be read and their types).
+pub fn compile_all(
+    ast: &AST,
+    modules: &Modules,
+    memory: Option<&MemorySpec>,
+) -> Vec<(String, Native)> {
     if !checked_floats() {
         return Vec::new();
     }
+    // A script function `has(k)` would take `this.has("k")` (script functions come first).
+    let own_has = ast
+        .iter_fn_def()
+        .any(|f| f.name == "has" && f.params.len() == 1);
     ast.iter_fn_def()
-        .filter(|f| f.params.is_empty())
+        .filter(|f| f.params.is_empty() && f.this_type.is_none())
         .filter_map(|f| {
-            let body = body_of(f);
-            let root = match body.as_slice() {
-                [Stmt::Expr(e)] => compile(e)?.0,
-                [Stmt::Return(Some(e), flags, _)] if *flags == ASTFlags::NONE => compile(e)?.0,
-                [Stmt::FnCall(call, _)] => compile_call(call)?.0,
-                _ => return None,
+            let mut cx = Cx {
+                ast,
+                modules,
+                memory: memory.filter(|_| !own_has),
+                params: None,
+                module: None,
+                depth: 0,
+                reads_memory: false,
             };
-            Some((f.name.to_string(), Native { root }))
+            let (root, _) = cx.body(f)?;
+            Some((
+                f.name.to_string(),
+                Native {
+                    root,
+                    memory: cx.reads_memory,
+                },
+            ))
         })
         .collect()
+}
+
+/// Where an expression is compiled: the top of a script function (`params` `None`: `this` is
+/// the agent), or the body of a function it calls, with its parameters' names and types.
+struct Cx<'a> {
+    ast: &'a AST,
+    modules: &'a Modules,
+    memory: Option<&'a MemorySpec>,
+    params: Option<Vec<(ImmutableString, Ty)>>,
+    /// The module whose function is being compiled (its unqualified calls are not followed).
+    module: Option<&'a Module>,
+    depth: u8,
+    reads_memory: bool,
+}
+
+impl<'a> Cx<'a> {
+    /// A function body of one expression, compiled.
+    fn body(&mut self, f: &rhai::Shared<rhai::ScriptFuncDef>) -> Option<(Node, Ty)> {
+        match body_of(f).as_slice() {
+            [Stmt::Expr(e)] => self.compile(e),
+            [Stmt::Return(Some(e), flags, _)] if *flags == ASTFlags::NONE => self.compile(e),
+            [Stmt::FnCall(call, _)] => self.call(call),
+            _ => None,
+        }
+    }
 }
 
 /// The top-level statements of the function `f`. Rhai names a body's type only inside its
@@ -306,35 +383,192 @@ fn checked_floats() -> bool {
     })
 }
 
-fn compile(e: &Expr) -> Option<(Node, Ty)> {
-    match e {
-        Expr::BoolConstant(b, _) => Some((Node::Lit(Val::Bool(*b)), Ty::Bool)),
-        Expr::IntegerConstant(i, _) => Some((Node::Lit(Val::Int(*i)), Ty::Int)),
-        Expr::FloatConstant(f, _) => Some((Node::Lit(Val::Float(**f)), Ty::Float)),
-        Expr::Dot(..) => {
-            let mut chain = Vec::new();
-            property_chain(e, &mut chain, true)?;
-            let p = Prop::of(&chain)?;
-            Some((Node::Prop(p), p.ty()))
+impl Cx<'_> {
+    fn compile(&mut self, e: &Expr) -> Option<(Node, Ty)> {
+        let top = self.params.is_none();
+        match e {
+            Expr::BoolConstant(b, _) => Some((Node::Lit(Val::Bool(*b)), Ty::Bool)),
+            Expr::IntegerConstant(i, _) => Some((Node::Lit(Val::Int(*i)), Ty::Int)),
+            Expr::FloatConstant(f, _) => Some((Node::Lit(Val::Float(**f)), Ty::Float)),
+            // A called function has no `this` (the interpreter raises an error there).
+            Expr::Dot(x, _, _) if top => {
+                if let (Expr::ThisPtr(_), Expr::MethodCall(call, _)) = (&x.lhs, &x.rhs) {
+                    return self.has(call);
+                }
+                let mut chain = Vec::new();
+                property_chain(e, &mut chain, true)?;
+                let p = Prop::of(&chain)?;
+                Some((Node::Prop(p), p.ty()))
+            }
+            // `BREAK` marks the chain's last index; `?[` is another flag.
+            Expr::Index(x, flags, _)
+                if top && matches!(*flags, ASTFlags::NONE | ASTFlags::BREAK) =>
+            {
+                let (Expr::ThisPtr(_), Expr::StringConstant(key, _)) = (&x.lhs, &x.rhs) else {
+                    return None;
+                };
+                let ty = match self.memory?.type_of(key)? {
+                    MemType::Bool => Ty::Bool,
+                    MemType::Int => Ty::Int,
+                    MemType::Float => Ty::Float,
+                    MemType::Vec3 | MemType::Str => return None,
+                };
+                self.reads_memory = true;
+                Some((Node::Mem(key.as_str().into()), ty))
+            }
+            Expr::Variable(x, _, _) if x.2.is_empty() => {
+                let params = self.params.as_ref()?;
+                let k = params.iter().position(|(n, _)| *n == x.1)?;
+                Some((Node::Arg(k as u8), params[k].1))
+            }
+            Expr::And(v, _) | Expr::Or(v, _) => {
+                let mut nodes = Vec::with_capacity(v.len());
+                for x in v.iter() {
+                    let (n, t) = self.compile(x)?;
+                    if t != Ty::Bool {
+                        return None;
+                    }
+                    nodes.push(n);
+                }
+                let node = if matches!(e, Expr::And(..)) {
+                    Node::And(nodes)
+                } else {
+                    Node::Or(nodes)
+                };
+                Some((node, Ty::Bool))
+            }
+            Expr::FnCall(call, _) => self.call(call),
+            _ => None,
         }
-        Expr::And(v, _) | Expr::Or(v, _) => {
-            let mut nodes = Vec::with_capacity(v.len());
-            for x in v.iter() {
-                let (n, t) = compile(x)?;
-                if t != Ty::Bool {
+    }
+
+    /// `this.has("k")` for a declared key.
+    fn has(&mut self, call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {
+        let [Expr::StringConstant(key, _)] = call.args.as_slice() else {
+            return None;
+        };
+        if call.name != "has" || !call.namespace.is_empty() {
+            return None;
+        }
+        self.memory?.type_of(key)?;
+        self.reads_memory = true;
+        Some((Node::Has(key.as_str().into()), Ty::Bool))
+    }
+
+    fn call(&mut self, call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {
+        if call.capture_parent_scope {
+            return None;
+        }
+        if call.op_token.is_none()
+            && !(call.namespace.is_empty()
+                && call.args.len() == 1
+                && matches!(call.name.as_str(), "!" | "-"))
+        {
+            return self.function(call);
+        }
+        if !call.namespace.is_empty() {
+            return None;
+        }
+        let name = call.name.as_str();
+        match call.args.as_slice() {
+            [a] => {
+                let (n, t) = self.compile(a)?;
+                match (name, t) {
+                    ("!", Ty::Bool) => Some((Node::Not(Box::new(n)), Ty::Bool)),
+                    ("-", Ty::Int | Ty::Float) => Some((Node::Neg(Box::new(n)), t)),
+                    _ => None,
+                }
+            }
+            [a, b] => {
+                let ((x, tx), (y, ty)) = (self.compile(a)?, self.compile(b)?);
+                let numeric = |t: Ty| t != Ty::Bool;
+                let cmp = match name {
+                    "==" => Some(Cmp::Eq),
+                    "!=" => Some(Cmp::Ne),
+                    "<" => Some(Cmp::Lt),
+                    "<=" => Some(Cmp::Le),
+                    ">" => Some(Cmp::Gt),
+                    ">=" => Some(Cmp::Ge),
+                    _ => None,
+                };
+                if let Some(c) = cmp {
+                    let bools = tx == Ty::Bool && ty == Ty::Bool && matches!(c, Cmp::Eq | Cmp::Ne);
+                    if !(bools || numeric(tx) && numeric(ty)) {
+                        return None;
+                    }
+                    return Some((Node::Cmp(c, Box::new([x, y])), Ty::Bool));
+                }
+                let op = match name {
+                    "+" => Arith::Add,
+                    "-" => Arith::Sub,
+                    "*" => Arith::Mul,
+                    "/" => Arith::Div,
+                    _ => return None,
+                };
+                if !(numeric(tx) && numeric(ty)) {
                     return None;
                 }
-                nodes.push(n);
+                let t = if tx == Ty::Int && ty == Ty::Int {
+                    Ty::Int
+                } else {
+                    Ty::Float
+                };
+                Some((Node::Arith(op, Box::new([x, y])), t))
             }
-            let node = if matches!(e, Expr::And(..)) {
-                Node::And(nodes)
-            } else {
-                Node::Or(nodes)
-            };
-            Some((node, Ty::Bool))
+            _ => None,
         }
-        Expr::FnCall(call, _) => compile_call(call),
-        _ => None,
+    }
+
+    /// A call of a script function with parameters: one of the script's own (not from within
+    /// a module, whose unqualified names are its own), or `alias::name` of an imported module.
+    fn function(&mut self, call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {
+        let n = call.args.len();
+        if n > MAX_PARAMS || self.depth >= MAX_DEPTH {
+            return None;
+        }
+        let name = call.name.as_str();
+        let (callee, module) = if call.namespace.is_empty() {
+            if self.module.is_some() {
+                return None;
+            }
+            let f = self
+                .ast
+                .iter_fn_def()
+                .find(|f| f.name == name && f.params.len() == n)?;
+            (f.clone(), None)
+        } else {
+            let path = &call.namespace.path;
+            if path.len() != 1 {
+                return None;
+            }
+            let (_, m) = self.modules.iter().find(|(a, _)| a == path[0].as_str())?;
+            let (.., f) = m.iter_script_fn_info().find(|(_, access, f, p, _)| {
+                *f == name && *p == n && *access != rhai::FnAccess::Private
+            })?;
+            (f.clone(), Some(&**m))
+        };
+        if callee.this_type.is_some() {
+            return None;
+        }
+        let mut args = Vec::with_capacity(n);
+        let mut params = Vec::with_capacity(n);
+        for (a, p) in call.args.iter().zip(&callee.params) {
+            let (node, ty) = self.compile(a)?;
+            args.push(node);
+            params.push((p.clone(), ty));
+        }
+        let mut inner = Cx {
+            ast: self.ast,
+            modules: self.modules,
+            memory: self.memory,
+            params: Some(params),
+            module: module.or(self.module),
+            depth: self.depth + 1,
+            reads_memory: false,
+        };
+        let (body, ty) = inner.body(&callee)?;
+        self.reads_memory |= inner.reads_memory;
+        Some((Node::Call(Box::new((args, body))), ty))
     }
 }
 
@@ -357,78 +591,40 @@ fn property_chain<'a>(e: &'a Expr, out: &mut Vec<&'a str>, head: bool) -> Option
     }
 }
 
-fn compile_call(call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {
-    if !call.namespace.is_empty() || call.capture_parent_scope {
-        return None;
-    }
-    let name = call.name.as_str();
-    match call.args.as_slice() {
-        [a] => {
-            let (n, t) = compile(a)?;
-            match (name, t) {
-                ("!", Ty::Bool) => Some((Node::Not(Box::new(n)), Ty::Bool)),
-                ("-", Ty::Int | Ty::Float) => Some((Node::Neg(Box::new(n)), t)),
-                _ => None,
-            }
-        }
-        [a, b] => {
-            // Operators only: a function of that name would be looked up, not computed.
-            call.op_token.as_ref()?;
-            let ((x, tx), (y, ty)) = (compile(a)?, compile(b)?);
-            let numeric = |t: Ty| t != Ty::Bool;
-            let cmp = match name {
-                "==" => Some(Cmp::Eq),
-                "!=" => Some(Cmp::Ne),
-                "<" => Some(Cmp::Lt),
-                "<=" => Some(Cmp::Le),
-                ">" => Some(Cmp::Gt),
-                ">=" => Some(Cmp::Ge),
-                _ => None,
-            };
-            if let Some(c) = cmp {
-                let bools = tx == Ty::Bool && ty == Ty::Bool && matches!(c, Cmp::Eq | Cmp::Ne);
-                if !(bools || numeric(tx) && numeric(ty)) {
-                    return None;
-                }
-                return Some((Node::Cmp(c, Box::new([x, y])), Ty::Bool));
-            }
-            let op = match name {
-                "+" => Arith::Add,
-                "-" => Arith::Sub,
-                "*" => Arith::Mul,
-                "/" => Arith::Div,
-                _ => return None,
-            };
-            if !(numeric(tx) && numeric(ty)) {
-                return None;
-            }
-            let t = if tx == Ty::Int && ty == Ty::Int {
-                Ty::Int
-            } else {
-                Ty::Float
-            };
-            Some((Node::Arith(op, Box::new([x, y])), t))
-        }
-        _ => None,
-    }
-}
-
-fn eval(n: &Node, v: &AgentView) -> Result<Val, Overflow> {
+fn eval(n: &Node, v: &AgentView, env: &[Val]) -> Result<Val, HandBack> {
     Ok(match n {
         Node::Lit(x) => *x,
         Node::Prop(p) => p.read(v),
-        Node::Not(x) => match eval(x, v)? {
+        Node::Has(key) => Val::Bool(v.memory.iter().any(|(k, _)| **k == **key)),
+        Node::Mem(key) => match v.memory.iter().find(|(k, _)| **k == **key) {
+            Some((_, MemValue::Bool(b))) => Val::Bool(*b),
+            Some((_, MemValue::Int(i))) => Val::Int(*i),
+            Some((_, MemValue::Float(f))) => Val::Float(*f),
+            // Not set: the interpreter reads `()`. (Another type cannot be stored under a
+            // declared key.)
+            _ => return Err(HandBack),
+        },
+        Node::Arg(k) => env[*k as usize],
+        Node::Call(call) => {
+            let (args, body) = &**call;
+            let mut vals = [Val::Bool(false); MAX_PARAMS];
+            for (x, a) in vals.iter_mut().zip(args) {
+                *x = eval(a, v, env)?;
+            }
+            eval(body, v, &vals[..args.len()])?
+        }
+        Node::Not(x) => match eval(x, v, env)? {
             Val::Bool(b) => Val::Bool(!b),
             _ => unreachable!("typed at load"),
         },
-        Node::Neg(x) => match eval(x, v)? {
-            Val::Int(i) => Val::Int(i.checked_neg().ok_or(Overflow)?),
+        Node::Neg(x) => match eval(x, v, env)? {
+            Val::Int(i) => Val::Int(i.checked_neg().ok_or(HandBack)?),
             Val::Float(f) => Val::Float(-f),
             Val::Bool(_) => unreachable!("typed at load"),
         },
         Node::And(xs) => {
             for x in xs {
-                if eval(x, v)? == Val::Bool(false) {
+                if eval(x, v, env)? == Val::Bool(false) {
                     return Ok(Val::Bool(false));
                 }
             }
@@ -436,14 +632,14 @@ fn eval(n: &Node, v: &AgentView) -> Result<Val, Overflow> {
         }
         Node::Or(xs) => {
             for x in xs {
-                if eval(x, v)? == Val::Bool(true) {
+                if eval(x, v, env)? == Val::Bool(true) {
                     return Ok(Val::Bool(true));
                 }
             }
             Val::Bool(false)
         }
-        Node::Cmp(c, xy) => Val::Bool(compare(*c, eval(&xy[0], v)?, eval(&xy[1], v)?)),
-        Node::Arith(op, xy) => arith(*op, eval(&xy[0], v)?, eval(&xy[1], v)?)?,
+        Node::Cmp(c, xy) => Val::Bool(compare(*c, eval(&xy[0], v, env)?, eval(&xy[1], v, env)?)),
+        Node::Arith(op, xy) => arith(*op, eval(&xy[0], v, env)?, eval(&xy[1], v, env)?)?,
     })
 }
 
@@ -495,7 +691,7 @@ fn compare(c: Cmp, a: Val, b: Val) -> bool {
 
 /// Rhai's built-in arithmetic: checked for integers, IEEE for floats (an integer operand
 /// converted `as f32`).
-fn arith(op: Arith, a: Val, b: Val) -> Result<Val, Overflow> {
+fn arith(op: Arith, a: Val, b: Val) -> Result<Val, HandBack> {
     if let (Val::Int(x), Val::Int(y)) = (a, b) {
         let r = match op {
             Arith::Add => x.checked_add(y),
@@ -503,7 +699,7 @@ fn arith(op: Arith, a: Val, b: Val) -> Result<Val, Overflow> {
             Arith::Mul => x.checked_mul(y),
             Arith::Div => x.checked_div(y),
         };
-        return r.map(Val::Int).ok_or(Overflow);
+        return r.map(Val::Int).ok_or(HandBack);
     }
     let (x, y) = (as_float(a), as_float(b));
     Ok(Val::Float(match op {
@@ -568,6 +764,7 @@ mod tests {
     use crate::script::{SandboxLimits, Script};
     use rhai::Scope;
     use std::path::Path;
+    use std::sync::Arc;
 
     /// Every form, each in a function the compiler must take.
     const NATIVE: &str = r#"
@@ -791,7 +988,7 @@ fn two_lines() {
                         compared += 1;
                     }
                     // Integer overflow: the call goes back to the interpreter, which fails.
-                    (Err(Overflow), Err(e)) => {
+                    (Err(HandBack), Err(e)) => {
                         let m = &e.diagnostic.message;
                         assert!(m.contains("overflow") || m.contains("zero"), "`{f}`: {m}");
                         overflows += 1;
@@ -803,6 +1000,182 @@ fn two_lines() {
         assert!(
             compared > 50_000 && overflows > 100,
             "{compared} {overflows}"
+        );
+    }
+
+    /// Blackboard reads and calls: the script, with the module it imports as `m`.
+    const CALLS: &str = r#"
+import "m" as m;
+fn has_f() { this.has("f") }
+fn mem_f() { this.has("f") && this["f"] > 0.5 }
+fn mem_i() { this["i"] * 2 + this.kin.count }
+fn mem_b() { this["b"] || this.fear > 0.5 }
+fn mem_cmp() { this["i"] < this["f"] }
+fn own() { helper(this.hunger, this.kin.count) }
+fn helper(x, n) { x * n > 1.0 }
+fn nested_own() { twice(this.fear) < 3.0 }
+fn twice(x) { add(x, x) }
+fn add(a, b) { a + b }
+fn unused_arg() { first(this.hunger, this["i"]) }
+fn first(a, b) { a }
+fn unused_overflow() { first(this.hunger, this.kind * 2) }
+fn modcall() { m::may(this.hunger, this.fatigue) }
+fn modmem() { this.has("f") && this.time > 2.0 && m::slow(this["f"], this.max_speed, 0.3) }
+fn int_param() { m::scale(this.kin.seen) > 4 }
+fn mod_nested() { m::via(this.hunger) }
+"#;
+
+    /// What the interpreter keeps of the same script.
+    const CALLS_INTERPRETED: &[&str] = &[
+        "vec_mem",
+        "undeclared",
+        "this_in_callee",
+        "recursive",
+        "mod_unqualified",
+        "string_mem",
+    ];
+    const CALLS_REST: &str = r#"
+fn vec_mem() { this["v"] != () }
+fn undeclared() { this.has("nope") }
+fn this_in_callee() { uses_this(1.0) }
+fn uses_this(x) { this.hunger > x }
+fn recursive() { rec(1) }
+fn rec(n) { rec(n) }
+fn mod_unqualified() { m::outer(1.0) }
+fn string_mem() { this.has("s") && this["s"] == "x" }
+"#;
+
+    const MODULE: &str = r#"
+import "n" as n;
+fn may(h, f) { h < 0.85 && f < 0.9 }
+fn slow(x, v, k) { x < k * v }
+fn scale(n) { n * 3 + 1 }
+fn via(x) { n::low(x, 0.5) }
+fn outer(x) { inner(x) }
+fn inner(x) { x > 0.0 }
+"#;
+
+    fn spec() -> Arc<MemorySpec> {
+        let keys = [
+            ("b", MemType::Bool),
+            ("f", MemType::Float),
+            ("i", MemType::Int),
+            ("s", MemType::Str),
+            ("v", MemType::Vec3),
+        ];
+        Arc::new(MemorySpec {
+            keys: keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect(),
+            initial: Default::default(),
+        })
+    }
+
+    /// The script of [`CALLS`] and [`CALLS_REST`] with its module, bound to [`spec`].
+    fn calls_script() -> (tempfile::TempDir, Script) {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("m.rhai"), MODULE).unwrap();
+        std::fs::write(dir.path().join("n.rhai"), "fn low(x, k) { x < k }\n").unwrap();
+        let file = dir.path().join("s.rhai");
+        let text = format!("{CALLS}{CALLS_REST}");
+        std::fs::write(&file, &text).unwrap();
+        let mut s = Script::compile(&file, &text, dir.path(), &SandboxLimits::default())
+            .unwrap_or_else(|d| panic!("{d}"));
+        assert!(
+            s.native("has_f").is_none(),
+            "no declaration yet: nothing read"
+        );
+        s.declare_memory(spec());
+        (dir, s)
+    }
+
+    #[test]
+    fn blackboard_reads_and_calls_compile_and_the_rest_stays_with_the_interpreter() {
+        let (_dir, s) = calls_script();
+        for f in names(CALLS) {
+            let params = ["helper", "twice", "add", "first"];
+            assert_eq!(
+                s.native(&f).is_some(),
+                !params.contains(&f.as_str()),
+                "`{f}`"
+            );
+        }
+        for f in CALLS_INTERPRETED {
+            assert!(
+                s.native(f).is_none(),
+                "`{f}` should stay with the interpreter"
+            );
+        }
+        assert!(s.natives_read_memory());
+        assert!(!s.native("modcall").unwrap().reads_memory());
+        assert!(s.native("modmem").unwrap().reads_memory());
+        // A script function `has(k)` would be called instead of the blackboard's.
+        let dir = tempfile::tempdir().unwrap();
+        let text = "fn knows() { this.has(\"f\") }\nfn has(k) { true }\n";
+        let mut own = Script::compile(
+            &dir.path().join("o.rhai"),
+            text,
+            dir.path(),
+            &SandboxLimits::default(),
+        )
+        .unwrap();
+        own.declare_memory(spec());
+        assert!(own.native("knows").is_none());
+    }
+
+    #[test]
+    fn blackboard_reads_and_calls_are_the_interpreters_bit_for_bit() {
+        let (_dir, s) = calls_script();
+        let mut d = Draw(11);
+        let mut scope = Scope::new();
+        let (mut compared, mut handed_back) = (0, 0);
+        let fns: Vec<String> = names(CALLS)
+            .into_iter()
+            .filter(|f| s.native(f).is_some())
+            .collect();
+        for _ in 0..3000 {
+            let mut v = view(&mut d);
+            // Each key set or not, in key order as a blackboard keeps them.
+            let mut memory: Vec<(Arc<str>, MemValue)> = Vec::new();
+            if !d.next().is_multiple_of(3) {
+                memory.push(("b".into(), MemValue::Bool(d.next().is_multiple_of(2))));
+            }
+            if !d.next().is_multiple_of(3) {
+                memory.push(("f".into(), MemValue::Float(d.float())));
+            }
+            if !d.next().is_multiple_of(3) {
+                memory.push(("i".into(), MemValue::Int(d.int())));
+            }
+            let unset = memory.len() < 3;
+            v.memory = memory.into_iter().collect();
+            let mut this = Dynamic::from(v.clone());
+            for f in &fns {
+                let native = s.native(f).unwrap().eval(&v);
+                let interpreted = s.call::<Dynamic>(&mut scope, &mut this, f);
+                match (native, interpreted) {
+                    (Ok(n), Ok(i)) => {
+                        let n = n.to_dynamic();
+                        assert!(
+                            same(&n, &i),
+                            "`{f}`: native {n:?}, interpreter {i:?}, {v:?}"
+                        );
+                        compared += 1;
+                    }
+                    // Handed back: only for an unset key (the interpreter reads `()`, which
+                    // fails in arithmetic and compares unequal) or an integer overflow.
+                    (Err(HandBack), i) => {
+                        let overflow = i.as_ref().is_err_and(|e| {
+                            let m = &e.diagnostic.message;
+                            m.contains("overflow") || m.contains("zero")
+                        });
+                        assert!(unset || overflow, "`{f}`: handed back, {i:?}, {v:?}");
+                        handed_back += 1;
+                    }
+                    (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
+                }
+            }
+        }
+        assert!(
+            compared > 25_000 && handed_back > 3000,
+            "{compared} {handed_back}"
         );
     }
 
@@ -827,5 +1200,11 @@ fn two_lines() {
         assert!(fish.scripts_native);
         let squad = crate::species::Species::load("behaviors/squad_member.ron").unwrap();
         assert!(!squad.scripts_native, "it has an on_tick");
+        // The sardine's conditions read its blackboard and call its schooling module.
+        let sardine = crate::species::Species::load("behaviors/sardine.ron").unwrap();
+        let script = sardine.script.as_deref().unwrap();
+        for f in ["sluggish", "wants_school", "knows_food"] {
+            assert!(script.native(f).is_some(), "sardine.rhai: `{f}`");
+        }
     }
 }

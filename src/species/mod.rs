@@ -288,8 +288,12 @@ pub struct Species {
     pub has_on_tick: bool,
     /// Whether every slot is a condition or value evaluated natively
     /// ([`crate::script::native`]) and there is no `on_tick()`: its calls read only the
-    /// agent's scalars and summaries, and write nothing back.
+    /// agent's scalars and summaries (and its blackboard when `natives_read_memory`), and
+    /// write nothing back.
     pub scripts_native: bool,
+    /// Whether a natively evaluated function reads the blackboard (`this.has("k")`,
+    /// `this["k"]`).
+    pub natives_read_memory: bool,
     /// Whether the script defines `on_event(kind)`.
     pub has_on_event: bool,
     /// The declared blackboard: keys, types, and what a new agent remembers.

@@ -430,6 +430,7 @@ impl Builder<'_> {
                     .iter()
                     .all(|x| x.kind != SlotKind::Steer && s.native(&x.name).is_some())
         });
+        let natives_read_memory = script.as_ref().is_some_and(|s| s.natives_read_memory());
         Ok(Species {
             name: def.name.clone(),
             file: self.file.to_path_buf(),
@@ -466,6 +467,7 @@ impl Builder<'_> {
             steer_slots,
             has_on_tick,
             scripts_native,
+            natives_read_memory,
             has_on_event,
             events: events.into(),
             has_on_event_payload,
