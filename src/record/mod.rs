@@ -39,7 +39,11 @@ pub const EXPLAIN_FILE: &str = "explain.jsonl";
 pub struct Recorder {
     dir: PathBuf,
     interval: u32,
-    traj: csv::Writer<File>,
+    /// `trajectories.csv`: its rows are laid out in [`ROWS`]-agent pieces ([`traj_rows`]),
+    /// written here in order.
+    traj: BufWriter<File>,
+    /// Each piece's bytes, kept from one recorded tick to the next.
+    pieces: Vec<Vec<u8>>,
     food: csv::Writer<File>,
     events: BufWriter<File>,
     /// `explain.jsonl`, when the run explains.
@@ -105,22 +109,29 @@ fn at(path: &Path) -> impl Fn(std::io::Error) -> std::io::Error + '_ {
 
 /// A CSV writer with a `capacity`-byte buffer (fields are quoted only when they must be: a
 /// species or behavior name holding a comma or a quote).
-fn csv_writer(capacity: usize, file: File) -> csv::Writer<File> {
+fn csv_writer<W: Write>(capacity: usize, out: W) -> csv::Writer<W> {
     csv::WriterBuilder::new()
         .buffer_capacity(capacity)
-        .from_writer(file)
+        .from_writer(out)
 }
 
+/// Agents whose trajectory rows are laid out as one piece: small enough for a second thread
+/// to take a share of a few hundred agents, large enough that a piece's writer costs little.
+const ROWS: usize = 128;
+
+/// Pieces laid out before they are written (about 300 KB of rows).
+const BATCH: usize = 16;
+
 /// One float field, in Rust's shortest round-trip form (a re-read gives the same bits).
-fn float_field(w: &mut csv::Writer<File>, buf: &mut String, v: f32) -> csv::Result<()> {
+fn float_field<W: Write>(w: &mut csv::Writer<W>, buf: &mut String, v: f32) -> csv::Result<()> {
     buf.clear();
     decimal::push_f32(buf, v);
     w.write_field(buf.as_bytes())
 }
 
 /// One field as `Display` writes it.
-fn field(
-    w: &mut csv::Writer<File>,
+fn field<W: Write>(
+    w: &mut csv::Writer<W>,
     buf: &mut String,
     v: impl std::fmt::Display,
 ) -> csv::Result<()> {
@@ -166,7 +177,8 @@ impl Recorder {
         let mut rec = Recorder {
             dir: dir.to_path_buf(),
             interval: interval.max(1),
-            traj: csv_writer(1 << 20, create(&partial(dir, "trajectories.csv"))?),
+            traj: BufWriter::with_capacity(1 << 20, create(&partial(dir, "trajectories.csv"))?),
+            pieces: Vec::new(),
             food: csv_writer(1 << 16, create(&partial(dir, "food.csv"))?),
             events: BufWriter::new(create(&partial(dir, "events.jsonl"))?),
             explain: None,
@@ -175,10 +187,14 @@ impl Recorder {
             line: String::with_capacity(256),
             extra: Vec::new(),
         };
-        rec.traj
+        let mut header = csv_writer(1 << 10, Vec::new());
+        let header = header
             .write_record(schema::TRAJECTORY_COLUMNS)
+            .and_then(|()| header.into_inner().map_err(|e| e.into_error().into()))
             .map_err(csv_io)
-            .map_err(at(&partial(dir, "trajectories.csv")))?;
+            .and_then(|h| rec.traj.write_all(&h))
+            .map_err(at(&partial(dir, "trajectories.csv")));
+        header?;
         rec.food
             .write_record(schema::FOOD_COLUMNS)
             .map_err(csv_io)
@@ -252,43 +268,37 @@ impl Recorder {
         Ok(())
     }
 
-    /// Writes agent and food states of the current tick.
+    /// Writes agent and food states of the current tick. The trajectory rows are laid out in
+    /// pieces of [`ROWS`] agents, in parallel when the tick itself ran on the whole pool
+    /// (beside a busy core it ran on one thread, and so do they); the bytes are the same
+    /// either way.
     pub fn states(&mut self, run: &Run) -> std::io::Result<()> {
+        use rayon::prelude::*;
         let w = &run.world;
-        let t = w.time();
-        let set = &run.scenario.species;
-        let traj = &mut self.traj;
-        let buf = &mut self.line;
-        let mut rows = || -> csv::Result<()> {
-            for a in &w.agents {
-                let sp = &set.species[a.species.0 as usize];
-                let f = a.forward();
-                // In `schema::TrajColumn` order.
-                field(traj, buf, w.tick)?;
-                field(traj, buf, t)?;
-                field(traj, buf, a.id.0)?;
-                traj.write_field(&sp.name)?;
-                for v in [a.pos.x, a.pos.y, a.pos.z, f.x, f.y, f.z, a.speed] {
-                    float_field(traj, buf, v)?;
-                }
-                traj.write_field(sp.behavior_name(a.mind.current))?;
-                field(traj, buf, a.mind.depth)?;
-                for v in [
-                    a.drives.hunger,
-                    a.drives.libido,
-                    a.drives.fear,
-                    a.anim.phase,
-                    crate::locomotion::anim::bend(&a.anim, &sp.body.anim),
-                ] {
-                    float_field(traj, buf, v)?;
-                }
-                traj.write_record(None::<&[u8]>)?;
+        let traj_path = || partial(&self.dir, "trajectories.csv");
+        let parallel = w.agents.len() > ROWS
+            && rayon::current_num_threads() > 1
+            && !crate::par::is_alone()
+            && run.pipeline.governor.mode() == crate::tick::governor::Mode::Pool;
+        // A batch of pieces at a time: a million agents' rows are not held at once.
+        self.pieces.resize_with(BATCH, Vec::new);
+        for batch in w.agents.chunks(ROWS * BATCH) {
+            let pieces = &mut self.pieces[..batch.len().div_ceil(ROWS)];
+            let lay = |(k, piece): (usize, &mut Vec<u8>)| {
+                let agents = &batch[k * ROWS..((k + 1) * ROWS).min(batch.len())];
+                traj_rows(run, agents, piece)
+            };
+            let laid: csv::Result<()> = if parallel {
+                pieces.par_iter_mut().enumerate().try_for_each(lay)
+            } else {
+                pieces.iter_mut().enumerate().try_for_each(lay)
+            };
+            laid.map_err(csv_io).map_err(at(&traj_path()))?;
+            for piece in pieces.iter() {
+                self.traj.write_all(piece).map_err(at(&traj_path()))?;
             }
-            Ok(())
-        };
-        rows()
-            .map_err(csv_io)
-            .map_err(at(&partial(&self.dir, "trajectories.csv")))?;
+        }
+        let buf = &mut self.line;
         let food = &mut self.food;
         let mut rows = || -> csv::Result<()> {
             for f in &w.food {
@@ -443,6 +453,43 @@ impl Recorder {
     }
 }
 
+/// The trajectory rows of `agents` (in `schema::TrajColumn` order), laid out in `out` (whose
+/// room is reused).
+fn traj_rows(run: &Run, agents: &[crate::world::Agent], out: &mut Vec<u8>) -> csv::Result<()> {
+    let w = &run.world;
+    let t = w.time();
+    let set = &run.scenario.species;
+    out.clear();
+    let mut traj = csv_writer(1 << 14, std::mem::take(out));
+    let mut buf = String::with_capacity(32);
+    let buf = &mut buf;
+    for a in agents {
+        let sp = &set.species[a.species.0 as usize];
+        let f = a.forward();
+        field(&mut traj, buf, w.tick)?;
+        field(&mut traj, buf, t)?;
+        field(&mut traj, buf, a.id.0)?;
+        traj.write_field(&sp.name)?;
+        for v in [a.pos.x, a.pos.y, a.pos.z, f.x, f.y, f.z, a.speed] {
+            float_field(&mut traj, buf, v)?;
+        }
+        traj.write_field(sp.behavior_name(a.mind.current))?;
+        field(&mut traj, buf, a.mind.depth)?;
+        for v in [
+            a.drives.hunger,
+            a.drives.libido,
+            a.drives.fear,
+            a.anim.phase,
+            crate::locomotion::anim::bend(&a.anim, &sp.body.anim),
+        ] {
+            float_field(&mut traj, buf, v)?;
+        }
+        traj.write_record(None::<&[u8]>)?;
+    }
+    *out = traj.into_inner().map_err(|e| e.into_error())?;
+    Ok(())
+}
+
 /// Name of an input file relative to the scenario's behaviors folder (species, scripts) or
 /// `scenario/<file>` for the scenario itself.
 fn rel_name(f: &Path, run: &Run) -> String {
@@ -532,4 +579,75 @@ fn write_inputs(dir: &Path, run: &Run) -> std::io::Result<()> {
     )
     .map_err(std::io::Error::other)?;
     write_atomic(&dir.join("scenario.ron"), text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenario::{Overrides, Scenario};
+
+    /// The shipped school of sardines, `n` of them.
+    fn school(n: i64) -> Run {
+        let mut sc = Scenario::load(Path::new("scenarios/school_formation.ron")).unwrap();
+        sc.def.groups[0].count = n;
+        let o = Overrides {
+            seed: None,
+            duration: Some(0.2),
+            set: Vec::new(),
+        };
+        Run::new(sc, o)
+    }
+
+    /// The trajectory file of `run` recorded at every tick on a two-thread pool, its rows laid
+    /// out in parallel or (`alone`) on one thread; and the agent ids of each recorded tick.
+    fn record(mut run: Run, alone: bool) -> (Vec<u8>, Vec<Vec<u32>>) {
+        let dir = tempfile::tempdir().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let mut ids = Vec::new();
+        pool.install(|| {
+            let mut go = || {
+                let mut rec = Recorder::start(dir.path(), &run, 1, 2).unwrap();
+                rec.states(&run).unwrap();
+                ids.push(run.world.agents.iter().map(|a| a.id.0).collect());
+                for _ in 0..2 {
+                    run.step();
+                    rec.record_tick(&run).unwrap();
+                    ids.push(run.world.agents.iter().map(|a| a.id.0).collect());
+                }
+                rec.finish(&run, 2, serde_json::json!({})).unwrap();
+            };
+            if alone {
+                crate::par::alone(go)
+            } else {
+                go()
+            }
+        });
+        let bytes = std::fs::read(dir.path().join("trajectories.csv")).unwrap();
+        (bytes, ids)
+    }
+
+    #[test]
+    fn trajectory_rows_laid_out_in_parallel_are_the_bytes_of_one_thread_in_agent_order() {
+        // Two batches of pieces, the last piece partial.
+        let n = (ROWS * BATCH + ROWS + 5) as i64;
+        let (parallel, ids) = record(school(n), false);
+        let (alone, _) = record(school(n), true);
+        assert!(parallel == alone, "the two layouts differ");
+        let text = String::from_utf8(parallel).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next(),
+            Some(schema::TRAJECTORY_COLUMNS.join(",").as_str())
+        );
+        let id_col = schema::TrajColumn::Id as usize;
+        let read: Vec<u32> = lines
+            .map(|l| l.split(',').nth(id_col).unwrap().parse().unwrap())
+            .collect();
+        let want: Vec<u32> = ids.concat();
+        assert_eq!(want.len(), 3 * n as usize);
+        assert!(read == want, "rows are not in agent order, tick by tick");
+    }
 }
