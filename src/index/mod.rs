@@ -496,6 +496,46 @@ mod tests {
     }
 
     #[test]
+    fn a_point_on_a_slab_boundary_at_the_radius_is_still_found() {
+        // Points a few units in the last place either side of each cell boundary along y, and
+        // queries exactly a radius below them: the rounding of a point's cell and of the
+        // slab's bound must not leave a point within the radius out of its chord.
+        let o = Vec3::new(3.0, -1234.5, 7.0);
+        let bounds = Aabb::new(o, o + Vec3::new(20.0, 100.0, 20.0));
+        let h = 0.7;
+        let r = 2.3;
+        let mut pts = Vec::new();
+        let mut centers = Vec::new();
+        for k in 1..140 {
+            let b = o.y + k as f32 * h;
+            let mut y = b;
+            for _ in 0..4 {
+                y = f32::from_bits(y.to_bits() - 1);
+            }
+            for _ in 0..8 {
+                pts.push(Vec3::new(10.0, y, 10.0));
+                centers.push(Vec3::new(10.0, y - r, 10.0));
+                centers.push(Vec3::new(10.0 + r * 0.6, y - r * 0.8, 10.0));
+                y = f32::from_bits(y.to_bits() + 1);
+            }
+        }
+        let mut g = Grid::new();
+        g.rebuild(bounds, h, pts.iter().copied());
+        let mut checked = 0;
+        for &c in &centers {
+            let want: Vec<u32> = (0..pts.len() as u32)
+                .filter(|&i| (pts[i as usize] - c).length_squared() <= r * r)
+                .collect();
+            let mut found = Vec::new();
+            g.for_each_within(c, r, |i, _, _| found.push(i));
+            found.sort();
+            assert_eq!(found, want, "around {c}");
+            checked += want.len();
+        }
+        assert!(checked > 1000, "{checked}");
+    }
+
+    #[test]
     fn a_huge_radius_reaches_every_cell() {
         // With cells of 0.25 along x, `center.x + 1e38` overflows to +∞ where the same box
         // along y and z stays finite: the box must still span the grid, not collapse to a cell.
