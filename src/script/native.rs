@@ -240,7 +240,7 @@ enum Node {
     /// `this.has("k")`.
     Has(Box<str>),
     /// `this["k"]`, of the declared type.
-    Mem(Box<str>),
+    Mem(Box<str>, Ty),
     /// The value of a parameter of the function being evaluated.
     Arg(u8),
     /// A call: its arguments, then the callee's body over them.
@@ -300,10 +300,15 @@ pub fn compile_all(
     if !checked_floats() {
         return Vec::new();
     }
-    // A script function `has(k)` would take `this.has("k")` (script functions come first).
+    // A script function `has(k)` would take `this.has("k")` (script functions come first),
+    // and so would a module's method `fn T.has(k)` (Rhai makes typed methods global).
     let own_has = ast
         .iter_fn_def()
-        .any(|f| f.name == "has" && f.params.len() == 1);
+        .any(|f| f.name == "has" && f.params.len() == 1)
+        || modules.iter().any(|(_, m)| {
+            m.iter_script_fn_info()
+                .any(|(.., name, params, _)| name == "has" && params == 1)
+        });
     ast.iter_fn_def()
         .filter(|f| f.params.is_empty() && f.this_type.is_none())
         .filter_map(|f| {
@@ -414,7 +419,7 @@ impl Cx<'_> {
                     MemType::Vec3 | MemType::Str => return None,
                 };
                 self.reads_memory = true;
-                Some((Node::Mem(key.as_str().into()), ty))
+                Some((Node::Mem(key.as_str().into(), ty), ty))
             }
             Expr::Variable(x, _, _) if x.2.is_empty() => {
                 let params = self.params.as_ref()?;
@@ -596,12 +601,12 @@ fn eval(n: &Node, v: &AgentView, env: &[Val]) -> Result<Val, HandBack> {
         Node::Lit(x) => *x,
         Node::Prop(p) => p.read(v),
         Node::Has(key) => Val::Bool(v.memory.iter().any(|(k, _)| **k == **key)),
-        Node::Mem(key) => match v.memory.iter().find(|(k, _)| **k == **key) {
-            Some((_, MemValue::Bool(b))) => Val::Bool(*b),
-            Some((_, MemValue::Int(i))) => Val::Int(*i),
-            Some((_, MemValue::Float(f))) => Val::Float(*f),
-            // Not set: the interpreter reads `()`. (Another type cannot be stored under a
-            // declared key.)
+        Node::Mem(key, ty) => match (v.memory.iter().find(|(k, _)| **k == **key), ty) {
+            (Some((_, MemValue::Bool(b))), Ty::Bool) => Val::Bool(*b),
+            (Some((_, MemValue::Int(i))), Ty::Int) => Val::Int(*i),
+            (Some((_, MemValue::Float(f))), Ty::Float) => Val::Float(*f),
+            // Not set: the interpreter reads `()`. Another type than the declared one (scripts
+            // cannot store one, code writing the record directly can): the interpreter's too.
             _ => return Err(HandBack),
         },
         Node::Arg(k) => env[*k as usize],
@@ -1119,6 +1124,21 @@ fn inner(x) { x > 0.0 }
         .unwrap();
         own.declare_memory(spec());
         assert!(own.native("knows").is_none());
+        // Nor a module's typed method `has`, which Rhai makes global.
+        std::fs::write(dir.path().join("t.rhai"), "fn Agent.has(k) { true }\n").unwrap();
+        let text = "import \"t\" as t;\nfn knows() { this.has(\"f\") }\n";
+        let mut typed = Script::compile(
+            &dir.path().join("p.rhai"),
+            text,
+            dir.path(),
+            &SandboxLimits::default(),
+        )
+        .unwrap();
+        typed.declare_memory(spec());
+        assert!(typed.native("knows").is_none());
+        let mut this = Dynamic::from(AgentView::default());
+        let r = typed.call::<bool>(&mut Scope::new(), &mut this, "knows");
+        assert_eq!(r.ok(), Some(true), "the module's method is the one called");
     }
 
     #[test]
@@ -1135,11 +1155,24 @@ fn inner(x) { x > 0.0 }
             let mut v = view(&mut d);
             // Each key set or not, in key order as a blackboard keeps them.
             let mut memory: Vec<(Arc<str>, MemValue)> = Vec::new();
+            // Now and then a value of another type than the declared one (code writing the
+            // record directly can store one): handed back too.
+            let wrong = d.next().is_multiple_of(20);
             if !d.next().is_multiple_of(3) {
-                memory.push(("b".into(), MemValue::Bool(d.next().is_multiple_of(2))));
+                let b = if wrong {
+                    MemValue::Float(d.float())
+                } else {
+                    MemValue::Bool(d.next().is_multiple_of(2))
+                };
+                memory.push(("b".into(), b));
             }
             if !d.next().is_multiple_of(3) {
-                memory.push(("f".into(), MemValue::Float(d.float())));
+                let f = if wrong {
+                    MemValue::Bool(true)
+                } else {
+                    MemValue::Float(d.float())
+                };
+                memory.push(("f".into(), f));
             }
             if !d.next().is_multiple_of(3) {
                 memory.push(("i".into(), MemValue::Int(d.int())));
@@ -1166,7 +1199,10 @@ fn inner(x) { x > 0.0 }
                             let m = &e.diagnostic.message;
                             m.contains("overflow") || m.contains("zero")
                         });
-                        assert!(unset || overflow, "`{f}`: handed back, {i:?}, {v:?}");
+                        assert!(
+                            unset || wrong || overflow,
+                            "`{f}`: handed back, {i:?}, {v:?}"
+                        );
                         handed_back += 1;
                     }
                     (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
