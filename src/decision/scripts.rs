@@ -324,9 +324,17 @@ fn run_slots_of(
         }
     }
     if all && species.has_on_tick {
-        let _: Dynamic = script
-            .call(scope, this, "on_tick")
-            .map_err(|e| *e.diagnostic)?;
+        // Evaluated natively where it can be (the same writes); handed back, the interpreter
+        // runs it from the start (a hand-back changes nothing).
+        let native = script.native_on_tick().and_then(|f| {
+            this.write_lock::<AgentView>()
+                .map(|mut v| f.run(&mut v).is_ok())
+        });
+        if native != Some(true) {
+            let _: Dynamic = script
+                .call(scope, this, "on_tick")
+                .map_err(|e| *e.diagnostic)?;
+        }
     }
     Ok(())
 }

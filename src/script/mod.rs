@@ -28,6 +28,7 @@ pub mod memory;
 pub mod names;
 pub mod native;
 pub mod squad;
+pub mod steps;
 mod view;
 
 pub use budget::{with_tick, Exceeded, TickClock, TimeBudget};
@@ -86,6 +87,9 @@ pub struct Script {
     natives: Vec<(String, native::Native)>,
     /// The modules its engine holds, by alias (what native evaluation may call into).
     modules: Vec<(String, rhai::Shared<rhai::Module>)>,
+    /// Its `on_tick()` compiled for native evaluation ([`steps`]), once the blackboard is
+    /// declared.
+    on_tick: Option<steps::Steps>,
     /// Whether it or a file it imports names a category's mean heading ([`names_heading`]).
     reads_heading: bool,
 }
@@ -308,6 +312,7 @@ impl Script {
             functions,
             natives,
             modules,
+            on_tick: None,
             reads_heading,
         })
     }
@@ -326,7 +331,18 @@ impl Script {
     /// declare, and writes of another type, become script errors ([`memory::register`]).
     pub fn declare_memory(&mut self, spec: Arc<memory::MemorySpec>) {
         self.natives = native::compile_all(&self.ast, &self.modules, Some(&spec));
+        self.on_tick = steps::Steps::compile(&self.ast, &self.modules, &spec, "on_tick");
         memory::register(&mut self.engine, spec);
+    }
+
+    /// The modules its engine holds, by alias.
+    pub fn modules(&self) -> &native::Modules {
+        &self.modules
+    }
+
+    /// `on_tick()` compiled for native evaluation, when it is of the forms [`steps`] takes.
+    pub fn native_on_tick(&self) -> Option<&steps::Steps> {
+        self.on_tick.as_ref()
     }
 
     /// Whether a natively evaluated function reads the blackboard (the view must hold it).

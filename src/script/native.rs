@@ -57,7 +57,7 @@ impl Val {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Ty {
+pub(super) enum Ty {
     Bool,
     Int,
     Float,
@@ -124,7 +124,7 @@ pub enum Prop {
 
 impl Prop {
     /// The property a chain of names after `this` reads, when it is a scalar one.
-    fn of(chain: &[&str]) -> Option<Prop> {
+    pub(super) fn of(chain: &[&str]) -> Option<Prop> {
         use Prop::*;
         match chain {
             [name] => Some(match *name {
@@ -179,7 +179,7 @@ impl Prop {
     }
 
     #[inline]
-    fn read(self, v: &AgentView) -> Val {
+    pub(super) fn read(self, v: &AgentView) -> Val {
         use Prop::*;
         let cat = |c: u8| -> &CategoryView { &v.cats[c as usize] };
         match self {
@@ -215,7 +215,7 @@ impl Prop {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Cmp {
+pub(super) enum Cmp {
     Eq,
     Ne,
     Lt,
@@ -225,7 +225,7 @@ enum Cmp {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Arith {
+pub(super) enum Arith {
     Add,
     Sub,
     Mul,
@@ -361,7 +361,7 @@ impl<'a> Cx<'a> {
 /// The top-level statements of the function `f`. Rhai names a body's type only inside its
 /// crate: a walk of an AST that holds that one function (shared, not copied) reaches them. One
 /// such AST per function keeps the load linear in the script's size.
-fn body_of(f: &rhai::Shared<rhai::ScriptFuncDef>) -> Vec<Stmt> {
+pub(super) fn body_of(f: &rhai::Shared<rhai::ScriptFuncDef>) -> Vec<Stmt> {
     let mut lib = rhai::Module::new();
     lib.set_script_fn(f.clone());
     let one = AST::new(Vec::<Stmt>::new(), lib);
@@ -378,7 +378,7 @@ fn body_of(f: &rhai::Shared<rhai::ScriptFuncDef>) -> Vec<Stmt> {
 /// Whether this build's Rhai compares floats with its checked build's relative epsilon, the
 /// rule [`compare`] follows. A program that links Rhai with `unchecked` (features are merged
 /// across a build) compares them exactly; then nothing is evaluated natively.
-fn checked_floats() -> bool {
+pub(super) fn checked_floats() -> bool {
     static CHECKED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *CHECKED.get_or_init(|| {
         // 0.49999997 is one unit below 0.5: less than it exactly, not by the epsilon rule.
@@ -578,7 +578,7 @@ impl Cx<'_> {
 }
 
 /// `this.a.b`: the names after `this`, in order (`head`: whether `e` is the chain's start).
-fn property_chain<'a>(e: &'a Expr, out: &mut Vec<&'a str>, head: bool) -> Option<()> {
+pub(super) fn property_chain<'a>(e: &'a Expr, out: &mut Vec<&'a str>, head: bool) -> Option<()> {
     match e {
         Expr::Dot(x, _, _) => {
             match (&x.lhs, head) {
@@ -658,7 +658,7 @@ fn as_float(x: Val) -> FLOAT {
 
 /// Rhai's built-in comparison: exact for integers and bools; for floats (and an integer
 /// against a float) the relative-epsilon forms of its checked build.
-fn compare(c: Cmp, a: Val, b: Val) -> bool {
+pub(super) fn compare(c: Cmp, a: Val, b: Val) -> bool {
     match (a, b) {
         (Val::Int(x), Val::Int(y)) => match c {
             Cmp::Eq => x == y,
@@ -696,7 +696,7 @@ fn compare(c: Cmp, a: Val, b: Val) -> bool {
 
 /// Rhai's built-in arithmetic: checked for integers, IEEE for floats (an integer operand
 /// converted `as f32`).
-fn arith(op: Arith, a: Val, b: Val) -> Result<Val, HandBack> {
+pub(super) fn arith(op: Arith, a: Val, b: Val) -> Result<Val, HandBack> {
     if let (Val::Int(x), Val::Int(y)) = (a, b) {
         let r = match op {
             Arith::Add => x.checked_add(y),
