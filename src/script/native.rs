@@ -302,13 +302,7 @@ pub fn compile_all(
     }
     // A script function `has(k)` would take `this.has("k")` (script functions come first),
     // and so would a module's method `fn T.has(k)` (Rhai makes typed methods global).
-    let own_has = ast
-        .iter_fn_def()
-        .any(|f| f.name == "has" && f.params.len() == 1)
-        || modules.iter().any(|(_, m)| {
-            m.iter_script_fn_info()
-                .any(|(.., name, params, _)| name == "has" && params == 1)
-        });
+    let own_has = defines(ast, modules, "has", 1);
     ast.iter_fn_def()
         .filter(|f| f.params.is_empty() && f.this_type.is_none())
         .filter_map(|f| {
@@ -331,6 +325,51 @@ pub fn compile_all(
             ))
         })
         .collect()
+}
+
+/// Whether the script or a module it imports defines a script function `name` of `n`
+/// parameters (a module's typed method too: Rhai makes those global). Such a function takes
+/// a call, or a method call on `this`, of a built-in of that name.
+pub(super) fn defines(ast: &AST, modules: &Modules, name: &str, n: usize) -> bool {
+    ast.iter_fn_def()
+        .any(|f| f.name == name && f.params.len() == n)
+        || modules.iter().any(|(_, m)| {
+            m.iter_script_fn_info()
+                .any(|(.., f, p, _)| f == name && p == n)
+        })
+}
+
+/// The script function `call` names, as the interpreter resolves it, and the module whose
+/// body it is then (`within`: the caller's): one of the script's own (not from within a
+/// module, whose unqualified names are its own) or a public `alias::name` of an imported
+/// module; `None` for any other call and for a typed method.
+pub(super) fn callee<'m>(
+    ast: &AST,
+    modules: &'m Modules,
+    within: Option<&'m Module>,
+    call: &rhai::FnCallExpr,
+) -> Option<(Shared<rhai::ScriptFuncDef>, Option<&'m Module>)> {
+    let (name, n) = (call.name.as_str(), call.args.len());
+    let (f, module) = if call.namespace.is_empty() {
+        if within.is_some() {
+            return None;
+        }
+        let f = ast
+            .iter_fn_def()
+            .find(|f| f.name == name && f.params.len() == n)?;
+        (f.clone(), None)
+    } else {
+        let path = &call.namespace.path;
+        if path.len() != 1 {
+            return None;
+        }
+        let (_, m) = modules.iter().find(|(a, _)| a == path[0].as_str())?;
+        let (.., f) = m.iter_script_fn_info().find(|(_, access, f, p, _)| {
+            *f == name && *p == n && *access != rhai::FnAccess::Private
+        })?;
+        (f.clone(), Some(&**m))
+    };
+    (f.this_type.is_none()).then_some((f, module.or(within)))
 }
 
 /// Where an expression is compiled: the top of a script function (`params` `None`: `this` is
@@ -531,30 +570,7 @@ impl Cx<'_> {
         if n > MAX_PARAMS || self.depth >= MAX_DEPTH {
             return None;
         }
-        let name = call.name.as_str();
-        let (callee, module) = if call.namespace.is_empty() {
-            if self.module.is_some() {
-                return None;
-            }
-            let f = self
-                .ast
-                .iter_fn_def()
-                .find(|f| f.name == name && f.params.len() == n)?;
-            (f.clone(), None)
-        } else {
-            let path = &call.namespace.path;
-            if path.len() != 1 {
-                return None;
-            }
-            let (_, m) = self.modules.iter().find(|(a, _)| a == path[0].as_str())?;
-            let (.., f) = m.iter_script_fn_info().find(|(_, access, f, p, _)| {
-                *f == name && *p == n && *access != rhai::FnAccess::Private
-            })?;
-            (f.clone(), Some(&**m))
-        };
-        if callee.this_type.is_some() {
-            return None;
-        }
+        let (callee, module) = callee(self.ast, self.modules, self.module, call)?;
         let mut args = Vec::with_capacity(n);
         let mut params = Vec::with_capacity(n);
         for (a, p) in call.args.iter().zip(&callee.params) {
@@ -567,7 +583,7 @@ impl Cx<'_> {
             modules: self.modules,
             memory: self.memory,
             params: Some(params),
-            module: module.or(self.module),
+            module,
             depth: self.depth + 1,
             reads_memory: false,
         };

@@ -25,8 +25,8 @@
 
 use super::memory::{MemType, MemorySpec};
 use super::native::{
-    arith, body_of, checked_floats, compare, property_chain, Arith, Cmp, HandBack, Modules, Prop,
-    Val,
+    arith, body_of, callee, checked_floats, compare, defines, property_chain, Arith, Cmp, HandBack,
+    Modules, Prop, Val,
 };
 use super::view::AgentView;
 use crate::world::{MemValue, MEMORY_CAPACITY};
@@ -106,13 +106,7 @@ impl Steps {
             return None;
         }
         // A function `has(k)` of the script or of a module would take `this.has("k")`.
-        let has = ast
-            .iter_fn_def()
-            .any(|f| f.name == "has" && f.params.len() == 1)
-            || modules.iter().any(|(_, m)| {
-                m.iter_script_fn_info()
-                    .any(|(.., n, p, _)| n == "has" && p == 1)
-            });
+        let has = defines(ast, modules, "has", 1);
         let f = ast
             .iter_fn_def()
             .find(|f| f.name == name && f.params.is_empty() && f.this_type.is_none())?;
@@ -358,7 +352,7 @@ impl<'a> Cx<'a> {
                     (a, b, cmp)
                 {
                     if t.name == "type_of" && t.namespace.is_empty() && t.args.len() == 1 {
-                        if self.defines("type_of", 1) {
+                        if defines(self.ast, self.modules, "type_of", 1) {
                             return None;
                         }
                         let x = Box::new(self.expr(&t.args[0])?);
@@ -377,48 +371,13 @@ impl<'a> Cx<'a> {
         }
     }
 
-    /// Whether the script or a module defines `name` with `n` parameters (it would take a
-    /// call of a built-in of that name).
-    fn defines(&self, name: &str, n: usize) -> bool {
-        self.ast
-            .iter_fn_def()
-            .any(|f| f.name == name && f.params.len() == n)
-            || self.modules.iter().any(|(_, m)| {
-                m.iter_script_fn_info()
-                    .any(|(.., f, p, _)| f == name && p == n)
-            })
-    }
-
     /// A call of the script's own function (not from within a module) or of `alias::name`.
     fn function(&mut self, call: &rhai::FnCallExpr) -> Option<Ex> {
         let n = call.args.len();
         if self.depth >= MAX_DEPTH || n > MAX_SLOTS {
             return None;
         }
-        let name = call.name.as_str();
-        let (callee, module) = if call.namespace.is_empty() {
-            if self.module.is_some() {
-                return None;
-            }
-            let f = self
-                .ast
-                .iter_fn_def()
-                .find(|f| f.name == name && f.params.len() == n)?;
-            (f.clone(), None)
-        } else {
-            let path = &call.namespace.path;
-            if path.len() != 1 {
-                return None;
-            }
-            let (_, m) = self.modules.iter().find(|(a, _)| a == path[0].as_str())?;
-            let (.., f) = m.iter_script_fn_info().find(|(_, access, f, p, _)| {
-                *f == name && *p == n && *access != rhai::FnAccess::Private
-            })?;
-            (f.clone(), Some(&**m))
-        };
-        if callee.this_type.is_some() {
-            return None;
-        }
+        let (callee, module) = callee(self.ast, self.modules, self.module, call)?;
         let args = call
             .args
             .iter()
@@ -429,7 +388,7 @@ impl<'a> Cx<'a> {
             modules: self.modules,
             spec: self.spec,
             top: false,
-            module: module.or(self.module),
+            module,
             depth: self.depth + 1,
             names: Vec::new(),
             slots: 0,
