@@ -780,7 +780,7 @@ pub(crate) fn every_property(v: &AgentView) -> Vec<Val> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::script::{SandboxLimits, Script};
     use rhai::Scope;
@@ -864,16 +864,16 @@ fn two_lines() {
     }
 
     /// A small deterministic generator of test values.
-    struct Draw(u64);
+    pub(in crate::script) struct Draw(pub(in crate::script) u64);
     impl Draw {
-        fn next(&mut self) -> u64 {
+        pub(in crate::script) fn next(&mut self) -> u64 {
             self.0 = self
                 .0
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             self.0 >> 33
         }
-        fn float(&mut self) -> FLOAT {
+        pub(in crate::script) fn float(&mut self) -> FLOAT {
             // 2 − 2ε against 2 sits exactly on the epsilon of Rhai's float equality; NaN
             // against 0 reaches its `max == 0` branch.
             const SPECIAL: [FLOAT; 13] = [
@@ -898,7 +898,7 @@ fn two_lines() {
                 _ => (self.next() % 2001) as FLOAT / 500.0 - 2.0,
             }
         }
-        fn int(&mut self) -> INT {
+        pub(in crate::script) fn int(&mut self) -> INT {
             match self.next() % 6 {
                 0 => INT::MAX - (self.next() % 2) as INT,
                 1 => INT::MIN + (self.next() % 2) as INT,
@@ -1130,27 +1130,28 @@ fn inner(x) { x > 0.0 }
         assert!(s.native("modmem").unwrap().reads_memory());
         // A script function `has(k)` would be called instead of the blackboard's.
         let dir = tempfile::tempdir().unwrap();
-        let text = "fn knows() { this.has(\"f\") }\nfn has(k) { true }\n";
-        let mut own = Script::compile(
-            &dir.path().join("o.rhai"),
-            text,
-            dir.path(),
-            &SandboxLimits::default(),
-        )
-        .unwrap();
-        own.declare_memory(spec());
+        let declared = |file: &str, text: &str| {
+            let mut s = Script::compile(
+                &dir.path().join(file),
+                text,
+                dir.path(),
+                &SandboxLimits::default(),
+            )
+            .unwrap();
+            s.declare_memory(spec());
+            s
+        };
+        let own = declared(
+            "o.rhai",
+            "fn knows() { this.has(\"f\") }\nfn has(k) { true }\n",
+        );
         assert!(own.native("knows").is_none());
         // Nor a module's typed method `has`, which Rhai makes global.
         std::fs::write(dir.path().join("t.rhai"), "fn Agent.has(k) { true }\n").unwrap();
-        let text = "import \"t\" as t;\nfn knows() { this.has(\"f\") }\n";
-        let mut typed = Script::compile(
-            &dir.path().join("p.rhai"),
-            text,
-            dir.path(),
-            &SandboxLimits::default(),
-        )
-        .unwrap();
-        typed.declare_memory(spec());
+        let typed = declared(
+            "p.rhai",
+            "import \"t\" as t;\nfn knows() { this.has(\"f\") }\n",
+        );
         assert!(typed.native("knows").is_none());
         let mut this = Dynamic::from(AgentView::default());
         let r = typed.call::<bool>(&mut Scope::new(), &mut this, "knows");

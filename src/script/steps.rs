@@ -569,6 +569,7 @@ impl<'a, 'b> Run<'a, 'b> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::script::native::tests::Draw;
     use crate::script::{SandboxLimits, Script};
     use rhai::Scope;
 
@@ -648,32 +649,6 @@ fn weight(h) {
             .map(|l| l[..l.find('(').unwrap()].to_string())
             .filter(|n| n != "helper")
             .collect()
-    }
-
-    /// A small deterministic generator.
-    struct Draw(u64);
-    impl Draw {
-        fn next(&mut self) -> u64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            self.0 >> 33
-        }
-        fn float(&mut self) -> FLOAT {
-            const SPECIAL: [FLOAT; 7] = [0.0, -0.0, 0.5, 1.0, 2.0, 1e30, FLOAT::NAN];
-            match self.next() % 4 {
-                0 => SPECIAL[(self.next() % 7) as usize],
-                _ => (self.next() % 2001) as FLOAT / 500.0 - 2.0,
-            }
-        }
-        fn int(&mut self) -> INT {
-            match self.next() % 8 {
-                0 => INT::MAX - (self.next() % 2) as INT,
-                1 => INT::MIN,
-                _ => (self.next() % 21) as INT - 3,
-            }
-        }
     }
 
     fn view(d: &mut Draw) -> AgentView {
