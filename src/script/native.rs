@@ -327,6 +327,36 @@ pub fn compile_all(
         .collect()
 }
 
+/// The key of `this["k"]` (the index `x`, with its `flags`) where `spec` declares it a bool,
+/// an int or a float, with that type. (`BREAK` marks a chain's last index; `?[` is another
+/// flag.)
+pub(super) fn scalar_key<'e>(
+    x: &'e rhai::BinaryExpr,
+    flags: ASTFlags,
+    spec: &MemorySpec,
+) -> Option<(&'e str, MemType)> {
+    if !matches!(flags, ASTFlags::NONE | ASTFlags::BREAK) {
+        return None;
+    }
+    let (Expr::ThisPtr(_), Expr::StringConstant(key, _)) = (&x.lhs, &x.rhs) else {
+        return None;
+    };
+    let t = spec.type_of(key)?;
+    matches!(t, MemType::Bool | MemType::Int | MemType::Float).then_some((key.as_str(), t))
+}
+
+/// The key of `this.has("k")` (the method call `call` on `this`) where `spec` declares it.
+pub(super) fn has_key<'e>(call: &'e rhai::FnCallExpr, spec: &MemorySpec) -> Option<&'e str> {
+    let [Expr::StringConstant(key, _)] = call.args.as_slice() else {
+        return None;
+    };
+    if call.name != "has" || !call.namespace.is_empty() {
+        return None;
+    }
+    spec.type_of(key)?;
+    Some(key.as_str())
+}
+
 /// Whether the script or a module it imports defines a script function `name` of `n`
 /// parameters (a module's typed method too: Rhai makes those global). Such a function takes
 /// a call, or a method call on `this`, of a built-in of that name.
@@ -444,21 +474,15 @@ impl Cx<'_> {
                 let p = Prop::of(&chain)?;
                 Some((Node::Prop(p), p.ty()))
             }
-            // `BREAK` marks the chain's last index; `?[` is another flag.
-            Expr::Index(x, flags, _)
-                if top && matches!(*flags, ASTFlags::NONE | ASTFlags::BREAK) =>
-            {
-                let (Expr::ThisPtr(_), Expr::StringConstant(key, _)) = (&x.lhs, &x.rhs) else {
-                    return None;
-                };
-                let ty = match self.memory?.type_of(key)? {
+            Expr::Index(x, flags, _) if top => {
+                let (key, t) = scalar_key(x, *flags, self.memory?)?;
+                let ty = match t {
                     MemType::Bool => Ty::Bool,
                     MemType::Int => Ty::Int,
-                    MemType::Float => Ty::Float,
-                    MemType::Vec3 | MemType::Str => return None,
+                    _ => Ty::Float,
                 };
                 self.reads_memory = true;
-                Some((Node::Mem(key.as_str().into(), ty), ty))
+                Some((Node::Mem(key.into(), ty), ty))
             }
             Expr::Variable(x, _, _) if x.2.is_empty() => {
                 let params = self.params.as_ref()?;
@@ -488,15 +512,9 @@ impl Cx<'_> {
 
     /// `this.has("k")` for a declared key.
     fn has(&mut self, call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {
-        let [Expr::StringConstant(key, _)] = call.args.as_slice() else {
-            return None;
-        };
-        if call.name != "has" || !call.namespace.is_empty() {
-            return None;
-        }
-        self.memory?.type_of(key)?;
+        let key = has_key(call, self.memory?)?;
         self.reads_memory = true;
-        Some((Node::Has(key.as_str().into()), Ty::Bool))
+        Some((Node::Has(key.into()), Ty::Bool))
     }
 
     fn call(&mut self, call: &rhai::FnCallExpr) -> Option<(Node, Ty)> {

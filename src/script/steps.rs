@@ -25,8 +25,8 @@
 
 use super::memory::{MemType, MemorySpec};
 use super::native::{
-    arith, body_of, callee, checked_floats, compare, defines, property_chain, Arith, Cmp, HandBack,
-    Modules, Prop, Val,
+    arith, body_of, callee, checked_floats, compare, defines, has_key, property_chain, scalar_key,
+    Arith, Cmp, HandBack, Modules, Prop, Val,
 };
 use super::view::AgentView;
 use crate::world::{MemValue, MEMORY_CAPACITY};
@@ -214,18 +214,9 @@ impl<'a> Cx<'a> {
                         let k = self.lookup(&v.1)?;
                         St::Set(k, self.expr(&bin.rhs)?)
                     }
-                    Expr::Index(i, flags, _)
-                        if self.top && matches!(*flags, ASTFlags::NONE | ASTFlags::BREAK) =>
-                    {
-                        let (Expr::ThisPtr(_), Expr::StringConstant(key, _)) = (&i.lhs, &i.rhs)
-                        else {
-                            return None;
-                        };
-                        let t = self.spec?.type_of(key)?;
-                        if !matches!(t, MemType::Bool | MemType::Int | MemType::Float) {
-                            return None;
-                        }
-                        St::Write(key.as_str().into(), t, self.expr(&bin.rhs)?)
+                    Expr::Index(i, flags, _) if self.top => {
+                        let (key, t) = scalar_key(i, *flags, self.spec?)?;
+                        St::Write(key.into(), t, self.expr(&bin.rhs)?)
                     }
                     _ => return None,
                 }
@@ -255,30 +246,14 @@ impl<'a> Cx<'a> {
             Expr::Variable(v, _, _) if v.2.is_empty() => Ex::Var(self.lookup(&v.1)?),
             Expr::Dot(x, _, _) if self.top => {
                 if let (Expr::ThisPtr(_), Expr::MethodCall(call, _)) = (&x.lhs, &x.rhs) {
-                    let [Expr::StringConstant(key, _)] = call.args.as_slice() else {
-                        return None;
-                    };
-                    if call.name != "has" || !call.namespace.is_empty() {
-                        return None;
-                    }
-                    self.spec?.type_of(key)?;
-                    return Some(Ex::Has(key.as_str().into()));
+                    return Some(Ex::Has(has_key(call, self.spec?)?.into()));
                 }
                 let mut chain = Vec::new();
                 property_chain(e, &mut chain, true)?;
                 Ex::Prop(Prop::of(&chain)?)
             }
-            Expr::Index(x, flags, _)
-                if self.top && matches!(*flags, ASTFlags::NONE | ASTFlags::BREAK) =>
-            {
-                let (Expr::ThisPtr(_), Expr::StringConstant(key, _)) = (&x.lhs, &x.rhs) else {
-                    return None;
-                };
-                let t = self.spec?.type_of(key)?;
-                if !matches!(t, MemType::Bool | MemType::Int | MemType::Float) {
-                    return None;
-                }
-                Ex::Mem(key.as_str().into())
+            Expr::Index(x, flags, _) if self.top => {
+                Ex::Mem(scalar_key(x, *flags, self.spec?)?.0.into())
             }
             Expr::And(v, _) | Expr::Or(v, _) => {
                 let xs = v.iter().map(|x| self.expr(x)).collect::<Option<Vec<_>>>()?;
