@@ -105,9 +105,7 @@ fn upward_imports(src: &Path, sources: &[(PathBuf, String)]) -> Vec<String> {
                 // An inline test module runs to the end of the file; any other test-only item
                 // is the next line.
                 match lines.peek() {
-                    Some((_, next)) if next.trim().starts_with("mod ") && next.ends_with('{') => {
-                        break
-                    }
+                    Some((_, next)) if inline_module(next) => break,
                     _ => skip_next = true,
                 }
                 continue;
@@ -129,6 +127,18 @@ fn upward_imports(src: &Path, sources: &[(PathBuf, String)]) -> Vec<String> {
         .iter()
         .map(|((a, b), at)| format!("{a} imports {b}, which is above it ({at})"))
         .collect()
+}
+
+/// Whether `line` opens an inline module (`mod x {`, `pub(super) mod x {`, ...).
+fn inline_module(line: &str) -> bool {
+    let mut words = line.split_whitespace();
+    let first = words.next().unwrap_or("");
+    let item = if first.starts_with("pub") {
+        words.next().unwrap_or("")
+    } else {
+        first
+    };
+    item == "mod" && line.trim_end().ends_with('{')
 }
 
 #[test]
@@ -191,6 +201,10 @@ fn an_import_from_above_is_found() {
             file(
                 "events/mod.rs",
                 "use crate::world::AgentId;\n#[cfg(test)]\nuse crate::sim::Sim;\n",
+            ),
+            file(
+                "world/rng.rs",
+                "#[cfg(test)]\npub(super) mod tests {\n    use crate::sim::Sim;\n}\n",
             ),
             file("frame.rs", "let far = crate::numbers::MAX_COORD;\n"),
             file("terrain/dem.rs", "use crate::diag::Diagnostic;\n"),
