@@ -9,6 +9,11 @@
 //! Modules are registered on the importing engine as static modules under their alias (Rhai's
 //! module resolver is never used at run time), with the modules they import themselves, because
 //! a module's functions run on the engine that calls them.
+//!
+//! A load keeps what it read ([`Sources`]: each import's resolution and each module's text), so
+//! that the script can be compiled again exactly the same without the file system
+//! ([`super::Script`]'s per-thread replicas): a module edited meanwhile must not give one worker
+//! thread other code than the rest.
 
 use super::calls::{self, Known};
 use super::{new_engine, parse_diag, SandboxLimits};
@@ -92,6 +97,18 @@ pub(crate) struct Loaded {
     pub nested: Vec<(String, PathBuf, Shared<Module>)>,
 }
 
+/// What a load of a script read from the file system: where each import resolved and the text
+/// of each module, enough to compile the script again the same way ([`Loader::replay`]).
+#[derive(Debug, Default)]
+pub(crate) struct Sources {
+    /// The script's own canonical path.
+    own: PathBuf,
+    /// (importing file, path as written) → (file found, canonical path).
+    resolved: BTreeMap<(PathBuf, String), (PathBuf, PathBuf)>,
+    /// Each module's text, by the path it was found at.
+    texts: BTreeMap<PathBuf, String>,
+}
+
 /// Resolves the imports of one script, compiling each module once.
 pub(crate) struct Loader<'a> {
     limits: &'a SandboxLimits,
@@ -110,6 +127,10 @@ pub(crate) struct Loader<'a> {
     /// Whether an imported file names the mean heading ([`super::names_heading`]).
     pub heading: bool,
     pub diags: Vec<Diagnostic>,
+    /// What this load read (for a replay).
+    pub sources: Sources,
+    /// A load being replayed: everything is read from it, nothing from the file system.
+    replay: Option<&'a Sources>,
 }
 
 impl<'a> Loader<'a> {
@@ -128,12 +149,67 @@ impl<'a> Loader<'a> {
             allowed,
             root: root.to_path_buf(),
             cache: BTreeMap::new(),
-            stack: vec![own],
+            stack: vec![own.clone()],
             files: Vec::new(),
             power: false,
             heading: false,
             diags: Vec::new(),
+            sources: Sources {
+                own,
+                ..Sources::default()
+            },
+            replay: None,
         }
+    }
+
+    /// Its sandbox limits.
+    pub fn limits(&self) -> &'a SandboxLimits {
+        self.limits
+    }
+
+    /// A loader that reads what an earlier load read ([`Loader::sources`]) and nothing else.
+    pub fn replay(sources: &'a Sources, root: &Path, limits: &'a SandboxLimits) -> Self {
+        Loader {
+            limits,
+            allowed: Vec::new(),
+            root: root.to_path_buf(),
+            cache: BTreeMap::new(),
+            stack: vec![sources.own.clone()],
+            files: Vec::new(),
+            power: false,
+            heading: false,
+            diags: Vec::new(),
+            sources: Sources::default(),
+            replay: Some(sources),
+        }
+    }
+
+    /// [`Loader::resolve`], remembered for a replay (or taken from the load replayed).
+    fn resolve_kept(&mut self, from: &Path, path: &str) -> Result<(PathBuf, PathBuf), String> {
+        let key = (from.to_path_buf(), path.to_string());
+        if let Some(r) = self.replay {
+            return r
+                .resolved
+                .get(&key)
+                .cloned()
+                .ok_or_else(|| format!("import \"{path}\" was not resolved in the load replayed"));
+        }
+        let found = self.resolve(from, path)?;
+        self.sources.resolved.insert(key, found.clone());
+        Ok(found)
+    }
+
+    /// The text of the module found at `path`, remembered for a replay (or taken from the load
+    /// replayed).
+    fn read_kept(&mut self, path: &Path) -> Result<String, Diagnostic> {
+        if let Some(r) = self.replay {
+            return r.texts.get(path).cloned().ok_or_else(|| {
+                Diagnostic::file(path, "module not read in the load replayed".to_string())
+            });
+        }
+        let text = crate::diag::read_text(path, "module")?;
+        self.sources.texts.insert(path.to_path_buf(), text.clone());
+        Ok(text)
     }
 
     /// Registers on `engine` the modules `text` (the file `file`) imports; returns what they
@@ -149,7 +225,7 @@ impl<'a> Loader<'a> {
                     .push(at("expected `import \"path\" as name;`".into()));
                 continue;
             }
-            let (found, canonical) = match self.resolve(file, &stmt.path) {
+            let (found, canonical) = match self.resolve_kept(file, &stmt.path) {
                 Ok(p) => p,
                 Err(msg) => {
                     self.diags.push(at(msg));
@@ -270,7 +346,7 @@ impl<'a> Loader<'a> {
         if let Some(l) = self.cache.get(canonical) {
             return Some(l.clone());
         }
-        let text = match crate::diag::read_text(path, "module") {
+        let text = match self.read_kept(path) {
             Ok(t) => t,
             Err(d) => {
                 self.diags.push(d);

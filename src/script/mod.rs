@@ -42,7 +42,8 @@ use rhai::packages::{
 };
 use rhai::{CallFnOptions, Dynamic, Engine, EvalAltResult, Position, Scope, AST};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, OnceLock};
 
 /// Safety limits applied to every script call.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -92,6 +93,69 @@ pub struct Script {
     on_tick: Option<steps::Steps>,
     /// Whether it or a file it imports names a category's mean heading ([`names_heading`]).
     reads_heading: bool,
+    /// The behaviors folder it was compiled against.
+    root: PathBuf,
+    /// Its sandbox limits.
+    limits: SandboxLimits,
+    /// What compiling it read of its imports (replicas are compiled from it).
+    sources: imports::Sources,
+    /// Its blackboard declaration, once bound ([`Script::declare_memory`]).
+    memory: Option<Arc<memory::MemorySpec>>,
+    /// Per worker thread, its own engine and compiled script ([`Script::local`]).
+    replicas: Box<[Slot]>,
+}
+
+/// A worker thread's calls of a script and, past [`REPLICATE_AFTER`], its replica (a cache line
+/// of its own: each thread writes only its slot).
+#[derive(Default)]
+#[repr(align(64))]
+struct Slot {
+    calls: AtomicU32,
+    replica: OnceLock<Option<Box<Replica>>>,
+}
+
+/// Calls a worker thread makes on the shared engine before it compiles a replica of its own.
+const REPLICATE_AFTER: u32 = 512;
+
+/// Worker threads past the first that get a replica of a script ([`Script::local`]); more run
+/// on the shared one.
+const MAX_REPLICAS: usize = 63;
+
+/// An engine and compiled script of a worker thread's own.
+struct Replica {
+    engine: Engine,
+    ast: AST,
+}
+
+/// Compiles `text` (the script `file`) on a new engine with its imports from `loader`.
+fn build(
+    file: &Path,
+    text: &str,
+    loader: &mut imports::Loader,
+) -> Result<(Engine, AST, calls::Known), Diagnostics> {
+    let mut engine = new_engine(loader.limits());
+    let known = loader.register(&mut engine, file, text);
+    // Imported functions run on this engine too.
+    if !exact_power(&mut engine, text) && loader.power {
+        engine.set_fast_operators(false);
+    }
+    let mut diags = std::mem::take(&mut loader.diags);
+    let mut ast = match engine.compile(text) {
+        Ok(a) => a,
+        Err(e) => {
+            diags.push(parse_diag(file, text, &e));
+            return Err(Diagnostics(diags));
+        }
+    };
+    ast.set_source(file.display().to_string());
+    // Calls into modules that did not load would only repeat the import errors.
+    if diags.is_empty() {
+        diags.extend(calls::check(&ast, &known, file, text));
+    }
+    if !diags.is_empty() {
+        return Err(Diagnostics(diags));
+    }
+    Ok((engine, ast, known))
 }
 
 impl std::fmt::Debug for Script {
@@ -264,30 +328,9 @@ impl Script {
         limits: &SandboxLimits,
     ) -> Result<Script, Diagnostics> {
         check_size(file, text, "script")?;
-        let mut engine = new_engine(limits);
         let mut loader = imports::Loader::new(file, root, limits);
-        let known = loader.register(&mut engine, file, text);
-        // Imported functions run on this engine too.
-        if !exact_power(&mut engine, text) && loader.power {
-            engine.set_fast_operators(false);
-        }
-        let mut diags = std::mem::take(&mut loader.diags);
-        let mut ast = match engine.compile(text) {
-            Ok(a) => a,
-            Err(e) => {
-                diags.push(parse_diag(file, text, &e));
-                return Err(Diagnostics(diags));
-            }
-        };
-        ast.set_source(file.display().to_string());
-        // Calls into modules that did not load would only repeat the import errors.
-        if diags.is_empty() {
-            diags.extend(calls::check(&ast, &known, file, text));
-        }
-        if !diags.is_empty() {
-            return Err(Diagnostics(diags));
-        }
-        let imports = loader.files;
+        let (engine, ast, known) = build(file, text, &mut loader)?;
+        let imports = std::mem::take(&mut loader.files);
         // Rhai's table is in an order that differs between processes; messages list these.
         let mut functions: Vec<(String, usize)> = ast
             .iter_functions()
@@ -314,7 +357,53 @@ impl Script {
             modules,
             on_tick: None,
             reads_heading,
+            root: root.to_path_buf(),
+            limits: *limits,
+            sources: loader.sources,
+            memory: None,
+            replicas: (0..MAX_REPLICAS).map(|_| Slot::default()).collect(),
         })
+    }
+
+    /// The engine and compiled script this thread calls: worker thread `i` of a pool (`i` > 0)
+    /// gets a replica of its own once it has made [`REPLICATE_AFTER`] calls, compiled from the
+    /// texts this script was compiled from, so it is the same code. Rhai counts references to
+    /// what an engine and a compiled script share (the function library, registered functions,
+    /// string constants) on every call; two threads calling one engine write the same counters,
+    /// and on the 2-core machine of `BENCHMARKS.md` that made a blackboard-writing `on_tick()`
+    /// twice as slow on two threads as on one. A replica costs a compile (about a millisecond),
+    /// so a thread that calls a few times (a designer's test) keeps the shared one.
+    fn local(&self) -> (&Engine, &AST) {
+        let replica = rayon::current_thread_index()
+            .filter(|&i| i > 0)
+            .and_then(|i| self.replicas.get(i - 1))
+            .and_then(|slot| {
+                if let Some(r) = slot.replica.get() {
+                    return r.as_deref();
+                }
+                // Only this thread counts in its slot: a plain load and store.
+                let calls = slot.calls.load(Ordering::Relaxed);
+                if calls < REPLICATE_AFTER {
+                    slot.calls.store(calls + 1, Ordering::Relaxed);
+                    return None;
+                }
+                slot.replica.get_or_init(|| self.replicate()).as_deref()
+            });
+        match replica {
+            Some(r) => (&r.engine, &r.ast),
+            None => (&self.engine, &self.ast),
+        }
+    }
+
+    /// A replica of the engine and compiled script ([`Script::local`]); `None` should the texts
+    /// kept not compile again (then the thread calls the shared one: the same code).
+    fn replicate(&self) -> Option<Box<Replica>> {
+        let mut loader = imports::Loader::replay(&self.sources, &self.root, &self.limits);
+        let (mut engine, ast, _) = build(&self.file, &self.text, &mut loader).ok()?;
+        if let Some(spec) = &self.memory {
+            memory::register(&mut engine, spec.clone());
+        }
+        Some(Box::new(Replica { engine, ast }))
     }
 
     /// Whether it may read a category's mean heading ([`names_heading`]).
@@ -332,7 +421,10 @@ impl Script {
     pub fn declare_memory(&mut self, spec: Arc<memory::MemorySpec>) {
         self.natives = native::compile_all(&self.ast, &self.modules, Some(&spec));
         self.on_tick = steps::Steps::compile(&self.ast, &self.modules, &spec, "on_tick");
-        memory::register(&mut self.engine, spec);
+        memory::register(&mut self.engine, spec.clone());
+        self.memory = Some(spec);
+        // Replicas are compiled with the declaration from now on.
+        self.replicas.iter_mut().for_each(|r| *r = Slot::default());
     }
 
     /// The modules its engine holds, by alias.
@@ -399,10 +491,9 @@ impl Script {
             .eval_ast(false)
             .rewind_scope(true)
             .bind_this_ptr(this);
+        let (engine, ast) = self.local();
         let timer = budget::CallTimer::start();
-        let r = self
-            .engine
-            .call_fn_with_options::<T>(options, scope, &self.ast, name, args);
+        let r = engine.call_fn_with_options::<T>(options, scope, ast, name, args);
         let over = r.as_ref().err().and_then(|e| exceeded(e));
         timer.finish(over.is_some());
         r.map_err(|e| {
@@ -514,4 +605,65 @@ pub fn bare_message(e: &EvalAltResult) -> String {
         m.truncate(i);
     }
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::memory::{MemType, MemorySpec};
+    use super::*;
+
+    /// What `f()` returns, and the error of `bad()`, on worker thread 1 of a pool of two, after
+    /// enough calls there for the thread to call its replica.
+    fn on_worker(s: &Script) -> (Vec<i64>, String) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let out = pool.broadcast(|ctx| {
+            if ctx.index() != 1 {
+                return None;
+            }
+            let mut this = Dynamic::from(AgentView::default());
+            let mut scope = Scope::new();
+            let got: Vec<i64> = (0..REPLICATE_AFTER + 8)
+                .map(|_| s.call::<i64>(&mut scope, &mut this, "f").unwrap())
+                .collect();
+            let err = s.call::<Dynamic>(&mut scope, &mut this, "bad").unwrap_err();
+            Some((got, err.diagnostic.to_string()))
+        });
+        out.into_iter().flatten().next().unwrap()
+    }
+
+    #[test]
+    fn a_worker_thread_calls_a_replica_of_the_texts_first_compiled_with_the_blackboard_declared() {
+        let dir = tempfile::tempdir().unwrap();
+        let module = dir.path().join("m.rhai");
+        std::fs::write(&module, "fn v() { 40 }\n").unwrap();
+        let file = dir.path().join("s.rhai");
+        let text = "import \"m\" as m;\n\
+                    fn f() { this[\"k\"] = m::v() + 2; this[\"k\"] }\n\
+                    fn bad() { this[\"nope\"] = 1; }\n";
+        std::fs::write(&file, text).unwrap();
+        let mut s = Script::compile(&file, text, dir.path(), &SandboxLimits::default())
+            .unwrap_or_else(|d| panic!("{d}"));
+        s.declare_memory(Arc::new(MemorySpec {
+            keys: vec![(Arc::from("k"), MemType::Int)],
+            initial: Default::default(),
+        }));
+        // Edited after the load: a replica must not see it.
+        std::fs::write(&module, "fn v() { 0 }\n").unwrap();
+        let (got, err) = on_worker(&s);
+        assert!(got.iter().all(|&x| x == 42), "{got:?}");
+        assert!(
+            matches!(s.replicas[0].replica.get(), Some(Some(_))),
+            "thread 1 compiled its replica"
+        );
+        assert!(s.replicas[1..].iter().all(|r| r.replica.get().is_none()));
+        let mut this = Dynamic::from(AgentView::default());
+        let shared = s
+            .call::<Dynamic>(&mut Scope::new(), &mut this, "bad")
+            .unwrap_err();
+        assert_eq!(err, shared.diagnostic.to_string());
+        assert!(err.contains("\"nope\" is not declared"), "{err}");
+    }
 }
