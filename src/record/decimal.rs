@@ -12,18 +12,33 @@
 //! (`cargo test --release -- --ignored every_f32`, about five minutes on two cores) and a
 //! sample of them in every run.
 
-use std::fmt::Write as _;
+use std::io::Write as _;
 
 /// Appends `v` to `out` exactly as `write!(out, "{v}")` does.
-pub fn push_f32(out: &mut String, v: f32) {
+pub fn push_f32(out: &mut Vec<u8>, v: f32) {
     if !v.is_finite() {
         let _ = write!(out, "{v}");
         return;
     }
     let mut buf = ryu::Buffer::new();
-    if !layout(out, buf.format_finite(v), exact_fraction_bits(v)) {
+    if !layout(out, buf.format_finite(v).as_bytes(), exact_fraction_bits(v)) {
         let _ = write!(out, "{v}");
     }
+}
+
+/// Appends `v` in decimal digits (as `Display` writes an unsigned integer).
+pub fn push_u64(out: &mut Vec<u8>, mut v: u64) {
+    let mut b = [0u8; 20];
+    let mut i = b.len();
+    loop {
+        i -= 1;
+        b[i] = b'0' + (v % 10) as u8;
+        v /= 10;
+        if v == 0 {
+            break;
+        }
+    }
+    out.extend_from_slice(&b[i..]);
 }
 
 /// The binary digits after the point of `v`'s exact value (`v = m · 2^−k`, `m` odd; 0 for an
@@ -43,26 +58,47 @@ fn exact_fraction_bits(v: f32) -> u32 {
     (-(e + m.trailing_zeros() as i32)).max(0) as u32
 }
 
+/// `ryu`'s exponent after the `e` (`-7`, `20`).
+fn exponent_of(s: &[u8]) -> i32 {
+    let (negative, digits) = match s.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        _ => (false, s),
+    };
+    let e = digits
+        .iter()
+        .fold(0i32, |e, &d| e * 10 + i32::from(d.wrapping_sub(b'0')));
+    if negative {
+        -e
+    } else {
+        e
+    }
+}
+
 /// Lays out `ryu`'s form of a finite float (`-1.5e-7`, `123.0`, `0.001`) as `Display` does;
 /// `false` (nothing written) where `Display` may pick other digits (see the module's header),
-/// given the binary digits after the point of the float's exact value.
-fn layout(out: &mut String, s: &str, fraction_bits: u32) -> bool {
-    let (negative, s) = match s.strip_prefix('-') {
-        Some(rest) => (true, rest),
-        None => (false, s),
+/// given the binary digits after the point of the float's exact value. Works on bytes: `ryu`
+/// writes ASCII only.
+fn layout(out: &mut Vec<u8>, s: &[u8], fraction_bits: u32) -> bool {
+    let (negative, s) = match s.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        _ => (false, s),
     };
-    let (mantissa, exponent) = match s.split_once('e') {
-        Some((m, e)) => (m, e.parse::<i32>().unwrap_or(0)),
+    let (mantissa, exponent) = match s.iter().position(|&b| b == b'e') {
+        Some(i) => (&s[..i], exponent_of(&s[i + 1..])),
         None => (s, 0),
     };
-    let (whole, fraction) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let (whole, fraction) = match mantissa.iter().position(|&b| b == b'.') {
+        Some(i) => (&mantissa[..i], &mantissa[i + 1..]),
+        None => (mantissa, &[][..]),
+    };
     // The significant digits, and where the decimal point falls among them.
     let mut digits = [0u8; 48];
-    let mut n = 0;
-    for &d in whole.as_bytes().iter().chain(fraction.as_bytes()) {
-        digits[n] = d;
-        n += 1;
+    let n = whole.len() + fraction.len();
+    if n > digits.len() {
+        return false;
     }
+    digits[..whole.len()].copy_from_slice(whole);
+    digits[whole.len()..n].copy_from_slice(fraction);
     let mut point = whole.len() as i32 + exponent;
     let leading = digits[..n].iter().take_while(|&&d| d == b'0').count();
     point -= leading as i32;
@@ -77,36 +113,31 @@ fn layout(out: &mut String, s: &str, fraction_bits: u32) -> bool {
         return false;
     }
     if negative {
-        out.push('-');
+        out.push(b'-');
     }
     if digits.is_empty() {
-        out.push('0');
+        out.push(b'0');
     } else if point <= 0 {
-        out.push_str("0.");
-        out.extend(std::iter::repeat_n('0', (-point) as usize));
-        out.push_str(text(digits));
+        out.extend_from_slice(b"0.");
+        out.resize(out.len() + (-point) as usize, b'0');
+        out.extend_from_slice(digits);
     } else if point as usize >= digits.len() {
-        out.push_str(text(digits));
-        out.extend(std::iter::repeat_n('0', point as usize - digits.len()));
+        out.extend_from_slice(digits);
+        out.resize(out.len() + (point as usize - digits.len()), b'0');
     } else {
         let (a, b) = digits.split_at(point as usize);
-        out.push_str(text(a));
-        out.push('.');
-        out.push_str(text(b));
+        out.extend_from_slice(a);
+        out.push(b'.');
+        out.extend_from_slice(b);
     }
     true
-}
-
-/// ASCII digits as text.
-fn text(d: &[u8]) -> &str {
-    std::str::from_utf8(d).unwrap_or("")
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn check(bits: u32, ours: &mut String, std: &mut String) {
+    fn check(bits: u32, ours: &mut Vec<u8>, std: &mut Vec<u8>) {
         let v = f32::from_bits(bits);
         ours.clear();
         std.clear();
@@ -116,8 +147,26 @@ mod tests {
     }
 
     #[test]
+    fn integers_are_written_as_display_writes_them() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut values = vec![0, 1, 9, 10, 99, 100, u64::MAX, u64::MAX / 10, 1 << 32];
+        for _ in 0..10_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            values.push(x >> (x % 64));
+        }
+        let mut ours = Vec::new();
+        for v in values {
+            ours.clear();
+            push_u64(&mut ours, v);
+            assert_eq!(ours, v.to_string().as_bytes());
+        }
+    }
+
+    #[test]
     fn floats_are_written_as_display_writes_them() {
-        let (mut a, mut b) = (String::new(), String::new());
+        let (mut a, mut b) = (Vec::new(), Vec::new());
         let special = [
             0.0f32,
             -0.0,
@@ -166,7 +215,7 @@ mod tests {
     fn every_f32_is_written_as_display_writes_it() {
         use rayon::prelude::*;
         (0..=u32::MAX >> 16).into_par_iter().for_each(|hi| {
-            let (mut a, mut b) = (String::new(), String::new());
+            let (mut a, mut b) = (Vec::new(), Vec::new());
             for lo in 0..=0xffffu32 {
                 check(hi << 16 | lo, &mut a, &mut b);
             }

@@ -123,10 +123,10 @@ const ROWS: usize = 128;
 const BATCH: usize = 16;
 
 /// One float field, in Rust's shortest round-trip form (a re-read gives the same bits).
-fn float_field<W: Write>(w: &mut csv::Writer<W>, buf: &mut String, v: f32) -> csv::Result<()> {
+fn float_field<W: Write>(w: &mut csv::Writer<W>, buf: &mut Vec<u8>, v: f32) -> csv::Result<()> {
     buf.clear();
     decimal::push_f32(buf, v);
-    w.write_field(buf.as_bytes())
+    w.write_field(&buf)
 }
 
 /// One field as `Display` writes it.
@@ -300,13 +300,14 @@ impl Recorder {
         }
         let buf = &mut self.line;
         let food = &mut self.food;
+        let mut bytes = Vec::with_capacity(32);
         let mut rows = || -> csv::Result<()> {
             for f in &w.food {
                 // In `schema::FoodColumn` order.
                 field(food, buf, w.tick)?;
                 field(food, buf, f.id)?;
                 for v in [f.pos.x, f.pos.y, f.pos.z] {
-                    float_field(food, buf, v)?;
+                    float_field(food, &mut bytes, v)?;
                 }
                 food.write_record(None::<&[u8]>)?;
             }
@@ -453,41 +454,91 @@ impl Recorder {
     }
 }
 
-/// The trajectory rows of `agents` (in `schema::TrajColumn` order), laid out in `out` (whose
-/// room is reused).
+/// Lays out the trajectory rows of `agents` into `out` (emptied first), in
+/// `schema::TrajColumn` order, with the bytes the CSV writer gives them. Numbers never need
+/// quotes, so a row is written straight as bytes; a row whose species or behavior name holds a
+/// byte the CSV writer quotes goes through the writer.
 fn traj_rows(run: &Run, agents: &[crate::world::Agent], out: &mut Vec<u8>) -> csv::Result<()> {
     let w = &run.world;
-    let t = w.time();
     let set = &run.scenario.species;
     out.clear();
-    let mut traj = csv_writer(1 << 14, std::mem::take(out));
-    let mut buf = String::with_capacity(32);
-    let buf = &mut buf;
+    // The tick and the time are the same in every row of the tick.
+    let mut head = Vec::with_capacity(40);
+    decimal::push_u64(&mut head, w.tick);
+    let _ = write!(head, ",{},", w.time());
     for a in agents {
         let sp = &set.species[a.species.0 as usize];
-        let f = a.forward();
-        field(&mut traj, buf, w.tick)?;
-        field(&mut traj, buf, t)?;
-        field(&mut traj, buf, a.id.0)?;
-        traj.write_field(&sp.name)?;
-        for v in [a.pos.x, a.pos.y, a.pos.z, f.x, f.y, f.z, a.speed] {
-            float_field(&mut traj, buf, v)?;
+        let behavior = sp.behavior_name(a.mind.current);
+        if !plain(&sp.name) || !plain(behavior) {
+            out.extend_from_slice(&traj_row_quoted(run, a)?);
+            continue;
         }
-        traj.write_field(sp.behavior_name(a.mind.current))?;
-        field(&mut traj, buf, a.mind.depth)?;
-        for v in [
-            a.drives.hunger,
-            a.drives.libido,
-            a.drives.fear,
-            a.anim.phase,
-            crate::locomotion::anim::bend(&a.anim, &sp.body.anim),
-        ] {
-            float_field(&mut traj, buf, v)?;
+        out.extend_from_slice(&head);
+        decimal::push_u64(out, u64::from(a.id.0));
+        out.push(b',');
+        out.extend_from_slice(sp.name.as_bytes());
+        for v in traj_motion(a) {
+            out.push(b',');
+            decimal::push_f32(out, v);
         }
-        traj.write_record(None::<&[u8]>)?;
+        out.push(b',');
+        out.extend_from_slice(behavior.as_bytes());
+        out.push(b',');
+        decimal::push_u64(out, u64::from(a.mind.depth));
+        for v in traj_body(a, sp) {
+            out.push(b',');
+            decimal::push_f32(out, v);
+        }
+        out.push(b'\n');
     }
-    *out = traj.into_inner().map_err(|e| e.into_error())?;
     Ok(())
+}
+
+/// Whether the CSV writer writes `name` as it is (no delimiter, quote or line break in it).
+fn plain(name: &str) -> bool {
+    !name
+        .bytes()
+        .any(|b| matches!(b, b',' | b'"' | b'\n' | b'\r'))
+}
+
+/// Position, forward axis and speed: the float columns after the species.
+fn traj_motion(a: &crate::world::Agent) -> [f32; 7] {
+    let f = a.forward();
+    [a.pos.x, a.pos.y, a.pos.z, f.x, f.y, f.z, a.speed]
+}
+
+/// Drives, swim phase and tail bend: the float columns after the stack depth.
+fn traj_body(a: &crate::world::Agent, sp: &crate::species::Species) -> [f32; 5] {
+    [
+        a.drives.hunger,
+        a.drives.libido,
+        a.drives.fear,
+        a.anim.phase,
+        crate::locomotion::anim::bend(&a.anim, &sp.body.anim),
+    ]
+}
+
+/// One trajectory row through the CSV writer (names quoted as it quotes them).
+fn traj_row_quoted(run: &Run, a: &crate::world::Agent) -> csv::Result<Vec<u8>> {
+    let w = &run.world;
+    let sp = &run.scenario.species.species[a.species.0 as usize];
+    let mut traj = csv_writer(256, Vec::new());
+    let mut buf = String::new();
+    let mut bytes = Vec::new();
+    field(&mut traj, &mut buf, w.tick)?;
+    field(&mut traj, &mut buf, w.time())?;
+    field(&mut traj, &mut buf, a.id.0)?;
+    traj.write_field(&sp.name)?;
+    for v in traj_motion(a) {
+        float_field(&mut traj, &mut bytes, v)?;
+    }
+    traj.write_field(sp.behavior_name(a.mind.current))?;
+    field(&mut traj, &mut buf, a.mind.depth)?;
+    for v in traj_body(a, sp) {
+        float_field(&mut traj, &mut bytes, v)?;
+    }
+    traj.write_record(None::<&[u8]>)?;
+    traj.into_inner().map_err(|e| e.into_error().into())
 }
 
 /// Name of an input file relative to the scenario's behaviors folder (species, scripts) or
@@ -627,6 +678,53 @@ mod tests {
         });
         let bytes = std::fs::read(dir.path().join("trajectories.csv")).unwrap();
         (bytes, ids)
+    }
+
+    /// Each agent's row as [`traj_rows`] lays it out, and as the CSV writer does.
+    fn both_rows(run: &Run) -> Vec<(Vec<u8>, Vec<u8>)> {
+        let mut out = Vec::new();
+        run.world
+            .agents
+            .iter()
+            .map(|a| {
+                traj_rows(run, std::slice::from_ref(a), &mut out).unwrap();
+                (out.clone(), traj_row_quoted(run, a).unwrap())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn trajectory_rows_are_the_csv_writers_bytes_with_names_that_need_quotes_too() {
+        let mut run = school(300);
+        for _ in 0..3 {
+            run.step();
+        }
+        for (ours, csv) in both_rows(&run) {
+            assert_eq!(String::from_utf8(ours), String::from_utf8(csv));
+        }
+        let mut set = (*run.scenario.species).clone();
+        for (i, name) in ["sar,dine", "sar\"dine", "sar\ndine", "sar\rdine"]
+            .into_iter()
+            .enumerate()
+        {
+            let sp = std::sync::Arc::make_mut(&mut set.species[0]);
+            sp.name = name.to_string();
+            // The behavior names: one plain, one to quote.
+            if let Some(b) = sp.behaviors.get_mut(i % 2) {
+                b.name = format!("b{i},\r").into();
+            }
+            run.scenario.species = std::sync::Arc::new(set.clone());
+            let rows = both_rows(&run);
+            assert!(!rows.is_empty());
+            for (ours, csv) in rows {
+                let text = String::from_utf8(ours).unwrap();
+                assert_eq!(text, String::from_utf8(csv).unwrap());
+                assert!(
+                    text.contains(&format!("\"{}\"", name.replace('"', "\"\""))),
+                    "{text}"
+                );
+            }
+        }
     }
 
     #[test]
