@@ -181,5 +181,18 @@ mod tests {
                 .collect();
             assert_eq!(kept, scan);
         }
+        // A point with a coordinate that is not finite looks in the first cell, whatever its
+        // other coordinates; one far outside but finite, in the edge cell along each axis.
+        let first = g.near(bounds.min).to_vec();
+        let corner = g.near(bounds.max).to_vec();
+        assert_ne!(first, corner, "the two corners list different obstacles");
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for axis in 0..3 {
+                let mut p = bounds.max;
+                p[axis] = bad;
+                assert_eq!(g.near(p), first.as_slice(), "{p}");
+            }
+        }
+        assert_eq!(g.near(bounds.max * 1e6), corner.as_slice());
     }
 }
