@@ -3,7 +3,7 @@
 //! One [`Script`] per species file, compiled once per (re)load with the imports it names compiled
 //! as static modules, each module once per load (`imports`), and every call it makes checked
 //! against what exists ([`calls`]); a worker thread that calls it often gets a replica of its
-//! own, compiled from the same texts ([`Script::local`]: threads sharing one engine contend).
+//! own, compiled from the same texts (`Script::local`: threads sharing one engine contend).
 //! Scripts run sandboxed: no file, network, environment or
 //! clock access, and limits on operations per call (a `loop {}` is stopped), call depth, string,
 //! array and map sizes. Calls bind the agent's typed [`AgentView`] as `this`; nothing is looked
