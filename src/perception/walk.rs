@@ -599,8 +599,9 @@ mod tests {
     use crate::world::{Aabb, Rng};
 
     /// The claim [`Occ`] rests on: no occluder hides a target nearer than the distance to its
-    /// solid, less a thousandth (the targets [`Occ::for_d2`] tests against none). Random spheres, boxes (flat ones among them) and cylinders,
-    /// both occluder forms, eyes near them and targets in every direction.
+    /// solid, less a thousandth (the targets [`Occ::for_d2`] tests against none). Random
+    /// spheres, boxes (flat ones among them) and cylinders, both occluder forms, eyes near
+    /// them and targets in every direction, half of them aimed at the solid.
     #[test]
     fn no_occluder_hides_a_target_nearer_than_its_solid() {
         let mut rng = Rng::new(11, 0);

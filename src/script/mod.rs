@@ -611,7 +611,7 @@ pub fn bare_message(e: &EvalAltResult) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::memory::{MemType, MemorySpec};
+    use super::memory::MemType;
     use super::*;
 
     /// What `f()` returns, and the error of `bad()`, on worker thread 1 of a pool of two, after
@@ -648,10 +648,7 @@ mod tests {
         std::fs::write(&file, text).unwrap();
         let mut s = Script::compile(&file, text, dir.path(), &SandboxLimits::default())
             .unwrap_or_else(|d| panic!("{d}"));
-        s.declare_memory(Arc::new(MemorySpec {
-            keys: vec![(Arc::from("k"), MemType::Int)],
-            initial: Default::default(),
-        }));
+        s.declare_memory(native::tests::spec_of(&[("k", MemType::Int)]));
         // Edited after the load: a replica must not see it.
         std::fs::write(&module, "fn v() { 0 }\n").unwrap();
         let (got, err) = on_worker(&s);

@@ -1005,6 +1005,40 @@ fn two_lines() {
         assert!(s.native("side_a").is_none() && s.native("side_b").is_some());
     }
 
+    /// Runs `f` natively on `v` and through the interpreter on `this` (a copy of `v`): `None`
+    /// when both answered, the same bits (asserted); the interpreter's answer when the native
+    /// evaluation handed the call back. Any other pair fails the test.
+    fn run_both(
+        s: &Script,
+        f: &str,
+        v: &AgentView,
+        scope: &mut Scope,
+        this: &mut Dynamic,
+    ) -> Option<Result<Dynamic, crate::script::CallError>> {
+        let native = s.native(f).unwrap().eval(v);
+        let interpreted = s.call::<Dynamic>(scope, this, f);
+        match (native, interpreted) {
+            (Ok(n), Ok(i)) => {
+                let n = n.to_dynamic();
+                assert!(
+                    same(&n, &i),
+                    "`{f}`: native {n:?}, interpreter {i:?}, {v:?}"
+                );
+                None
+            }
+            (Err(HandBack), i) => Some(i),
+            (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
+        }
+    }
+
+    /// Whether the interpreter failed on an integer overflow (or a division by zero).
+    fn overflowed(i: &Result<Dynamic, crate::script::CallError>) -> bool {
+        i.as_ref().is_err_and(|e| {
+            let m = &e.diagnostic.message;
+            m.contains("overflow") || m.contains("zero")
+        })
+    }
+
     #[test]
     fn native_results_are_the_interpreters_bit_for_bit() {
         let s = script(NATIVE);
@@ -1015,24 +1049,13 @@ fn two_lines() {
             let v = view(&mut d);
             let mut this = Dynamic::from(v.clone());
             for f in names(NATIVE) {
-                let native = s.native(&f).unwrap().eval(&v);
-                let interpreted = s.call::<Dynamic>(&mut scope, &mut this, &f);
-                match (native, interpreted) {
-                    (Ok(n), Ok(i)) => {
-                        let n = n.to_dynamic();
-                        assert!(
-                            same(&n, &i),
-                            "`{f}`: native {n:?}, interpreter {i:?}, {v:?}"
-                        );
-                        compared += 1;
-                    }
+                match run_both(&s, &f, &v, &mut scope, &mut this) {
+                    None => compared += 1,
                     // Integer overflow: the call goes back to the interpreter, which fails.
-                    (Err(HandBack), Err(e)) => {
-                        let m = &e.diagnostic.message;
-                        assert!(m.contains("overflow") || m.contains("zero"), "`{f}`: {m}");
+                    Some(i) => {
+                        assert!(overflowed(&i), "`{f}`: handed back, {i:?}");
                         overflows += 1;
                     }
-                    (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
                 }
             }
         }
@@ -1094,18 +1117,22 @@ fn outer(x) { inner(x) }
 fn inner(x) { x > 0.0 }
 "#;
 
+    /// A blackboard declaring `keys` (in key order), none with a start value.
+    pub(in crate::script) fn spec_of(keys: &[(&str, MemType)]) -> Arc<MemorySpec> {
+        Arc::new(MemorySpec {
+            keys: keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect(),
+            initial: Default::default(),
+        })
+    }
+
     fn spec() -> Arc<MemorySpec> {
-        let keys = [
+        spec_of(&[
             ("b", MemType::Bool),
             ("f", MemType::Float),
             ("i", MemType::Int),
             ("s", MemType::Str),
             ("v", MemType::Vec3),
-        ];
-        Arc::new(MemorySpec {
-            keys: keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect(),
-            initial: Default::default(),
-        })
+        ])
     }
 
     /// The script of [`CALLS`] and [`CALLS_REST`] with its module, bound to [`spec`].
@@ -1216,31 +1243,17 @@ fn inner(x) { x > 0.0 }
             v.memory = memory.into_iter().collect();
             let mut this = Dynamic::from(v.clone());
             for f in &fns {
-                let native = s.native(f).unwrap().eval(&v);
-                let interpreted = s.call::<Dynamic>(&mut scope, &mut this, f);
-                match (native, interpreted) {
-                    (Ok(n), Ok(i)) => {
-                        let n = n.to_dynamic();
-                        assert!(
-                            same(&n, &i),
-                            "`{f}`: native {n:?}, interpreter {i:?}, {v:?}"
-                        );
-                        compared += 1;
-                    }
+                match run_both(&s, f, &v, &mut scope, &mut this) {
+                    None => compared += 1,
                     // Handed back: only for an unset key (the interpreter reads `()`, which
                     // fails in arithmetic and compares unequal) or an integer overflow.
-                    (Err(HandBack), i) => {
-                        let overflow = i.as_ref().is_err_and(|e| {
-                            let m = &e.diagnostic.message;
-                            m.contains("overflow") || m.contains("zero")
-                        });
+                    Some(i) => {
                         assert!(
-                            unset || wrong || overflow,
+                            unset || wrong || overflowed(&i),
                             "`{f}`: handed back, {i:?}, {v:?}"
                         );
                         handed_back += 1;
                     }
-                    (n, i) => panic!("`{f}`: native {n:?}, interpreter {i:?}, {v:?}"),
                 }
             }
         }

@@ -605,17 +605,13 @@ fn weight(h) {
 "#;
 
     fn spec() -> Arc<MemorySpec> {
-        let keys = [
+        super::super::native::tests::spec_of(&[
             ("b", MemType::Bool),
             ("f", MemType::Float),
             ("g", MemType::Float),
             ("i", MemType::Int),
             ("v", MemType::Vec3),
-        ];
-        Arc::new(MemorySpec {
-            keys: keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect(),
-            initial: Default::default(),
-        })
+        ])
     }
 
     fn names(text: &str) -> Vec<String> {
