@@ -167,6 +167,11 @@ impl<'a> Loader<'a> {
         self.limits
     }
 
+    /// Whether it replays an earlier load ([`Loader::replay`]).
+    pub fn replaying(&self) -> bool {
+        self.replay.is_some()
+    }
+
     /// A loader that reads what an earlier load read ([`Loader::sources`]) and nothing else.
     pub fn replay(sources: &'a Sources, root: &Path, limits: &'a SandboxLimits) -> Self {
         Loader {

@@ -150,8 +150,9 @@ fn build(
         }
     };
     ast.set_source(file.display().to_string());
-    // Calls into modules that did not load would only repeat the import errors.
-    if diags.is_empty() {
+    // Calls into modules that did not load would only repeat the import errors; a replayed
+    // load (a replica) was checked when it was first compiled.
+    if diags.is_empty() && !loader.replaying() {
         diags.extend(calls::check(&ast, &known, file, text));
     }
     if !diags.is_empty() {
