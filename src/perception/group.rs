@@ -82,6 +82,18 @@ impl Near {
 }
 
 impl GroupQuery {
+    /// The square of the radius beyond which [`GroupAcc::add`] folds nothing of a neighbor,
+    /// computed as its test computes it.
+    #[inline]
+    pub fn reach2(&self) -> f32 {
+        match *self {
+            GroupQuery::Separation { radius }
+            | GroupQuery::Mean { radius }
+            | GroupQuery::Headings { radius } => radius * radius,
+            GroupQuery::Zones { attraction, .. } => attraction * attraction,
+        }
+    }
+
     /// Whether the sums need each neighbor's unit velocity.
     pub fn reads_unit(&self) -> bool {
         matches!(self, GroupQuery::Zones { .. } | GroupQuery::Headings { .. })
@@ -332,6 +344,9 @@ pub struct GroupQueries {
     items: [Option<GroupQuery>; MAX_GROUP_QUERIES],
     len: usize,
     unit: bool,
+    /// The largest squared radius of the queries (an attraction zone's for `Zones`): a
+    /// neighbor farther away is in none of them, and is not looked at query by query.
+    reach2: f32,
 }
 
 impl GroupQueries {
@@ -340,6 +355,7 @@ impl GroupQueries {
         items: [None; MAX_GROUP_QUERIES],
         len: 0,
         unit: false,
+        reach2: 0.0,
     };
     /// An empty list.
     pub fn new() -> Self {
@@ -351,6 +367,7 @@ impl GroupQueries {
             self.items[self.len] = Some(q);
             self.len += 1;
             self.unit |= q.reads_unit();
+            self.reach2 = self.reach2.max(q.reach2());
         }
     }
     /// Each query with its words in `words`, a row [`SumsOut`] wrote for these queries
@@ -396,6 +413,11 @@ impl GroupQueries {
     /// only when a query reads it.
     #[inline(always)]
     pub fn add(&self, sums: &mut [GroupAcc], offset: Vec3A, d2: f32, velocity: Vec3A) {
+        // Each query's own test would leave it out (and no unit velocity is worked out): in a
+        // school, most neighbors smelt lie beyond every query's radius.
+        if d2 > self.reach2 {
+            return;
+        }
         let near = Near::new(offset, d2, velocity, self.unit);
         for (q, s) in self.items[..self.len].iter().zip(sums) {
             if let Some(q) = q {
@@ -413,6 +435,62 @@ mod tests {
         fn add_one(&mut self, q: &GroupQuery, offset: Vec3A, dist: f32, velocity: Vec3A) {
             self.add(q, &Near::new(offset, dist * dist, velocity, true));
         }
+    }
+
+    #[test]
+    fn a_list_folds_each_neighbor_as_its_queries_do_one_by_one() {
+        // The list skips a neighbor beyond every query's radius: the sums must be those of
+        // each query folded on its own, bit for bit, whatever the radii (a zone's attraction
+        // radius the largest of its three), for neighbors on both sides of each radius.
+        let mut rng = crate::world::Rng::new(7, 11);
+        let mut skipped = 0;
+        for _ in 0..400 {
+            let mut r = || rng.range(0.5, 8.0);
+            let (a, b, c) = (r(), r(), r());
+            let mut radii = [a, b, c];
+            radii.sort_by(f32::total_cmp);
+            let candidates = [
+                GroupQuery::Separation { radius: r() },
+                GroupQuery::Mean { radius: r() },
+                GroupQuery::Headings { radius: r() },
+                GroupQuery::Zones {
+                    repulsion: radii[0],
+                    matching: radii[1],
+                    attraction: radii[2],
+                    soft: 0.5,
+                },
+            ];
+            let mut list = GroupQueries::new();
+            let pick = (rng.next_f32() * 16.0) as usize;
+            for (k, q) in candidates.iter().enumerate() {
+                if pick & (1 << k) != 0 {
+                    list.insert(*q);
+                }
+            }
+            let mut sums = [GroupAcc::default(); MAX_GROUP_QUERIES];
+            let mut alone = [GroupAcc::default(); MAX_GROUP_QUERIES];
+            for _ in 0..40 {
+                let mut c = || rng.range(-9.0, 9.0);
+                let offset = Vec3A::new(c(), c(), c());
+                let velocity = Vec3A::new(c(), c(), c());
+                let d2 = offset.length_squared();
+                list.add(&mut sums, offset, d2, velocity);
+                if list.iter().all(|q| d2 > q.reach2()) {
+                    skipped += 1;
+                }
+                for (q, s) in list.iter().zip(&mut alone) {
+                    s.add(q, &Near::new(offset, d2, velocity, true));
+                }
+            }
+            for (s, t) in sums.iter().zip(&alone).take(list.len()) {
+                let bits = |g: &GroupAcc| {
+                    let v = [g.a, g.b, g.c].map(|v| v.to_array().map(f32::to_bits));
+                    (v, g.n, g.m, g.w.to_bits())
+                };
+                assert_eq!(bits(s), bits(t), "{list:?}");
+            }
+        }
+        assert!(skipped > 1000, "{skipped}");
     }
 
     #[test]
