@@ -59,6 +59,13 @@ impl Grid {
         self.layout.cell
     }
 
+    /// Where the grid puts a point: a grid rebuilt with the same layout ([`Grid::rebuild_in`])
+    /// lists any of its points in the same cell, so a query walks its entries in the same order
+    /// as this grid's.
+    pub fn layout(&self) -> Layout {
+        self.layout
+    }
+
     /// Rebuilds the grid over `bounds` with cells of about `cell` for the given points.
     /// Reuses its buffers: no allocation once warmed up.
     pub fn rebuild(
@@ -69,7 +76,19 @@ impl Grid {
     ) {
         self.points.clear();
         self.points.extend(points);
-        let layout = Layout::new(bounds, cell, self.points.len());
+        self.place_in(Layout::new(bounds, cell, self.points.len()));
+    }
+
+    /// Rebuilds the grid for the given points with the cells of `layout` (another grid's, say:
+    /// see [`Grid::layout`]).
+    pub fn rebuild_in(&mut self, layout: Layout, points: impl ExactSizeIterator<Item = Vec3>) {
+        self.points.clear();
+        self.points.extend(points);
+        self.place_in(layout);
+    }
+
+    /// Sorts `self.points` by cell of `layout`.
+    fn place_in(&mut self, layout: Layout) {
         self.layout = layout;
         self.cell_of.clear();
         self.cell_of.par_extend(

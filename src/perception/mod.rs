@@ -656,8 +656,7 @@ impl Perception {
             .fold(0.0, f32::max);
         self.obstacle_grid
             .update(world.bounds, reach, &world.obstacles);
-        self.others
-            .update(world.bounds, agents, &self.tags, senses, relations);
+        self.others.update(agents, &self.tags, senses, relations);
         let view = View {
             world,
             near,

@@ -18,7 +18,6 @@
 use super::gather::Tag;
 use super::{Category, Relations, SenseParams};
 use crate::index::Grid;
-use crate::world::Aabb;
 use glam::{Vec3, Vec3A};
 use std::cell::RefCell;
 
@@ -53,7 +52,6 @@ impl Others {
     /// species and sex of each of its slots).
     pub(super) fn update(
         &mut self,
-        bounds: Aabb,
         agents: &Grid,
         tags: &[Tag],
         senses: &[SenseParams],
@@ -77,9 +75,11 @@ impl Others {
                     others.points.push(positions[k].into());
                 }
             }
+            // The agent grid's cells: a query then meets the others in the agent grid's order
+            // (see `OtherGrid::for_each_within`).
             others
                 .grid
-                .rebuild(bounds, sense.query_radius(), others.points.iter().copied());
+                .rebuild_in(agents.layout(), others.points.iter().copied());
         }
     }
 
@@ -119,26 +119,21 @@ impl OtherGrid {
             return;
         }
         let entries = self.grid.entries();
-        // The other grid's order is its cells'; the fold takes them in the agent grid's.
-        with_buffer(&SCRATCH, |hits| {
-            self.grid.for_each_slot_within(here, radius, |k, p, d2| {
-                hits.push((d2, self.slots[entries[k] as usize], p));
-            });
-            hits.sort_unstable_by_key(|h| h.1);
-            for &(d2, k, p) in hits.iter() {
-                visit(k as usize, p, d2);
-            }
+        // The fold takes the others in the agent grid's order, and a query meets them in it:
+        // the grid has the agent grid's cells, its entries of a cell are in ascending order of
+        // agent slot (they were listed so), and a query walks cells in ascending order, as the
+        // agent grid's slots run.
+        let mut last = None;
+        self.grid.for_each_slot_within(here, radius, |k, p, d2| {
+            let slot = self.slots[entries[k] as usize];
+            debug_assert!(last < Some(slot), "others out of the agent grid's order");
+            last = Some(slot);
+            visit(slot as usize, p, d2);
         });
     }
 }
 
-/// A candidate: squared distance, agent grid slot, position.
-type Hit = (f32, u32, Vec3A);
-
 thread_local! {
-    /// Candidates of the perceiver being walked on this thread (reused: no allocation once
-    /// warmed up).
-    static SCRATCH: RefCell<Vec<Hit>> = const { RefCell::new(Vec::new()) };
     /// The kin candidates of the bounded walk on this thread, as [`key`]s.
     static KEYS: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
 }

@@ -147,3 +147,51 @@ fn without_a_bound_every_kin_in_range_is_perceived() {
         .max();
     assert!(most > Some(9), "{most:?}");
 }
+
+#[test]
+fn a_bound_sums_the_others_in_the_agent_grids_order() {
+    // The others (here predators, a third of the agents) are walked in a grid of their own;
+    // their sums must be those of the agent grid's order, bit for bit, whatever its cells:
+    // the general walk's order, the same sums as without a bound.
+    let mut w = World::new(Aabb::new(Vec3::splat(-30.0), Vec3::splat(30.0)), 0.1, 2);
+    let mut rng = Rng::new(5, 0);
+    push_school(&mut w, &mut rng, 900, 12.0, |k| u16::from(k % 3 == 2));
+    let sense = bounded(8);
+    let r2 = sense.smell_radius * sense.smell_radius;
+    let mut checked = 0;
+    for cell in [1.5, 4.0, sense.query_radius(), 25.0] {
+        let mut ag = Grid::new();
+        ag.rebuild(w.bounds, cell, w.agents.iter().map(|a| a.pos));
+        let mut p = Perception::new();
+        p.run(
+            &w,
+            &ag,
+            &Grid::new(),
+            &[sense, SenseParams::default()],
+            &rel(),
+        );
+        for (i, me) in w.agents.iter().enumerate() {
+            if me.species.0 != 0 {
+                continue;
+            }
+            let c = Vec3A::from(me.pos);
+            let (mut n, mut sum) = (0u32, Vec3A::ZERO);
+            for (k, &pos) in ag.positions().iter().enumerate() {
+                let j = ag.entries()[k] as usize;
+                if w.agents[j].species.0 == 1 && (pos - c).length_squared() <= r2 {
+                    n += 1;
+                    sum += pos;
+                }
+            }
+            let sm = &p.summaries(i)[Category::Predator as usize];
+            assert_eq!(sm.count, n, "cells of {cell}, agent {i}");
+            if n > 0 {
+                let want = Vec3::from(sum / n as f32).to_array().map(f32::to_bits);
+                let got = sm.centroid.to_array().map(f32::to_bits);
+                assert_eq!(got, want, "cells of {cell}, agent {i}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 1000, "{checked}");
+}
