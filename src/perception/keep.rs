@@ -4,7 +4,7 @@
 //! reads nothing of the world.
 
 use super::{Category, Percept, Sense, Source, Summary, MAX_PERCEPTS};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// An unused percept slot.
 pub(super) const EMPTY: Percept = Percept::new(
@@ -48,23 +48,19 @@ impl<'a> Kept<'a> {
     /// positions are kept inside the world bounds).
     #[inline]
     fn find_far(&mut self) {
-        // Four independent running maxima and a mask of the slots equal to the largest: no
-        // serial chain of compares and branches. Entries past the slots are −∞.
-        // Only the chunks that hold slots (entries past them are −∞).
+        // Four lanes at a time: a running maximum, then a mask of the slots equal to it (a
+        // replacement in a school calls this every few candidates). Only the chunks that hold
+        // slots are read (entries past them are −∞).
         let used = self.slots.len().div_ceil(4) * 4;
         let d = &self.dists[..used.min(MAX_PERCEPTS)];
-        let mut m = [f32::NEG_INFINITY; 4];
+        let mut m = Vec4::NEG_INFINITY;
         for c in d.chunks_exact(4) {
-            for l in 0..4 {
-                m[l] = if c[l] > m[l] { c[l] } else { m[l] };
-            }
+            m = m.max(Vec4::from_slice(c));
         }
-        let m01 = if m[1] > m[0] { m[1] } else { m[0] };
-        let m23 = if m[3] > m[2] { m[3] } else { m[2] };
-        let max = if m23 > m01 { m23 } else { m01 };
+        let max = Vec4::splat(m.max_element());
         let mut mask = 0u32;
-        for (k, &x) in d.iter().enumerate() {
-            mask |= ((x == max) as u32) << k;
+        for (j, c) in d.chunks_exact(4).enumerate() {
+            mask |= Vec4::from_slice(c).cmpeq(max).bitmask() << (4 * j);
         }
         self.far = (mask.trailing_zeros() as usize).min(self.len.saturating_sub(1));
     }
@@ -191,6 +187,53 @@ pub(super) fn bearings(
         };
         if wanted {
             (p.bearing, p.elevation) = crate::frame::bearing_elevation(yaw, pitch, p.offset);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::Rng;
+
+    #[test]
+    fn kept_slots_are_those_of_replacing_the_first_farthest_one_by_one() {
+        // Against the plain rule: append while there is room, then a nearer offer takes the
+        // place of the first slot of the largest distance. Distances from a small set, so
+        // that ties are common and the choice among them shows.
+        let mut rng = Rng::new(3, 9);
+        for round in 0..600 {
+            let cap = [1, 3, 6, 8, 13, 16, 31, 32][round % 8];
+            let mut slots = vec![EMPTY; cap];
+            let mut kept = Kept::new(&mut slots);
+            let mut want: Vec<(f32, u32)> = Vec::new();
+            for id in 0..(rng.next_f32() * 120.0) as u32 {
+                let dist = (rng.next_f32() * 12.0).floor() * 0.5;
+                let p = Percept::new(
+                    Source::Agent(id),
+                    Category::Kin,
+                    Sense::Vision,
+                    Vec3::ZERO,
+                    dist,
+                    0.0,
+                );
+                kept.offer(dist, || p);
+                if want.len() < cap {
+                    want.push((dist, id));
+                } else {
+                    let max = want.iter().map(|w| w.0).fold(f32::NEG_INFINITY, f32::max);
+                    if dist < max {
+                        let far = want.iter().position(|w| w.0 == max).unwrap_or(0);
+                        want[far] = (dist, id);
+                    }
+                }
+            }
+            let len = kept.len;
+            let got: Vec<(f32, Source)> =
+                slots[..len].iter().map(|p| (p.dist, p.source())).collect();
+            let want: Vec<(f32, Source)> =
+                want.iter().map(|&(d, id)| (d, Source::Agent(id))).collect();
+            assert_eq!(got, want, "round {round}, {cap} slots");
         }
     }
 }
