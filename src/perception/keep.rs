@@ -45,7 +45,8 @@ impl<'a> Kept<'a> {
     }
 
     /// The first slot of the largest distance, once every slot is used (distances are finite:
-    /// positions are kept inside the world bounds).
+    /// positions are kept inside the world bounds; a NaN one, which only an injected percept
+    /// can have, is never the largest).
     #[inline]
     fn find_far(&mut self) {
         // Four lanes at a time: a running maximum, then a mask of the slots equal to it (a
@@ -55,9 +56,13 @@ impl<'a> Kept<'a> {
         let d = &self.dists[..used.min(MAX_PERCEPTS)];
         let mut m = Vec4::NEG_INFINITY;
         for c in d.chunks_exact(4) {
-            m = m.max(Vec4::from_slice(c));
+            let c = Vec4::from_slice(c);
+            // `c > m` lane by lane, not `max`: a NaN never gets in.
+            m = Vec4::select(c.cmpgt(m), c, m);
         }
-        let max = Vec4::splat(m.max_element());
+        let m01 = if m.y > m.x { m.y } else { m.x };
+        let m23 = if m.w > m.z { m.w } else { m.z };
+        let max = Vec4::splat(if m23 > m01 { m23 } else { m01 });
         let mut mask = 0u32;
         for (j, c) in d.chunks_exact(4).enumerate() {
             mask |= Vec4::from_slice(c).cmpeq(max).bitmask() << (4 * j);
@@ -195,6 +200,55 @@ pub(super) fn bearings(
 mod tests {
     use super::*;
     use crate::world::Rng;
+
+    /// The search of the farthest slot one slot at a time, as it was before it took four.
+    fn far_one_by_one(d: &[f32], len: usize) -> usize {
+        let mut m = [f32::NEG_INFINITY; 4];
+        for c in d.chunks_exact(4) {
+            for l in 0..4 {
+                m[l] = if c[l] > m[l] { c[l] } else { m[l] };
+            }
+        }
+        let m01 = if m[1] > m[0] { m[1] } else { m[0] };
+        let m23 = if m[3] > m[2] { m[3] } else { m[2] };
+        let max = if m23 > m01 { m23 } else { m01 };
+        let mut mask = 0u32;
+        for (k, &x) in d.iter().enumerate() {
+            mask |= ((x == max) as u32) << k;
+        }
+        (mask.trailing_zeros() as usize).min(len.saturating_sub(1))
+    }
+
+    #[test]
+    fn the_farthest_slot_is_the_one_slot_at_a_times_for_any_distances() {
+        // NaN (an injected percept may have one), ±0, ±∞ and ties among the distances.
+        let pool = [
+            0.0,
+            -0.0,
+            0.5,
+            1.0,
+            1.0,
+            2.5,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            7.0,
+        ];
+        let mut rng = Rng::new(17, 4);
+        for round in 0..20_000 {
+            let cap = 1 + round % MAX_PERCEPTS;
+            let mut slots = vec![EMPTY; cap];
+            let mut kept = Kept::new(&mut slots);
+            kept.len = cap;
+            for k in 0..cap {
+                kept.dists[k] = pool[(rng.next_f32() * pool.len() as f32) as usize % pool.len()];
+            }
+            kept.find_far();
+            let used = (cap.div_ceil(4) * 4).min(MAX_PERCEPTS);
+            let want = far_one_by_one(&kept.dists[..used], cap);
+            assert_eq!(kept.far, want, "{:?}", &kept.dists[..cap]);
+        }
+    }
 
     #[test]
     fn kept_slots_are_those_of_replacing_the_first_farthest_one_by_one() {

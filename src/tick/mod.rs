@@ -254,7 +254,8 @@ impl Pipeline {
         // runs, each a fresh place in memory: slower at 100k agents (reef 5.7 against 6.4
         // ticks/s), no faster at 10k. Cutting each run to the sphere's chord in its row reads
         // 14 % fewer candidates but costs more per row than it saves (boids +5 %, reef +5 %
-        // instructions). Any cell size gives the same neighbors.
+        // instructions). Any cell size gives the same neighbors (but for one within a few units in
+        // the last place of the range, across a cell boundary from where the box's bound rounded).
         let most = if set.species.len() <= 1 {
             0
         } else {
