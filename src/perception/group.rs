@@ -469,10 +469,16 @@ mod tests {
             }
             let mut sums = [GroupAcc::default(); MAX_GROUP_QUERIES];
             let mut alone = [GroupAcc::default(); MAX_GROUP_QUERIES];
-            for _ in 0..40 {
+            // A neighbour at each query's reach (its squared distance is most often the
+            // squared radius again: for the largest query, the list's bound itself, where a
+            // `>=` for the `>` would skip it), then random ones.
+            let at: Vec<f32> = list.iter().map(|q| q.reach2().sqrt()).collect();
+            for k in 0..40 + at.len() {
                 let mut c = || rng.range(-9.0, 9.0);
-                let offset = Vec3A::new(c(), c(), c());
-                let velocity = Vec3A::new(c(), c(), c());
+                let (offset, velocity) = match at.get(k) {
+                    Some(&r) => (Vec3A::new(r, 0.0, 0.0), Vec3A::new(c(), c(), c())),
+                    None => (Vec3A::new(c(), c(), c()), Vec3A::new(c(), c(), c())),
+                };
                 let d2 = offset.length_squared();
                 list.add(&mut sums, offset, d2, velocity);
                 if list.iter().all(|q| d2 > q.reach2()) {
