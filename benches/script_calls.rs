@@ -37,14 +37,10 @@ fn script() -> Script {
         &SandboxLimits::default(),
     )
     .unwrap_or_else(|d| panic!("{d}"));
-    let keys = [
+    s.declare_memory(Arc::new(MemorySpec::declaring(&[
         ("mean_speed", MemType::Float),
         ("sampled_at", MemType::Float),
-    ];
-    s.declare_memory(Arc::new(MemorySpec {
-        keys: keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect(),
-        initial: Default::default(),
-    }));
+    ])));
     s
 }
 

@@ -144,6 +144,17 @@ impl<'a> Loader<'a> {
             .collect();
         allowed.dedup();
         let own = std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf());
+        Self::start(limits, allowed, root, own, None)
+    }
+
+    /// A loader of the script at canonical path `own` that has read nothing yet.
+    fn start(
+        limits: &'a SandboxLimits,
+        allowed: Vec<PathBuf>,
+        root: &Path,
+        own: PathBuf,
+        replay: Option<&'a Sources>,
+    ) -> Self {
         Loader {
             limits,
             allowed,
@@ -158,7 +169,7 @@ impl<'a> Loader<'a> {
                 own,
                 ..Sources::default()
             },
-            replay: None,
+            replay,
         }
     }
 
@@ -174,19 +185,7 @@ impl<'a> Loader<'a> {
 
     /// A loader that reads what an earlier load read ([`Loader::sources`]) and nothing else.
     pub fn replay(sources: &'a Sources, root: &Path, limits: &'a SandboxLimits) -> Self {
-        Loader {
-            limits,
-            allowed: Vec::new(),
-            root: root.to_path_buf(),
-            cache: BTreeMap::new(),
-            stack: vec![sources.own.clone()],
-            files: Vec::new(),
-            power: false,
-            heading: false,
-            diags: Vec::new(),
-            sources: Sources::default(),
-            replay: Some(sources),
-        }
+        Self::start(limits, Vec::new(), root, sources.own.clone(), Some(sources))
     }
 
     /// [`Loader::resolve`], remembered for a replay (or taken from the load replayed).

@@ -89,6 +89,17 @@ pub struct MemorySpec {
 }
 
 impl MemorySpec {
+    /// A declaration of `keys` with their types, none with a start value.
+    pub fn declaring(keys: &[(&str, MemType)]) -> MemorySpec {
+        let mut keys: Vec<(Arc<str>, MemType)> =
+            keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect();
+        keys.sort_by(|a, b| a.0.cmp(&b.0));
+        MemorySpec {
+            keys,
+            initial: ThinVec::new(),
+        }
+    }
+
     /// The declared type of `key`.
     pub fn type_of(&self, key: &str) -> Option<MemType> {
         self.keys

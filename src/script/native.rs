@@ -1117,12 +1117,9 @@ fn outer(x) { inner(x) }
 fn inner(x) { x > 0.0 }
 "#;
 
-    /// A blackboard declaring `keys` (in key order), none with a start value.
+    /// A blackboard declaring `keys`, none with a start value.
     pub(in crate::script) fn spec_of(keys: &[(&str, MemType)]) -> Arc<MemorySpec> {
-        Arc::new(MemorySpec {
-            keys: keys.iter().map(|(k, t)| (Arc::from(*k), *t)).collect(),
-            initial: Default::default(),
-        })
+        Arc::new(MemorySpec::declaring(keys))
     }
 
     fn spec() -> Arc<MemorySpec> {
