@@ -56,9 +56,10 @@ impl View<'_> {
         row.get(self.tags[k].species as usize) == Some(&Some(super::Category::Kin))
     }
 
-    /// Perceives for the agent of row `r` into its share of the outputs.
+    /// Perceives for the agent of row `r` into its share of the outputs (`sums`: its group
+    /// sums' words).
     #[inline(always)]
-    pub(super) fn perceive_row(&self, r: usize, out: AgentOut) {
+    pub(super) fn perceive_row(&self, r: usize, out: AgentOut, sums: &mut [u32]) {
         let (i, me) = self.perceiver(r);
         let me = &me;
         let s = me.tag.species as usize;
@@ -71,7 +72,7 @@ impl View<'_> {
             .copied()
             .unwrap_or(self.default_cos_min);
         // Each query's group sums go straight into its own words.
-        let sums = &mut super::SumsOut::new(&rd.groups, out.sums);
+        let sums = &mut super::SumsOut::new(&rd.groups, sums);
         *out.count = if out.slots.is_empty() {
             perceive_one::<false>(
                 i,
