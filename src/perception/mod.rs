@@ -169,6 +169,8 @@ struct AgentOut<'a> {
     summary: &'a mut [Summary; Category::COUNT],
     mask: RowMask,
     reach: &'a mut f32,
+    /// Its group sums' words (see [`Perception::sums`]).
+    sums: &'a mut [u32],
     /// The kin kernel's buffers, the worker's.
     kin: &'a mut kin::KinBuf,
 }
@@ -261,12 +263,7 @@ impl<'a> Outs<'a> {
     /// rayon's pool (each agent writes only its own group sums, and its summaries and percepts
     /// after those of the rows before it in its chunk: the result does not depend on the
     /// split). `sum_starts[r]..sum_starts[r + 1]` are row `r`'s group sums.
-    ///
-    /// Each row's group sums' words (see [`Perception::sums`]) come as an argument of their own,
-    /// not in its [`AgentOut`]: a slice in a struct passed in memory was read back by one
-    /// 16-byte load across the two 8-byte stores that wrote it, a stalled store forward on
-    /// every row (by `perf`, a sixth of a boid's samples in the row's closure).
-    fn for_each(self, sum_starts: &[u32], f: &(impl Fn(usize, AgentOut, &mut [u32]) + Sync)) {
+    fn for_each(self, sum_starts: &[u32], f: &(impl Fn(usize, AgentOut) + Sync)) {
         let n = self.counts.len();
         if n == 0 {
             return;
@@ -321,9 +318,9 @@ impl<'a> Outs<'a> {
                         summary: &mut row,
                         mask,
                         reach: reach.unwrap_or(&mut spare),
+                        sums: own_sums,
                         kin: &mut kin,
                     },
-                    own_sums,
                 );
                 // What it perceived of its categories is kept, in their order.
                 let most = used + mask.len();
@@ -704,9 +701,7 @@ impl Perception {
             reaches: &mut self.reaches,
             sums: &mut self.sums,
         };
-        outs.for_each(&self.sum_starts, &|r, out, sums| {
-            view.perceive_row(r, out, sums)
-        });
+        outs.for_each(&self.sum_starts, &|r, out| view.perceive_row(r, out));
         // Each agent's reach, by agent, for its next walk (rows are in the grid's order, which
         // changes every tick).
         if self.others.any() {

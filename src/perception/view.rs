@@ -56,10 +56,9 @@ impl View<'_> {
         row.get(self.tags[k].species as usize) == Some(&Some(super::Category::Kin))
     }
 
-    /// Perceives for the agent of row `r` into its share of the outputs (`sums`: its group
-    /// sums' words).
+    /// Perceives for the agent of row `r` into its share of the outputs.
     #[inline(always)]
-    pub(super) fn perceive_row(&self, r: usize, out: AgentOut, sums: &mut [u32]) {
+    pub(super) fn perceive_row(&self, r: usize, out: AgentOut) {
         let (i, me) = self.perceiver(r);
         let me = &me;
         let s = me.tag.species as usize;
@@ -72,7 +71,7 @@ impl View<'_> {
             .copied()
             .unwrap_or(self.default_cos_min);
         // Each query's group sums go straight into its own words.
-        let sums = &mut super::SumsOut::new(&rd.groups, sums);
+        let sums = &mut super::SumsOut::new(&rd.groups, out.sums);
         *out.count = if out.slots.is_empty() {
             perceive_one::<false>(
                 i,

@@ -32,19 +32,16 @@ fn probe(here: Vec3, me_slot: u32, sense: &SenseParams, eye: &Eye, reads: &Reads
 }
 
 /// The kin kernel over the grid rows within `radius` of the probe: the kin sums, and the group
-/// sums into `sums`. The probe is made here, not handed in: built field by field on the
-/// caller's stack, it was read back by 16-byte loads across those stores, a stalled store
-/// forward for every perceiver (a fifth of this function's time for a boid, by `perf`).
+/// sums into `sums`.
 fn kernel(
     view: &View,
     lanes: &kin::KinLanes,
-    (probe, occluders): (impl FnOnce() -> kin::Probe, &[Shape]),
+    (probe, occluders): (kin::Probe, &[Shape]),
     radius: f32,
     groups: &GroupQueries,
     sums: &mut SumsOut,
     buf: &mut kin::KinBuf,
 ) -> Acc {
-    let probe = probe();
     let mut k = kin::KinFold::new(lanes, probe, groups.iter(), buf);
     k.occlude(occluders, view.diagonals);
     view.agents
@@ -232,7 +229,7 @@ impl Perceiver<'_, '_> {
             view.kernel.get(s).copied().unwrap_or(false),
         ) {
             if !view.relations.eats_items(s) && self.no_obstacle_in_range() {
-                let probe = || probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
+                let probe = probe(me.pos, me_slot, self.sense, &self.eye, self.reads);
                 let acc = kernel(
                     view,
                     lanes,
@@ -376,7 +373,7 @@ impl Perceiver<'_, '_> {
             .lanes
             .filter(|_| plain && view.kernel.get(self.s).copied().unwrap_or(false));
         if let (Some(lanes), Some(&me_slot)) = (lanes, view.slot_of.get(self.i)) {
-            let probe = || probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
+            let probe = probe(self.me.pos, me_slot, sense, &self.eye, self.reads);
             fold.set_kin(kernel(
                 view,
                 lanes,
