@@ -133,10 +133,10 @@ struct Walk<'w> {
     agent_percepts: bool,
     /// The perceiver's own grid slot.
     me_slot: usize,
-    /// The perceiver's position, as the candidates' (read from here for each of them: rebuilt
-    /// from its `Vec3` each time, it went through the stack as an 8- and a 4-byte store read
-    /// back by one load across both, a stalled store forward on every candidate, about a fifth
-    /// of the walk's time in a school).
+    /// The perceiver's position, as the candidates' are (read from here for each of them:
+    /// rebuilt from its `Vec3` each time, it went through the stack as an 8- and a 4-byte
+    /// store read back by one load across both, a stalled store forward on every candidate;
+    /// the default scenario ran 5 % slower for it).
     here: Vec3A,
 }
 
